@@ -1,0 +1,198 @@
+// springbones: spring-bone physics for avatar wearables (Decentraland ADR-316, VRM family).
+//
+// The whole public C++ API. A wearable is loaded once into an immutable Rig (GLB hierarchy +
+// data.springBones metadata -> flat list of simulated joints); every avatar wearing it gets its
+// own Instance (simulation state). Per frame the caller writes driver world matrices, calls
+// step(dt) and reads one local rotation per joint. Nothing here throws: failures come back as an
+// Error, questionable input as Warnings.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+namespace springbones {
+
+// ---------------------------------------------------------------------------------------------
+// Errors and warnings
+
+enum class ErrorCode : int {
+  kOk = 0,
+  kInvalidArgument = 1,           ///< null buffer, bad option value
+  kGlbTruncated = 2,              ///< header or chunk extends past the end of the buffer
+  kGlbBadMagic = 3,               ///< neither a GLB ("glTF" magic) nor glTF JSON text
+  kGlbBadChunk = 4,               ///< GLB version or chunk layout we cannot read
+  kGltfBadJson = 5,               ///< the glTF JSON does not parse
+  kGltfInvalid = 6,               ///< JSON parses but is not a usable glTF (bad node fields...)
+  kHierarchyMultipleParents = 7,  ///< a node listed as child of two parents
+  kHierarchyCycle = 8,            ///< a node is its own ancestor
+  kMetadataBadJson = 9,           ///< springBones JSON text does not parse
+  kMetadataInvalid = 10,          ///< springBones has a shape we cannot use (models not an object)
+  kLimitExceeded = 11,            ///< more nodes / bytes than the documented limits
+};
+
+/// Stable lower-case identifier of a code ("glb-truncated", ...), used by the JS error codes.
+const char* errorCodeName(ErrorCode code);
+
+struct Error {
+  ErrorCode code = ErrorCode::kOk;
+  std::string message;
+  std::string path;  ///< JSON path for metadata errors ("/models/<hash>/<bone>"), else empty
+  explicit operator bool() const { return code != ErrorCode::kOk; }
+};
+
+struct Warning {
+  std::string code;     ///< stable identifier, e.g. "center-not-found"
+  std::string message;  ///< human readable, names the node or field
+  std::string path;     ///< JSON path into springBones when the warning is about metadata
+};
+
+// ---------------------------------------------------------------------------------------------
+// Limits we impose on untrusted input (documented in the README; exceeding one is an Error).
+
+inline constexpr std::size_t kMaxNodes = 262144;
+inline constexpr std::size_t kMaxGltfJsonBytes = 64u << 20;
+inline constexpr std::size_t kMaxMetadataBytes = 16u << 20;
+
+// ---------------------------------------------------------------------------------------------
+// The GLB node hierarchy
+
+struct Transform {
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  ///< glm order: w, x, y, z
+  glm::vec3 scale{1.0f};
+};
+
+struct SkeletonNode {
+  std::string name;
+  int parent = -1;  ///< index into Skeleton::nodes, -1 for a scene root
+  std::vector<int> children;
+  Transform rest_local;    ///< from TRS, or decomposed from `matrix`
+  glm::mat4 rest_world{1.0f};  ///< product of the rest locals from the root down
+};
+
+struct Skeleton {
+  std::vector<SkeletonNode> nodes;  ///< glTF order
+  std::vector<int> parents_first;   ///< every node index, each after its parent
+};
+
+/// Reads the node hierarchy of a GLB or of glTF JSON text (embedded data allowed) held in memory.
+/// Buffers, images, meshes and accessors are never decoded. On failure returns an Error and leaves
+/// `out` empty.
+Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out);
+
+// ---------------------------------------------------------------------------------------------
+// data.springBones parameters (ADR-316 table). Ranges are inclusive.
+
+struct BoneParams {
+  float stiffness = 2.0f;                   ///< [0, 4], pull back to the rest direction, m/s
+  float gravity_power = 0.0f;               ///< [0, 2], gravity impulse, m/s
+  glm::vec3 gravity_dir{0.0f, -1.0f, 0.0f};  ///< world direction, normalized at parse time
+  float drag = 0.5f;                        ///< [0, 1], fraction of velocity lost per step
+};
+
+struct BoneEntry {
+  std::string name;  ///< glTF node name, case-sensitive
+  BoneParams params;
+  bool is_root = false;
+  bool has_center = false;  ///< the entry has a "center" key (a null center means world space)
+  std::string center;       ///< node name; empty with has_center means explicitly world space
+  std::string path;         ///< JSON path of the entry, for warnings
+};
+
+struct ModelEntry {
+  bool enabled = false;  ///< false: no entry for the hash, bad version, or no springBones at all
+  std::vector<BoneEntry> bones;  ///< in metadata order
+};
+
+/// Picks data.springBones.models[hash] and reads it with the runtime's forgiving rules: defaults
+/// for missing fields, clamping of out-of-range values and replacement of non-finite ones, each
+/// with a warning. `springBones` is the value of data.springBones (null: no spring bones).
+/// Errors only for shapes that cannot be read at all (not an object, models not an object).
+Error parseSpringBones(const nlohmann::json& springBones, const std::string& hash, ModelEntry& out,
+                       std::vector<Warning>& warnings);
+/// Same, from JSON text (at most kMaxMetadataBytes).
+Error parseSpringBonesText(const std::string& text, const std::string& hash, ModelEntry& out,
+                           std::vector<Warning>& warnings);
+
+/// True when a node name contains "springbone", ASCII case-insensitive (the ADR's discovery rule).
+bool isSpringBoneName(const std::string& name);
+
+// ---------------------------------------------------------------------------------------------
+// The rig: immutable, shared by every avatar wearing the same item
+
+struct Joint {
+  int node = -1;           ///< the bone this joint rotates
+  int tail_node = -1;      ///< its first child: where the bone ends
+  int parent_joint = -1;   ///< joint of the glTF parent, -1 for a chain root
+  int parent_driver = -1;  ///< for a chain root: driver holding its parent's world matrix
+                           ///< (-1: the root is a scene root, its parent is the identity)
+  int center_driver = -1;  ///< driver whose space holds the inertia, -1 for world space
+  int chain = -1;          ///< index of the chain root joint
+  BoneParams params;
+  Transform rest_local;     ///< the node's rest local transform
+  glm::vec3 tail_local{0};  ///< tail position in the joint's local space (child translation)
+  float rest_length = 0;    ///< world distance head->tail in the rest pose
+};
+
+struct Driver {
+  int node = -1;
+  std::string name;
+};
+
+struct Rig {
+  Skeleton skeleton;
+  std::vector<Joint> joints;    ///< parents before children
+  std::vector<Driver> drivers;  ///< chain-root parents and center nodes, in first-use order
+  std::vector<int> chain_roots;  ///< joint indices of the roots
+  std::vector<Warning> warnings;
+};
+
+/// Builds the chains of a skeleton from the chosen metadata entry (DESIGN.md section 4).
+/// Never fails: problems become warnings and the affected joints are left out or fall back.
+std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
+                                    std::vector<Warning> warnings = {});
+
+// ---------------------------------------------------------------------------------------------
+// The simulation: one Instance per avatar
+
+struct InstanceOptions {
+  double step_hz = 60.0;  ///< fixed simulation rate, [1, 1000]
+  int max_substeps = 4;   ///< steps per frame at most, [1, 64]; surplus time is dropped
+};
+
+class Instance {
+ public:
+  /// The rig must outlive nothing: the instance keeps it alive. Options out of range are clamped.
+  explicit Instance(std::shared_ptr<const Rig> rig, InstanceOptions options = {});
+  ~Instance();
+  Instance(const Instance&) = delete;
+  Instance& operator=(const Instance&) = delete;
+
+  /// Column-major 4x4 world matrices, 16 floats per driver, written by the caller before step().
+  float* driverMatrices();
+  std::size_t driverCount() const;
+  /// Local rotations (x, y, z, w), 4 floats per joint, valid after construction (rest pose).
+  const float* rotations() const;
+  std::size_t jointCount() const;
+
+  /// Advances by a frame of dt seconds. dt <= 0 or non-finite: nothing happens.
+  void step(double dt);
+  /// Forgets the motion; the next step re-seeds the tails at rest under the current drivers.
+  void reset();
+
+  const Rig& rig() const;
+  const InstanceOptions& options() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace springbones
