@@ -240,7 +240,10 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
   s.previous_tail.resize(joints);
   s.joint_world.resize(joints);
   s.rotations.resize(4 * joints);
-  for (std::size_t j = 0; j < joints; ++j) s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
+  for (std::size_t j = 0; j < joints; ++j) {
+    s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
+    s.joint_world[j] = s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world;
+  }
 }
 
 Instance::~Instance() = default;
@@ -248,6 +251,9 @@ Instance::~Instance() = default;
 float* Instance::driverMatrices() { return state_->driver_input.data(); }
 std::size_t Instance::driverCount() const { return state_->rig->drivers.size(); }
 const float* Instance::rotations() const { return state_->rotations.data(); }
+const float* Instance::worldMatrices() const {
+  return state_->joint_world.empty() ? nullptr : &state_->joint_world[0][0][0];
+}
 std::size_t Instance::jointCount() const { return state_->rig->joints.size(); }
 const Rig& Instance::rig() const { return *state_->rig; }
 const InstanceOptions& Instance::options() const { return state_->options; }

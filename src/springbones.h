@@ -180,6 +180,9 @@ class Instance {
   std::size_t driverCount() const;
   /// Local rotations (x, y, z, w), 4 floats per joint, valid after construction (rest pose).
   const float* rotations() const;
+  /// Column-major world matrices of the joints after the last step, 16 floats per joint (for
+  /// drawing the chains or writing bone.matrixWorld directly).
+  const float* worldMatrices() const;
   std::size_t jointCount() const;
 
   /// Advances by a frame of dt seconds. dt <= 0 or non-finite: nothing happens.
