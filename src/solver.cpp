@@ -13,8 +13,12 @@
 //  - Bone lengths are measured under the current parent transform (the rest tail offset carried
 //    by the parent's world matrix), never from the previous frame's child position, and all
 //    positions are world-space: a 0.01-scaled armature behaves like an unscaled one.
-//  - The rest direction and the new rotation use the full parent world matrix, so non-uniform
-//    scale in the hierarchy does not skew the bone.
+//  - Two ways to carry transforms down a chain. Avatars are almost always rotations, translations
+//    and uniform scales (similarities), which compose with a quaternion, a vector and a float: the
+//    fast path. A driver with shear or non-uniform scale, or a rig with non-uniform bone scales,
+//    takes the general path on full matrices, so such hierarchies do not skew the bones. Both
+//    compute the same update; which one runs is decided from the inputs alone, so native and
+//    WebAssembly builds choose alike.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -30,17 +34,60 @@ constexpr double kMinStepHz = 1.0;
 constexpr double kMaxStepHz = 1000.0;
 constexpr int kMaxSubstepsLimit = 64;
 constexpr float kMinLength = 1e-6f;
+// How far from a similarity a driver matrix may be and still take the fast path: well above
+// float rounding of a composed three.js matrixWorld, well below any visible shear.
+constexpr float kSimilarityTolerance = 1e-4f;
 
-// A driver's world matrix split for interpolation between two frames.
+// A rotation, translation and uniform scale.
+struct Similarity {
+  glm::vec3 position{0.0f};
+  float scale = 1.0f;
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+
+  glm::vec3 apply(const glm::vec3& p) const { return position + scale * (rotation * p); }
+  glm::vec3 applyInverse(const glm::vec3& p) const {
+    return (glm::conjugate(rotation) * (p - position)) / scale;
+  }
+  glm::mat4 matrix() const {
+    glm::mat4 m = glm::mat4_cast(rotation);
+    m[0] *= scale;
+    m[1] *= scale;
+    m[2] *= scale;
+    m[3] = glm::vec4(position, 1.0f);
+    return m;
+  }
+};
+
+// One driver's world transform in every form a step needs.
 struct DriverPose {
-  Transform trs;
   glm::mat4 matrix{1.0f};
+  Transform trs;  // for interpolating the general path
+  bool is_similarity = true;
+  Similarity similarity;
 };
 
 bool isFiniteMatrix(const float* m) {
   for (int i = 0; i < 16; ++i) {
     if (!std::isfinite(m[i])) return false;
   }
+  return true;
+}
+
+// A positive uniform scale, orthogonal axes and no projective part.
+bool similarityOf(const glm::mat4& m, Similarity& out) {
+  const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
+  const float s = glm::length(x);
+  if (!(s > 1e-12f) || m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) return false;
+  const float tolerance = kSimilarityTolerance * s;
+  if (std::fabs(glm::length(y) - s) > tolerance || std::fabs(glm::length(z) - s) > tolerance) return false;
+  if (std::fabs(glm::dot(x, y)) > tolerance * s || std::fabs(glm::dot(y, z)) > tolerance * s ||
+      std::fabs(glm::dot(z, x)) > tolerance * s) {
+    return false;
+  }
+  if (glm::dot(glm::cross(x, y), z) <= 0.0f) return false;  // mirrored
+  out.scale = s;
+  out.rotation = glm::normalize(glm::quat_cast(glm::mat3(x / s, y / s, z / s)));
+  out.position = glm::vec3(m[3]);
   return true;
 }
 
@@ -55,14 +102,15 @@ bool affineInverse(const glm::mat4& m, glm::mat4& out) {
   return true;
 }
 
-glm::mat4 interpolate(const DriverPose& a, const DriverPose& b, float t) {
-  if (t >= 1.0f) return b.matrix;
-  Transform r;
-  r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
-  r.rotation = glm::slerp(a.trs.rotation, b.trs.rotation, t);
-  r.scale = glm::mix(a.trs.scale, b.trs.scale, t);
-  return composeTransform(r);
-}
+// The spring update shared by both paths: Verlet inertia (center space) reduced by drag, the
+// stiffness and gravity impulses (world space), then back onto the sphere of the bone length.
+// Returns the new tail offset from the head, in world space.
+struct SpringInput {
+  glm::vec3 head;
+  glm::vec3 rest_dir;     // world
+  glm::vec3 rest_offset;  // world, rest_dir * length
+  float length;
+};
 
 }  // namespace
 
@@ -72,20 +120,28 @@ struct Instance::State {
   double step_seconds = 1.0 / 60.0;
   double accumulator = 0.0;
   bool seeded = false;
+  bool rig_is_uniform = true;  // every joint's rest scale is a positive uniform scale
+  bool fast_path = true;       // what the current frame's steps use
 
   // Rig-derived constants, per joint.
+  std::vector<glm::mat4> rest_local_matrix;
   std::vector<glm::vec3> tail_axis;  // unit tail direction in the joint's local space
+  std::vector<float> tail_distance;  // |tail_local|
 
   // Inputs, per driver.
   std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
   std::vector<DriverPose> previous_drivers, current_drivers;
   std::vector<glm::mat4> step_drivers, step_driver_inverses;
+  std::vector<Similarity> step_similarities;
   std::vector<bool> step_inverse_valid;
 
   // Simulation state, per joint.
   std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
-  std::vector<glm::mat4> joint_world;
-  std::vector<float> rotations;  // output, x y z w per joint
+  std::vector<Similarity> joint_similarity;            // fast path world transforms
+  std::vector<glm::mat4> joint_world;                  // general path world transforms
+  bool world_from_similarity = false;                  // which of the two is current
+  mutable std::vector<float> world_output;             // worldMatrices(), filled on request
+  std::vector<float> rotations;                        // output, x y z w per joint
 
   void readDrivers() {
     const std::size_t count = rig->drivers.size();
@@ -93,46 +149,65 @@ struct Instance::State {
       const float* m = driver_input.data() + 16 * d;
       // A non-finite matrix is ignored: the driver keeps its last good pose.
       if (!isFiniteMatrix(m)) continue;
-      glm::mat4 matrix;
-      std::memcpy(&matrix[0][0], m, sizeof(float) * 16);
-      current_drivers[d].matrix = matrix;
-      current_drivers[d].trs = decomposeTransform(matrix);
+      DriverPose& pose = current_drivers[d];
+      std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
+      pose.trs = decomposeTransform(pose.matrix);
+      pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
     }
+  }
+
+  bool driversAreSimilarities() const {
+    for (std::size_t d = 0; d < current_drivers.size(); ++d) {
+      if (!current_drivers[d].is_similarity || !previous_drivers[d].is_similarity) return false;
+    }
+    return true;
   }
 
   void prepareDrivers(float t) {
     for (std::size_t d = 0; d < current_drivers.size(); ++d) {
-      step_drivers[d] = interpolate(previous_drivers[d], current_drivers[d], t);
-      glm::mat4 inverse;
-      if (affineInverse(step_drivers[d], inverse)) {
-        step_driver_inverses[d] = inverse;
-        step_inverse_valid[d] = true;
-      } else {
-        step_inverse_valid[d] = false;
+      const DriverPose& a = previous_drivers[d];
+      const DriverPose& b = current_drivers[d];
+      if (fast_path) {
+        Similarity& s = step_similarities[d];
+        if (t >= 1.0f) {
+          s = b.similarity;
+        } else {
+          s.position = glm::mix(a.similarity.position, b.similarity.position, t);
+          s.rotation = glm::slerp(a.similarity.rotation, b.similarity.rotation, t);
+          s.scale = a.similarity.scale + (b.similarity.scale - a.similarity.scale) * t;
+        }
+        continue;
       }
+      if (t >= 1.0f) {
+        step_drivers[d] = b.matrix;
+      } else {
+        Transform r;
+        r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
+        r.rotation = glm::slerp(a.trs.rotation, b.trs.rotation, t);
+        r.scale = glm::mix(a.trs.scale, b.trs.scale, t);
+        step_drivers[d] = composeTransform(r);
+      }
+      glm::mat4 inverse;
+      step_inverse_valid[d] = affineInverse(step_drivers[d], inverse);
+      if (step_inverse_valid[d]) step_driver_inverses[d] = inverse;
     }
   }
 
-  const glm::mat4& parentWorld(const Joint& joint) const {
-    static const glm::mat4 kIdentity(1.0f);
-    if (joint.parent_joint >= 0) return joint_world[joint.parent_joint];
-    if (joint.parent_driver >= 0) return step_drivers[joint.parent_driver];
-    return kIdentity;
-  }
-
-  // A center whose matrix cannot be inverted this step is treated as world space for the step.
-  bool centerSpace(const Joint& joint) const {
-    return joint.center_driver >= 0 && step_inverse_valid[joint.center_driver];
-  }
-
+  // Center space. A general-path center without an inverse this step counts as world space.
   glm::vec3 toCenter(const Joint& joint, const glm::vec3& world) const {
-    if (!centerSpace(joint)) return world;
-    return glm::vec3(step_driver_inverses[joint.center_driver] * glm::vec4(world, 1.0f));
+    const int c = joint.center_driver;
+    if (c < 0) return world;
+    if (fast_path) return step_similarities[c].applyInverse(world);
+    if (!step_inverse_valid[c]) return world;
+    return glm::vec3(step_driver_inverses[c] * glm::vec4(world, 1.0f));
   }
 
   glm::vec3 fromCenter(const Joint& joint, const glm::vec3& local) const {
-    if (!centerSpace(joint)) return local;
-    return glm::vec3(step_drivers[joint.center_driver] * glm::vec4(local, 1.0f));
+    const int c = joint.center_driver;
+    if (c < 0) return local;
+    if (fast_path) return step_similarities[c].apply(local);
+    if (!step_inverse_valid[c]) return local;
+    return glm::vec3(step_drivers[c] * glm::vec4(local, 1.0f));
   }
 
   void writeRotation(std::size_t j, const glm::quat& q) {
@@ -143,65 +218,106 @@ struct Instance::State {
     out[3] = q.w;
   }
 
-  // Every tail at its rest direction and length under the current drivers, zero velocity.
-  void seed() {
+  // Returns the new world tail offset from the head and advances the joint's tail state.
+  glm::vec3 integrate(std::size_t j, const Joint& joint, const SpringInput& in, float h) {
+    const BoneParams& p = joint.params;
+    const glm::vec3 current = current_tail[j];
+    const glm::vec3 inertia = (current - previous_tail[j]) * (1.0f - p.drag);
+    glm::vec3 next = fromCenter(joint, current + inertia);
+    next += in.rest_dir * (p.stiffness * h);
+    next += p.gravity_dir * (p.gravity_power * h);
+    glm::vec3 offset = next - in.head;
+    const float offset_length = glm::length(offset);
+    offset = offset_length > kMinLength && std::isfinite(offset_length)
+                 ? offset * (in.length / offset_length)
+                 : in.rest_offset;  // tail on the head (or lost): restart from rest
+    previous_tail[j] = current;
+    current_tail[j] = toCenter(joint, in.head + offset);
+    return offset;
+  }
+
+  // The joint's local rotation that turns its rest axis toward `local_dir` (unit or not).
+  glm::quat aimedRotation(std::size_t j, const Joint& joint, glm::vec3 local_dir) const {
+    const float len = glm::length(local_dir);
+    local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis[j];
+    return glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis[j], local_dir));
+  }
+
+  const Similarity& parentSimilarity(const Joint& joint) const {
+    static const Similarity kIdentity;
+    if (joint.parent_joint >= 0) return joint_similarity[joint.parent_joint];
+    if (joint.parent_driver >= 0) return step_similarities[joint.parent_driver];
+    return kIdentity;
+  }
+
+  const glm::mat4& parentMatrix(const Joint& joint) const {
+    static const glm::mat4 kIdentity(1.0f);
+    if (joint.parent_joint >= 0) return joint_world[joint.parent_joint];
+    if (joint.parent_driver >= 0) return step_drivers[joint.parent_driver];
+    return kIdentity;
+  }
+
+  void stepFast(float h, bool seed_only) {
     const auto& joints = rig->joints;
     for (std::size_t j = 0; j < joints.size(); ++j) {
       const Joint& joint = joints[j];
-      joint_world[j] = parentWorld(joint) * composeTransform(joint.rest_local);
-      const glm::vec3 tail = glm::vec3(joint_world[j] * glm::vec4(joint.tail_local, 1.0f));
-      current_tail[j] = previous_tail[j] = toCenter(joint, tail);
-      writeRotation(j, joint.rest_local.rotation);
+      const Similarity& parent = parentSimilarity(joint);
+      Similarity rest;
+      rest.position = parent.apply(joint.rest_local.translation);
+      rest.rotation = parent.rotation * joint.rest_local.rotation;
+      rest.scale = parent.scale * joint.rest_local.scale.x;
+      const float length = rest.scale * tail_distance[j];
+      if (seed_only || !(length > kMinLength)) {
+        if (seed_only) current_tail[j] = previous_tail[j] = toCenter(joint, rest.apply(joint.tail_local));
+        joint_similarity[j] = rest;
+        writeRotation(j, joint.rest_local.rotation);
+        continue;
+      }
+      SpringInput in;
+      in.head = rest.position;
+      in.rest_dir = rest.rotation * tail_axis[j];
+      in.rest_offset = in.rest_dir * length;
+      in.length = length;
+      const glm::vec3 offset = integrate(j, joint, in, h);
+      const glm::quat rotation = aimedRotation(j, joint, glm::conjugate(rest.rotation) * offset);
+      joint_similarity[j] = Similarity{rest.position, rest.scale, parent.rotation * rotation};
+      writeRotation(j, rotation);
     }
   }
 
-  void simulate(float h) {
+  void stepGeneral(float h, bool seed_only) {
     const auto& joints = rig->joints;
     for (std::size_t j = 0; j < joints.size(); ++j) {
       const Joint& joint = joints[j];
-      const BoneParams& p = joint.params;
-      const glm::mat4& parent = parentWorld(joint);
-      const glm::mat4 rest_world = parent * composeTransform(joint.rest_local);
-      const glm::vec3 head(rest_world[3]);
+      const glm::mat4& parent = parentMatrix(joint);
+      const glm::mat4 rest_world = parent * rest_local_matrix[j];
       const glm::mat3 rest_linear(rest_world);
-      const glm::vec3 rest_offset = rest_linear * joint.tail_local;
-      const float length = glm::length(rest_offset);
-      if (!(length > kMinLength) || !(glm::length(joint.tail_local) > kMinLength)) {
+      SpringInput in;
+      in.head = glm::vec3(rest_world[3]);
+      in.rest_offset = rest_linear * joint.tail_local;
+      in.length = glm::length(in.rest_offset);
+      if (seed_only || !(in.length > kMinLength) || !(tail_distance[j] > kMinLength)) {
+        if (seed_only) current_tail[j] = previous_tail[j] = toCenter(joint, in.head + in.rest_offset);
         joint_world[j] = rest_world;
         writeRotation(j, joint.rest_local.rotation);
         continue;
       }
-      const glm::vec3 rest_dir = rest_offset / length;
-
-      // Inertia in center space, then back to world for the impulses.
-      const glm::vec3 current = current_tail[j];
-      const glm::vec3 inertia = (current - previous_tail[j]) * (1.0f - p.drag);
-      glm::vec3 next = fromCenter(joint, current + inertia);
-      next += rest_dir * (p.stiffness * h);
-      next += p.gravity_dir * (p.gravity_power * h);
-
-      // Bone length: back onto the sphere of the rest length around the head.
-      glm::vec3 offset = next - head;
-      const float offset_length = glm::length(offset);
-      offset = offset_length > kMinLength && std::isfinite(offset_length)
-                   ? offset * (length / offset_length)
-                   : rest_offset;  // tail on the head (or lost): restart from rest
-      next = head + offset;
-
-      previous_tail[j] = current;
-      current_tail[j] = toCenter(joint, next);
-
-      // Turn the joint so its rest axis points at the new tail, in the joint's rest local frame.
-      glm::vec3 local_dir = glm::inverse(rest_linear) * offset;
-      const float local_length = glm::length(local_dir);
-      local_dir = local_length > 0.0f && std::isfinite(local_length) ? local_dir / local_length
-                                                                     : tail_axis[j];
-      const glm::quat rotation =
-          glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis[j], local_dir));
+      in.rest_dir = in.rest_offset / in.length;
+      const glm::vec3 offset = integrate(j, joint, in, h);
+      const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
       Transform local = joint.rest_local;
       local.rotation = rotation;
       joint_world[j] = parent * composeTransform(local);
       writeRotation(j, rotation);
+    }
+  }
+
+  void run(float h, bool seed_only) {
+    world_from_similarity = fast_path;
+    if (fast_path) {
+      stepFast(h, seed_only);
+    } else {
+      stepGeneral(h, seed_only);
     }
   }
 };
@@ -219,17 +335,24 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
 
   const std::size_t joints = s.rig->joints.size();
   const std::size_t drivers = s.rig->drivers.size();
+  s.rest_local_matrix.resize(joints);
   s.tail_axis.resize(joints);
+  s.tail_distance.resize(joints);
   for (std::size_t j = 0; j < joints; ++j) {
-    const glm::vec3 t = s.rig->joints[j].tail_local;
-    const float len = glm::length(t);
-    s.tail_axis[j] = len > kMinLength ? t / len : glm::vec3(0, 1, 0);
+    const Joint& joint = s.rig->joints[j];
+    s.rest_local_matrix[j] = composeTransform(joint.rest_local);
+    const float len = glm::length(joint.tail_local);
+    s.tail_distance[j] = len;
+    s.tail_axis[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
+    const glm::vec3 scale = joint.rest_local.scale;
+    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) s.rig_is_uniform = false;
   }
   s.driver_input.resize(16 * drivers);
   s.previous_drivers.resize(drivers);
   s.current_drivers.resize(drivers);
   s.step_drivers.resize(drivers);
   s.step_driver_inverses.resize(drivers);
+  s.step_similarities.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
   // Until the caller writes them, drivers sit at their rest world matrices.
   for (std::size_t d = 0; d < drivers; ++d) {
@@ -238,7 +361,9 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
   }
   s.current_tail.resize(joints);
   s.previous_tail.resize(joints);
+  s.joint_similarity.resize(joints);
   s.joint_world.resize(joints);
+  s.world_output.resize(16 * joints);
   s.rotations.resize(4 * joints);
   for (std::size_t j = 0; j < joints; ++j) {
     s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
@@ -251,12 +376,18 @@ Instance::~Instance() = default;
 float* Instance::driverMatrices() { return state_->driver_input.data(); }
 std::size_t Instance::driverCount() const { return state_->rig->drivers.size(); }
 const float* Instance::rotations() const { return state_->rotations.data(); }
-const float* Instance::worldMatrices() const {
-  return state_->joint_world.empty() ? nullptr : &state_->joint_world[0][0][0];
-}
 std::size_t Instance::jointCount() const { return state_->rig->joints.size(); }
 const Rig& Instance::rig() const { return *state_->rig; }
 const InstanceOptions& Instance::options() const { return state_->options; }
+
+const float* Instance::worldMatrices() const {
+  const State& s = *state_;
+  for (std::size_t j = 0; j < s.joint_world.size(); ++j) {
+    const glm::mat4 m = s.world_from_similarity ? s.joint_similarity[j].matrix() : s.joint_world[j];
+    std::memcpy(s.world_output.data() + 16 * j, &m[0][0], sizeof(float) * 16);
+  }
+  return s.world_output.data();
+}
 
 void Instance::reset() {
   state_->seeded = false;
@@ -269,11 +400,12 @@ void Instance::step(double dt) {
   s.readDrivers();
   if (!s.seeded) {
     s.previous_drivers = s.current_drivers;
+    s.fast_path = s.rig_is_uniform && s.driversAreSimilarities();
     s.prepareDrivers(1.0f);
-    s.seed();
+    s.run(0.0f, /*seed_only=*/true);
     s.seeded = true;
   }
-
+  s.fast_path = s.rig_is_uniform && s.driversAreSimilarities();
   // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
   // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
   const double h = s.step_seconds;
@@ -287,7 +419,7 @@ void Instance::step(double dt) {
     // Where this step falls inside the frame, for driver interpolation.
     const double at = dropped ? double(i + 1) / steps : ((i + 1) * h - start) / dt;
     s.prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
-    s.simulate(static_cast<float>(h));
+    s.run(static_cast<float>(h), /*seed_only=*/false);
   }
   s.accumulator = dropped ? 0.0 : std::max(0.0, s.accumulator - steps * h);
   s.previous_drivers = s.current_drivers;
