@@ -24,6 +24,7 @@
 #include <cstring>
 #include <vector>
 
+#include "spring_lanes.h"
 #include "springbones.h"
 #include "transform_math.h"
 
@@ -115,6 +116,8 @@ struct SpringInput {
 }  // namespace
 
 struct Instance::State {
+  explicit State(std::shared_ptr<const Rig> r) : rig(std::move(r)), lanes(*rig) {}
+
   std::shared_ptr<const Rig> rig;
   InstanceOptions options;
   double step_seconds = 1.0 / 60.0;
@@ -133,11 +136,12 @@ struct Instance::State {
   std::vector<DriverPose> previous_drivers, current_drivers;
   std::vector<glm::mat4> step_drivers, step_driver_inverses;
   std::vector<Similarity> step_similarities;
+  DriverTable driver_table;  // step_similarities as the lane kernel reads them, slot 0 = identity
   std::vector<bool> step_inverse_valid;
 
   // Simulation state, per joint.
   std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
-  std::vector<Similarity> joint_similarity;            // fast path world transforms
+  SpringLanes lanes;                                   // fast path, with its world transforms
   std::vector<glm::mat4> joint_world;                  // general path world transforms
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
@@ -151,8 +155,9 @@ struct Instance::State {
       if (!isFiniteMatrix(m)) continue;
       DriverPose& pose = current_drivers[d];
       std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
-      pose.trs = decomposeTransform(pose.matrix);
       pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
+      // Only the general path interpolates from a decomposition.
+      if (!pose.is_similarity) pose.trs = decomposeTransform(pose.matrix);
     }
   }
 
@@ -176,11 +181,15 @@ struct Instance::State {
           s.rotation = glm::slerp(a.similarity.rotation, b.similarity.rotation, t);
           s.scale = a.similarity.scale + (b.similarity.scale - a.similarity.scale) * t;
         }
+        driver_table.set(d + 1, s.position, s.rotation, s.scale);
         continue;
       }
       if (t >= 1.0f) {
         step_drivers[d] = b.matrix;
       } else {
+        // The general path may start from poses decomposed as similarities.
+        if (a.is_similarity) previous_drivers[d].trs = Transform{a.similarity.position, a.similarity.rotation, glm::vec3(a.similarity.scale)};
+        if (b.is_similarity) current_drivers[d].trs = Transform{b.similarity.position, b.similarity.rotation, glm::vec3(b.similarity.scale)};
         Transform r;
         r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
         r.rotation = glm::slerp(a.trs.rotation, b.trs.rotation, t);
@@ -243,46 +252,11 @@ struct Instance::State {
     return glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis[j], local_dir));
   }
 
-  const Similarity& parentSimilarity(const Joint& joint) const {
-    static const Similarity kIdentity;
-    if (joint.parent_joint >= 0) return joint_similarity[joint.parent_joint];
-    if (joint.parent_driver >= 0) return step_similarities[joint.parent_driver];
-    return kIdentity;
-  }
-
   const glm::mat4& parentMatrix(const Joint& joint) const {
     static const glm::mat4 kIdentity(1.0f);
     if (joint.parent_joint >= 0) return joint_world[joint.parent_joint];
     if (joint.parent_driver >= 0) return step_drivers[joint.parent_driver];
     return kIdentity;
-  }
-
-  void stepFast(float h, bool seed_only) {
-    const auto& joints = rig->joints;
-    for (std::size_t j = 0; j < joints.size(); ++j) {
-      const Joint& joint = joints[j];
-      const Similarity& parent = parentSimilarity(joint);
-      Similarity rest;
-      rest.position = parent.apply(joint.rest_local.translation);
-      rest.rotation = parent.rotation * joint.rest_local.rotation;
-      rest.scale = parent.scale * joint.rest_local.scale.x;
-      const float length = rest.scale * tail_distance[j];
-      if (seed_only || !(length > kMinLength)) {
-        if (seed_only) current_tail[j] = previous_tail[j] = toCenter(joint, rest.apply(joint.tail_local));
-        joint_similarity[j] = rest;
-        writeRotation(j, joint.rest_local.rotation);
-        continue;
-      }
-      SpringInput in;
-      in.head = rest.position;
-      in.rest_dir = rest.rotation * tail_axis[j];
-      in.rest_offset = in.rest_dir * length;
-      in.length = length;
-      const glm::vec3 offset = integrate(j, joint, in, h);
-      const glm::quat rotation = aimedRotation(j, joint, glm::conjugate(rest.rotation) * offset);
-      joint_similarity[j] = Similarity{rest.position, rest.scale, parent.rotation * rotation};
-      writeRotation(j, rotation);
-    }
   }
 
   void stepGeneral(float h, bool seed_only) {
@@ -315,18 +289,17 @@ struct Instance::State {
   void run(float h, bool seed_only) {
     world_from_similarity = fast_path;
     if (fast_path) {
-      stepFast(h, seed_only);
+      lanes.run(driver_table, h, seed_only, rotations.data());
     } else {
       stepGeneral(h, seed_only);
     }
   }
 };
 
-Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
-    : state_(std::make_unique<State>()) {
-  State& s = *state_;
+Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   if (!rig) rig = std::make_shared<const Rig>();
-  s.rig = std::move(rig);
+  state_ = std::make_unique<State>(std::move(rig));
+  State& s = *state_;
   if (!(options.step_hz >= kMinStepHz)) options.step_hz = options.step_hz > 0 ? kMinStepHz : 60.0;
   options.step_hz = std::min(options.step_hz, kMaxStepHz);
   options.max_substeps = std::clamp(options.max_substeps, 1, kMaxSubstepsLimit);
@@ -354,6 +327,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
   s.step_driver_inverses.resize(drivers);
   s.step_similarities.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
+  s.driver_table.resize(drivers + 1);
   // Until the caller writes them, drivers sit at their rest world matrices.
   for (std::size_t d = 0; d < drivers; ++d) {
     const glm::mat4& rest = s.rig->skeleton.nodes[s.rig->drivers[d].node].rest_world;
@@ -361,7 +335,6 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options)
   }
   s.current_tail.resize(joints);
   s.previous_tail.resize(joints);
-  s.joint_similarity.resize(joints);
   s.joint_world.resize(joints);
   s.world_output.resize(16 * joints);
   s.rotations.resize(4 * joints);
@@ -383,7 +356,12 @@ const InstanceOptions& Instance::options() const { return state_->options; }
 const float* Instance::worldMatrices() const {
   const State& s = *state_;
   for (std::size_t j = 0; j < s.joint_world.size(); ++j) {
-    const glm::mat4 m = s.world_from_similarity ? s.joint_similarity[j].matrix() : s.joint_world[j];
+    glm::mat4 m = s.joint_world[j];
+    if (s.world_from_similarity) {
+      Similarity world;
+      s.lanes.jointWorld(j, world.position, world.rotation, world.scale);
+      m = world.matrix();
+    }
     std::memcpy(s.world_output.data() + 16 * j, &m[0][0], sizeof(float) * 16);
   }
   return s.world_output.data();
