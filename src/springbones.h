@@ -198,4 +198,39 @@ class Instance {
   std::unique_ptr<State> state_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Many avatars: one call per frame for a whole page
+
+/// Steps every added instance in one call. With a budget, only the `max_active` instances nearest
+/// to the viewer are simulated; the others hold their last pose and are re-seeded (reset) when
+/// they come back into the budget, as the in-world renderer does with its nearest avatars.
+/// Instances are not owned: remove one before destroying it.
+class Scene {
+ public:
+  /// Adds an instance (ignored if already present) and returns its slot in positions().
+  std::size_t add(Instance* instance);
+  void remove(Instance* instance);
+  std::size_t size() const { return members_.size(); }
+
+  /// x, y, z per instance in slot order, written by the caller (e.g. each avatar's root position).
+  /// Slots shift down when an instance is removed.
+  float* positions() { return positions_.data(); }
+
+  /// max_active < 0: no budget, every instance steps. Non-finite viewer coordinates are ignored.
+  void setBudget(int max_active, const glm::vec3& viewer);
+
+  /// Steps the active instances by dt (same rules as Instance::step).
+  void step(double dt);
+  /// Whether the instance in `slot` was simulated by the last step.
+  bool isActive(std::size_t slot) const { return slot < active_.size() && active_[slot] != 0; }
+
+ private:
+  std::vector<Instance*> members_;
+  std::vector<float> positions_;
+  std::vector<unsigned char> active_;
+  std::vector<std::pair<float, std::size_t>> by_distance_;  // scratch, kept to avoid allocation
+  int max_active_ = -1;
+  glm::vec3 viewer_{0.0f};
+};
+
 }  // namespace springbones
