@@ -4,7 +4,7 @@
 // loader works in three stages:
 //  1. our own check of the GLB container (magic, version, chunk lengths), so a truncated or
 //     malformed file gets a precise error code instead of a generic parse failure;
-//  2. nlohmann-json parses the JSON chunk; we keep only `asset`, `scene(s)` and the TRS/matrix,
+//  2. nlohmann-json parses the JSON chunk; we keep only `asset.version` and the TRS/matrix,
 //     name and children of each node. Buffers, images, meshes, accessors, extras and extensions
 //     are dropped before anything decodes them (base64 data URIs included), which keeps loading
 //     cheap and keeps hostile payloads (deeply nested extras) away from recursive code;
@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -113,7 +114,10 @@ Error extractJsonText(const std::uint8_t* data, std::size_t size, const char*& j
 bool isNumberArray(const json& value, std::size_t length) {
   if (!value.is_array() || value.size() != length) return false;
   for (const json& v : value) {
-    if (!v.is_number() || !std::isfinite(v.get<double>())) return false;
+    // Stored as float: a double beyond float range would become infinity.
+    if (!v.is_number() || !(std::fabs(v.get<double>()) <= std::numeric_limits<float>::max())) {
+      return false;
+    }
   }
   return true;
 }
@@ -146,7 +150,8 @@ Error reduceNode(const json& node, std::size_t index, json& out) {
     if (it == node.end()) continue;
     if (!isNumberArray(*it, length)) {
       return fail(ErrorCode::kGltfInvalid, where + ": " + field + " is not an array of " +
-                                               std::to_string(length) + " finite numbers");
+                                               std::to_string(length) +
+                                               " finite numbers within float range");
     }
     out[field] = *it;
   }
@@ -227,6 +232,16 @@ Error linkHierarchy(Skeleton& skeleton) {
     SkeletonNode& n = nodes[i];
     const glm::mat4 local = composeTransform(n.rest_local);
     n.rest_world = n.parent < 0 ? local : nodes[n.parent].rest_world * local;
+    // Float overflow (a decomposed matrix of huge entries, scales multiplying down a chain)
+    // would hand infinities and NaNs to the solver.
+    const glm::quat& q = n.rest_local.rotation;
+    bool finite = isFinite(n.rest_local.translation) && isFinite(n.rest_local.scale) &&
+                  isFinite(glm::vec3(q.x, q.y, q.z)) && std::isfinite(q.w);
+    for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(n.rest_world[c]));
+    if (!finite) {
+      return fail(ErrorCode::kGltfInvalid, "node " + std::to_string(i) + " ('" + n.name +
+                                               "'): its rest transform overflows float range");
+    }
   }
   return {};
 }
@@ -244,11 +259,13 @@ Transform nodeRestTransform(const tinygltf::Node& node) {
     t.translation = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
   }
   if (node.rotation.size() == 4) {
-    glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
-    const float len = glm::length(q);
+    const std::vector<double>& r = node.rotation;
+    // In double: the squares of float-range components overflow a float.
+    const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
     // glTF demands unit quaternions; renormalize small errors, treat a zero one as identity.
-    t.rotation = len > 1e-6f ? q / len : glm::quat(1, 0, 0, 0);
+    t.rotation = len > 1e-6 ? glm::quat(static_cast<float>(r[3] / len), static_cast<float>(r[0] / len),
+                                        static_cast<float>(r[1] / len), static_cast<float>(r[2] / len))
+                            : glm::quat(1, 0, 0, 0);
   }
   if (node.scale.size() == 3) t.scale = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
   return t;

@@ -2,6 +2,7 @@
 // A preview must show whatever the catalyst accepted, and should still show something sensible
 // for metadata it would reject, so every problem here is a warning with a fallback, except shapes
 // that leave nothing to read (springBones or models[hash] not an object).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -31,7 +32,19 @@ std::string pointerToken(const std::string& key) {
   return "/" + out;
 }
 
+// True when `value` nests at most `levels` arrays/objects deep. Bounded recursion: json::dump
+// recurses once per level, so hostile metadata nested millions deep must never reach it.
+bool nestsAtMost(const json& value, int levels) {
+  if (!value.is_structured()) return true;
+  if (levels == 0) return false;
+  for (const json& item : value) {
+    if (!nestsAtMost(item, levels - 1)) return false;
+  }
+  return true;
+}
+
 std::string describe(const json& value) {
+  if (!nestsAtMost(value, 8)) return value.is_array() ? "a deeply nested array" : "a deeply nested object";
   std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   return text;
@@ -101,11 +114,14 @@ class EntryReader {
         break;
       }
     }
-    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(length > 1e-9) || !std::isfinite(length)) {
+    // Divided by the largest component first: squaring [1e200, 0, 0] would overflow to infinity.
+    const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+    if (!(largest > 1e-9)) {
       warn("gravity-dir-zero", "gravityDir has no direction; using the default [0,-1,0]", path);
       return fallback;
     }
+    for (double& c : v) c /= largest;
+    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return glm::vec3(static_cast<float>(v[0] / length), static_cast<float>(v[1] / length),
                      static_cast<float>(v[2] / length));
   }

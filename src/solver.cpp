@@ -390,9 +390,10 @@ void Instance::step(double dt) {
   const double tolerance = h * 1e-6;
   const double start = s.accumulator;
   s.accumulator += dt;
-  int steps = static_cast<int>(std::floor((s.accumulator + tolerance) / h));
-  const bool dropped = steps > s.options.max_substeps;
-  if (dropped) steps = s.options.max_substeps;
+  // Counted in double: a frame of 1e9 s crosses more steps than an int holds.
+  const double crossed = std::floor((s.accumulator + tolerance) / h);
+  const bool dropped = crossed > s.options.max_substeps;
+  const int steps = dropped ? s.options.max_substeps : static_cast<int>(crossed);
   for (int i = 0; i < steps; ++i) {
     // Where this step falls inside the frame, for driver interpolation.
     const double at = dropped ? double(i + 1) / steps : ((i + 1) * h - start) / dt;

@@ -108,7 +108,7 @@ struct BoneEntry {
 
 struct ModelEntry {
   bool enabled = false;  ///< false: no entry for the hash, bad version, or no springBones at all
-  std::vector<BoneEntry> bones;  ///< in metadata order
+  std::vector<BoneEntry> bones;  ///< in key order (the JSON reader sorts object keys)
 };
 
 /// Picks data.springBones.models[hash] and reads it with the runtime's forgiving rules: defaults
