@@ -6,6 +6,7 @@
 // further children start branches under it; leaves only mark where their parent bone ends.
 // Nothing here fails: every questionable input becomes a warning and a documented fallback.
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -37,8 +38,8 @@ bool containsSpringBoneToken(const std::string& name) {
 
 class RigBuilder {
  public:
-  RigBuilder(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings)
-      : model_(model) {
+  RigBuilder(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings, const RigOptions& options)
+      : model_(model), options_(options) {
     rig_ = std::make_shared<Rig>();
     rig_->skeleton = std::move(skeleton);
     rig_->warnings = std::move(warnings);
@@ -50,6 +51,7 @@ class RigBuilder {
     matchEntries();
     assignChains();
     buildJoints();
+    addColliders();
     return rig_;
   }
 
@@ -218,7 +220,47 @@ class RigBuilder {
     }
   }
 
+  // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
+  // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
+  void addColliders() {
+    if (options_.colliders.empty() || rig_->joints.empty()) return;
+    const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
+    std::unordered_map<std::string, int> external;
+    for (const ColliderSpec& spec : options_.colliders) {
+      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && std::isfinite(spec.radius);
+      if (!finite || spec.radius < 0.0f) {
+        warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
+        continue;
+      }
+      int driver = -1;
+      auto it = first_node_by_name_.find(spec.node);
+      if (it != first_node_by_name_.end()) {
+        if (is_candidate_[it->second] || chain_of_node_[it->second] >= 0) {
+          warn("collider-on-spring-bone", "collider node '" + spec.node + "' is a spring bone; ignored");
+          continue;
+        }
+        driver = driverFor(it->second);
+      } else {
+        auto [e, added] = external.emplace(spec.node, static_cast<int>(rig_->drivers.size()));
+        if (added) rig_->drivers.push_back(Driver{-1, spec.node});
+        driver = e->second;
+      }
+      Collider collider;
+      collider.shape = spec.shape;
+      collider.driver = driver;
+      collider.offset = spec.offset;
+      collider.tail = spec.shape == Collider::Shape::kCapsule ? spec.tail : spec.offset;
+      collider.radius = spec.radius;
+      rig_->colliders.push_back(collider);
+    }
+    for (Joint& joint : rig_->joints) {
+      joint.hit_radius = hit_radius;
+      for (std::size_t c = 0; c < rig_->colliders.size(); ++c) joint.colliders.push_back(static_cast<int>(c));
+    }
+  }
+
   const ModelEntry& model_;
+  const RigOptions& options_;
   std::shared_ptr<Rig> rig_;
   std::vector<bool> is_candidate_;
   std::vector<int> entry_of_node_;
@@ -234,8 +276,8 @@ class RigBuilder {
 bool isSpringBoneName(const std::string& name) { return containsSpringBoneToken(name); }
 
 std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
-                                    std::vector<Warning> warnings) {
-  return RigBuilder(std::move(skeleton), model, std::move(warnings)).build();
+                                    std::vector<Warning> warnings, const RigOptions& options) {
+  return RigBuilder(std::move(skeleton), model, std::move(warnings), options).build();
 }
 
 }  // namespace springbones

@@ -123,7 +123,7 @@ struct Instance::State {
   double step_seconds = 1.0 / 60.0;
   double accumulator = 0.0;
   bool seeded = false;
-  bool rig_is_uniform = true;  // every joint's rest scale is a positive uniform scale
+  bool lanes_usable = true;  // every rest scale is a positive uniform one and the colliders fit the lanes
   bool fast_path = true;       // what the current frame's steps use
 
   // Rig-derived constants, per joint.
@@ -137,6 +137,7 @@ struct Instance::State {
   std::vector<glm::mat4> step_drivers, step_driver_inverses;
   std::vector<Similarity> step_similarities;
   DriverTable driver_table;  // step_similarities as the lane kernel reads them, slot 0 = identity
+  ColliderTable collider_table;  // world-space colliders of the current step, both paths
   std::vector<bool> step_inverse_valid;
 
   // Simulation state, per joint.
@@ -156,8 +157,10 @@ struct Instance::State {
       DriverPose& pose = current_drivers[d];
       std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
       pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
-      // Only the general path interpolates from a decomposition.
-      if (!pose.is_similarity) pose.trs = decomposeTransform(pose.matrix);
+      // The general path interpolates decompositions; a similarity already is one.
+      pose.trs = pose.is_similarity ? Transform{pose.similarity.position, pose.similarity.rotation,
+                                                glm::vec3(pose.similarity.scale)}
+                                    : decomposeTransform(pose.matrix);
     }
   }
 
@@ -187,9 +190,6 @@ struct Instance::State {
       if (t >= 1.0f) {
         step_drivers[d] = b.matrix;
       } else {
-        // The general path may start from poses decomposed as similarities.
-        if (a.is_similarity) previous_drivers[d].trs = Transform{a.similarity.position, a.similarity.rotation, glm::vec3(a.similarity.scale)};
-        if (b.is_similarity) current_drivers[d].trs = Transform{b.similarity.position, b.similarity.rotation, glm::vec3(b.similarity.scale)};
         Transform r;
         r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
         r.rotation = glm::slerp(a.trs.rotation, b.trs.rotation, t);
@@ -200,6 +200,51 @@ struct Instance::State {
       step_inverse_valid[d] = affineInverse(step_drivers[d], inverse);
       if (step_inverse_valid[d]) step_driver_inverses[d] = inverse;
     }
+    prepareColliders();
+  }
+
+  // Colliders in world space for this step. The radius scales with the driver: uniformly on the
+  // fast path, by the largest axis scale of a general matrix.
+  void prepareColliders() {
+    const auto& all = rig->colliders;
+    for (std::size_t c = 0; c < all.size(); ++c) {
+      const Collider& collider = all[c];
+      glm::vec3 start, end;
+      float scale;
+      if (fast_path) {
+        const Similarity& m = step_similarities[collider.driver];
+        start = m.apply(collider.offset);
+        end = m.apply(collider.tail);
+        scale = m.scale;
+      } else {
+        const glm::mat4& m = step_drivers[collider.driver];
+        start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
+        end = glm::vec3(m * glm::vec4(collider.tail, 1.0f));
+        scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+      }
+      collider_table.set(c, start, end, collider.radius * scale);
+    }
+  }
+
+  // Pushes a tail out of the joint's colliders, each followed by the length constraint again
+  // (VRMC_springBone order). Same arithmetic as the lane kernel's collider pass.
+  glm::vec3 collide(const Joint& joint, const glm::vec3& head, glm::vec3 tail, float length) const {
+    for (int c : joint.colliders) {
+      const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
+      const glm::vec3 segment = glm::vec3(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]) - start;
+      const float segment2 = glm::dot(segment, segment);
+      const glm::vec3 v = tail - start;
+      const float t = segment2 > 0.0f ? std::clamp(glm::dot(v, segment) / segment2, 0.0f, 1.0f) : 0.0f;
+      const glm::vec3 away = v - segment * t;
+      const float distance = glm::length(away);
+      const float penetration = collider_table.radius[c] + joint.hit_radius - distance;
+      if (!(penetration > 0.0f) || !(distance > kMinLength)) continue;
+      tail += away * (penetration / distance);
+      const glm::vec3 offset = tail - head;
+      const float offset_length = glm::length(offset);
+      if (offset_length > kMinLength && std::isfinite(offset_length)) tail = head + offset * (length / offset_length);
+    }
+    return tail;
   }
 
   // Center space. A general-path center without an inverse this step counts as world space.
@@ -240,9 +285,10 @@ struct Instance::State {
     offset = offset_length > kMinLength && std::isfinite(offset_length)
                  ? offset * (in.length / offset_length)
                  : in.rest_offset;  // tail on the head (or lost): restart from rest
+    const glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
     previous_tail[j] = current;
-    current_tail[j] = toCenter(joint, in.head + offset);
-    return offset;
+    current_tail[j] = toCenter(joint, tail);
+    return tail - in.head;
   }
 
   // The joint's local rotation that turns its rest axis toward `local_dir` (unit or not).
@@ -289,7 +335,7 @@ struct Instance::State {
   void run(float h, bool seed_only) {
     world_from_similarity = fast_path;
     if (fast_path) {
-      lanes.run(driver_table, h, seed_only, rotations.data());
+      lanes.run(driver_table, collider_table, h, seed_only, rotations.data());
     } else {
       stepGeneral(h, seed_only);
     }
@@ -318,7 +364,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.tail_distance[j] = len;
     s.tail_axis[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
     const glm::vec3 scale = joint.rest_local.scale;
-    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) s.rig_is_uniform = false;
+    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) s.lanes_usable = false;
   }
   s.driver_input.resize(16 * drivers);
   s.previous_drivers.resize(drivers);
@@ -328,9 +374,12 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_similarities.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
   s.driver_table.resize(drivers + 1);
+  s.collider_table.resize(s.rig->colliders.size());
+  if (s.rig->colliders.size() > kMaxLaneColliders) s.lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
   for (std::size_t d = 0; d < drivers; ++d) {
-    const glm::mat4& rest = s.rig->skeleton.nodes[s.rig->drivers[d].node].rest_world;
+    const int node = s.rig->drivers[d].node;  // -1: an avatar bone outside the GLB
+    const glm::mat4 rest = node >= 0 ? s.rig->skeleton.nodes[node].rest_world : glm::mat4(1.0f);
     std::memcpy(s.driver_input.data() + 16 * d, &rest[0][0], sizeof(float) * 16);
   }
   s.current_tail.resize(joints);
@@ -378,12 +427,12 @@ void Instance::step(double dt) {
   s.readDrivers();
   if (!s.seeded) {
     s.previous_drivers = s.current_drivers;
-    s.fast_path = s.rig_is_uniform && s.driversAreSimilarities();
+    s.fast_path = s.lanes_usable && s.driversAreSimilarities();
     s.prepareDrivers(1.0f);
     s.run(0.0f, /*seed_only=*/true);
     s.seeded = true;
   }
-  s.fast_path = s.rig_is_uniform && s.driversAreSimilarities();
+  s.fast_path = s.lanes_usable && s.driversAreSimilarities();
   // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
   // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
   const double h = s.step_seconds;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace springbones {
 namespace {
@@ -50,6 +51,21 @@ glm::vec3 perpendicularTo(const glm::vec3& axis) {
 
 }  // namespace
 
+void ColliderTable::resize(std::size_t colliders) {
+  count = colliders;
+  for (auto* v : {&x0, &y0, &z0, &x1, &y1, &z1, &radius}) v->assign(colliders, 0.0f);
+}
+
+void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& end, float r) {
+  x0[c] = start.x;
+  y0[c] = start.y;
+  z0[c] = start.z;
+  x1[c] = end.x;
+  y1[c] = end.y;
+  z1[c] = end.z;
+  radius[c] = r;
+}
+
 void DriverTable::resize(std::size_t slots) {
   for (auto* v : {&px, &py, &pz, &qx, &qy, &qz, &qw, &s}) v->assign(slots, 0.0f);
   set(0, glm::vec3(0.0f), glm::quat(1, 0, 0, 0), 1.0f);
@@ -93,21 +109,24 @@ SpringLanes::SpringLanes(const Rig& rig) {
   joint_slot_.assign(joints.size(), -1);
   center_.assign(slots, 0);
   // Padding slots get harmless constants: identity rotations, a zero-length bone.
-  for (auto* v : {&tx_, &ty_, &tz_, &rx_, &ry_, &rz_, &ax_, &az_, &nx_, &ny_, &tail_distance_, &stiffness_,
+  for (auto* v : {&tx_, &ty_, &tz_, &rx_, &ry_, &rz_, &ax_, &az_, &px_, &py_, &tail_distance_, &stiffness_,
                   &gravity_power_, &keep_, &gx_, &gz_}) {
     v->assign(slots, 0.0f);
   }
-  for (auto* v : {&rw_, &rs_, &ay_, &nz_}) v->assign(slots, 1.0f);
+  for (auto* v : {&rw_, &rs_, &ay_, &pz_}) v->assign(slots, 1.0f);
   gy_.assign(slots, -1.0f);
   for (auto* v : {&cx_, &cy_, &cz_, &ox_, &oy_, &oz_, &wpx_, &wpy_, &wpz_, &wqx_, &wqy_, &wqz_, &out_x_, &out_y_,
                   &out_z_}) {
     v->assign(slots, 0.0f);
   }
   for (auto* v : {&wqw_, &ws_, &out_w_}) v->assign(slots, 1.0f);
-  for (auto* v : {&ppx_, &ppy_, &ppz_, &pqx_, &pqy_, &pqz_, &cpx_, &cpy_, &cpz_, &cqx_, &cqy_, &cqz_}) {
+  hit_radius_.assign(slots, 0.0f);
+  collider_mask_.assign(slots, 0u);
+  for (auto* v : {&ppx_, &ppy_, &ppz_, &pqx_, &pqy_, &pqz_, &cpx_, &cpy_, &cpz_, &cqx_, &cqy_, &cqz_, &hx_, &hy_,
+                  &hz_, &qx_, &qy_, &qz_, &len_, &nx_w_, &ny_w_, &nz_w_}) {
     v->assign(lane_count_, 0.0f);
   }
-  for (auto* v : {&pqw_, &ps_, &cqw_, &cs_}) v->assign(lane_count_, 1.0f);
+  for (auto* v : {&pqw_, &ps_, &cqw_, &cs_, &qw_, &scale_}) v->assign(lane_count_, 1.0f);
 
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
@@ -137,9 +156,15 @@ SpringLanes::SpringLanes(const Rig& rig) {
     ax_[slot] = axis.x;
     ay_[slot] = axis.y;
     az_[slot] = axis.z;
-    nx_[slot] = perpendicular.x;
-    ny_[slot] = perpendicular.y;
-    nz_[slot] = perpendicular.z;
+    px_[slot] = perpendicular.x;
+    py_[slot] = perpendicular.y;
+    pz_[slot] = perpendicular.z;
+    hit_radius_[slot] = joint.hit_radius;
+    std::uint32_t mask = 0;
+    for (int c : joint.colliders) {
+      if (c >= 0 && c < static_cast<int>(kMaxLaneColliders)) mask |= 1u << c;
+    }
+    collider_mask_[slot] = mask;
     tail_distance_[slot] = distance > kMinLength ? distance : 0.0f;
     stiffness_[slot] = joint.params.stiffness;
     gravity_power_[slot] = joint.params.gravity_power;
@@ -151,12 +176,14 @@ SpringLanes::SpringLanes(const Rig& rig) {
   (void)nodes;
 }
 
-void SpringLanes::run(const DriverTable& drivers, float h, bool seed, float* rotations) {
+void SpringLanes::run(const DriverTable& drivers, const ColliderTable& colliders, float h, bool seed,
+                      float* rotations) {
   for (std::size_t d = 0; d < depth_count_; ++d) {
     if (seed) {
-      any_center_ ? runDepth<true, true>(d, drivers, h) : runDepth<true, false>(d, drivers, h);
+      any_center_ ? runDepth<true, true>(d, drivers, colliders, h) : runDepth<true, false>(d, drivers, colliders, h);
     } else {
-      any_center_ ? runDepth<false, true>(d, drivers, h) : runDepth<false, false>(d, drivers, h);
+      any_center_ ? runDepth<false, true>(d, drivers, colliders, h)
+                  : runDepth<false, false>(d, drivers, colliders, h);
     }
   }
   for (std::size_t slot = 0; slot < slot_joint_.size(); ++slot) {
@@ -178,7 +205,7 @@ void SpringLanes::jointWorld(std::size_t joint, glm::vec3& position, glm::quat& 
 }
 
 template <bool kSeed, bool kCenter>
-void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float h) {
+void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const ColliderTable& colliders, float h) {
   const std::size_t lanes = lane_count_;
   const std::size_t base = depth * lanes;
 
@@ -222,6 +249,7 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float 
     }
   }
 
+  // Per lane: the parent transform (in), then the joint's world transform (out).
   float* __restrict ppx = ppx_.data();
   float* __restrict ppy = ppy_.data();
   float* __restrict ppz = ppz_.data();
@@ -238,6 +266,20 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float 
   const float* __restrict cqz = cqz_.data();
   const float* __restrict cqw = cqw_.data();
   const float* __restrict cs = cs_.data();
+  // Per lane scratch between the passes: head, rest world rotation, length, new tail (world).
+  float* __restrict hx = hx_.data();
+  float* __restrict hy = hy_.data();
+  float* __restrict hz = hz_.data();
+  float* __restrict qx = qx_.data();
+  float* __restrict qy = qy_.data();
+  float* __restrict qz = qz_.data();
+  float* __restrict qw = qw_.data();
+  float* __restrict len = len_.data();
+  float* __restrict scl = scale_.data();
+  float* __restrict nx = nx_w_.data();
+  float* __restrict ny = ny_w_.data();
+  float* __restrict nz = nz_w_.data();
+  // Per slot constants and state of this depth.
   const float* __restrict tx = tx_.data() + base;
   const float* __restrict ty = ty_.data() + base;
   const float* __restrict tz = tz_.data() + base;
@@ -249,9 +291,9 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float 
   const float* __restrict ax = ax_.data() + base;
   const float* __restrict ay = ay_.data() + base;
   const float* __restrict az = az_.data() + base;
-  const float* __restrict nx = nx_.data() + base;
-  const float* __restrict ny = ny_.data() + base;
-  const float* __restrict nz = nz_.data() + base;
+  const float* __restrict px = px_.data() + base;
+  const float* __restrict py = py_.data() + base;
+  const float* __restrict pz = pz_.data() + base;
   const float* __restrict td = tail_distance_.data() + base;
   const float* __restrict stiffness = stiffness_.data() + base;
   const float* __restrict gravity_power = gravity_power_.data() + base;
@@ -259,6 +301,8 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float 
   const float* __restrict gx = gx_.data() + base;
   const float* __restrict gy = gy_.data() + base;
   const float* __restrict gz = gz_.data() + base;
+  const float* __restrict hit = hit_radius_.data() + base;
+  const std::uint32_t* __restrict mask = collider_mask_.data() + base;
   float* __restrict cx = cx_.data() + base;
   float* __restrict cy = cy_.data() + base;
   float* __restrict cz = cz_.data() + base;
@@ -278,115 +322,156 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, float 
   float* __restrict out_z = out_z_.data() + base;
   float* __restrict out_w = out_w_.data() + base;
 
+  // Pass 1: the rest transform under the parent, then Verlet inertia (center space) with drag,
+  // the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
 #if defined(__clang__)
 #pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
 #endif
   for (std::size_t l = 0; l < lanes; ++l) {
-    // The joint's rest transform under its parent: head position, rotation, scale, bone length.
-    float hx, hy, hz;
-    rotate(pqx[l], pqy[l], pqz[l], pqw[l], tx[l], ty[l], tz[l], hx, hy, hz);
-    hx = ppx[l] + ps[l] * hx;
-    hy = ppy[l] + ps[l] * hy;
-    hz = ppz[l] + ps[l] * hz;
-    float qx, qy, qz, qw;  // rest world rotation
-    multiply(pqx[l], pqy[l], pqz[l], pqw[l], rx[l], ry[l], rz[l], rw[l], qx, qy, qz, qw);
+    float headx, heady, headz;
+    rotate(pqx[l], pqy[l], pqz[l], pqw[l], tx[l], ty[l], tz[l], headx, heady, headz);
+    headx = ppx[l] + ps[l] * headx;
+    heady = ppy[l] + ps[l] * heady;
+    headz = ppz[l] + ps[l] * headz;
+    float rqx, rqy, rqz, rqw;  // rest world rotation
+    multiply(pqx[l], pqy[l], pqz[l], pqw[l], rx[l], ry[l], rz[l], rw[l], rqx, rqy, rqz, rqw);
     const float scale = ps[l] * rs[l];
     const float length = scale * td[l];
     float dx, dy, dz;  // rest direction, world
-    rotate(qx, qy, qz, qw, ax[l], ay[l], az[l], dx, dy, dz);
-
-    float lqx = rx[l], lqy = ry[l], lqz = rz[l], lqw = rw[l];  // the joint's new local rotation
-    if (kSeed) {
-      float sx = hx + dx * length, sy = hy + dy * length, sz = hz + dz * length;
-      if (kCenter) {
-        float ux, uy, uz;
-        rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
-        sx = ux / cs[l];
-        sy = uy / cs[l];
-        sz = uz / cs[l];
-      }
-      cx[l] = ox[l] = sx;
-      cy[l] = oy[l] = sy;
-      cz[l] = oz[l] = sz;
-    } else {
-      // Verlet inertia in center space, reduced by drag; then to world.
+    rotate(rqx, rqy, rqz, rqw, ax[l], ay[l], az[l], dx, dy, dz);
+    float sx = headx + dx * length, sy = heady + dy * length, sz = headz + dz * length;
+    if (!kSeed) {
       const float vx = cx[l] + (cx[l] - ox[l]) * keep[l];
       const float vy = cy[l] + (cy[l] - oy[l]) * keep[l];
       const float vz = cz[l] + (cz[l] - oz[l]) * keep[l];
-      float nxw = vx, nyw = vy, nzw = vz;
+      float wx = vx, wy = vy, wz = vz;
       if (kCenter) {
-        rotate(cqx[l], cqy[l], cqz[l], cqw[l], vx, vy, vz, nxw, nyw, nzw);
-        nxw = cpx[l] + cs[l] * nxw;
-        nyw = cpy[l] + cs[l] * nyw;
-        nzw = cpz[l] + cs[l] * nzw;
+        rotate(cqx[l], cqy[l], cqz[l], cqw[l], vx, vy, vz, wx, wy, wz);
+        wx = cpx[l] + cs[l] * wx;
+        wy = cpy[l] + cs[l] * wy;
+        wz = cpz[l] + cs[l] * wz;
       }
-      // Stiffness and gravity impulses, world space.
       const float k = stiffness[l] * h;
       const float g = gravity_power[l] * h;
-      nxw = nxw + dx * k + gx[l] * g;
-      nyw = nyw + dy * k + gy[l] * g;
-      nzw = nzw + dz * k + gz[l] * g;
+      wx = wx + dx * k + gx[l] * g;
+      wy = wy + dy * k + gy[l] * g;
+      wz = wz + dz * k + gz[l] * g;
       // Back onto the sphere of the bone length; a tail lost on the head restarts at rest.
-      float fx = nxw - hx, fy = nyw - hy, fz = nzw - hz;
+      const float fx = wx - headx, fy = wy - heady, fz = wz - headz;
       const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
       const bool usable = offset_length > kMinLength && offset_length < 1e30f;
       const float to_length = length / offset_length;
-      fx = usable ? fx * to_length : dx * length;
-      fy = usable ? fy * to_length : dy * length;
-      fz = usable ? fz * to_length : dz * length;
-      float sx = hx + fx, sy = hy + fy, sz = hz + fz;
-      if (kCenter) {
-        float ux, uy, uz;
-        rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
-        sx = ux / cs[l];
-        sy = uy / cs[l];
-        sz = uz / cs[l];
-      }
-      ox[l] = cx[l];
-      oy[l] = cy[l];
-      oz[l] = cz[l];
-      cx[l] = sx;
-      cy[l] = sy;
-      cz[l] = sz;
-
-      // Turn the rest axis toward the new tail, in the joint's rest local frame.
-      float lx, ly, lz;
-      rotate(-qx, -qy, -qz, qw, fx, fy, fz, lx, ly, lz);
-      const float inv_local = 1.0f / std::sqrt(lx * lx + ly * ly + lz * lz);
-      lx *= inv_local;
-      ly *= inv_local;
-      lz *= inv_local;
-      const float dot = ax[l] * lx + ay[l] * ly + az[l] * lz;
-      const bool opposite = dot < kOppositeDot;
-      float tqx = opposite ? nx[l] : ay[l] * lz - az[l] * ly;
-      float tqy = opposite ? ny[l] : az[l] * lx - ax[l] * lz;
-      float tqz = opposite ? nz[l] : ax[l] * ly - ay[l] * lx;
-      float tqw = opposite ? 0.0f : 1.0f + dot;
-      normalize(tqx, tqy, tqz, tqw);
-      float mx, my, mz, mw;
-      multiply(rx[l], ry[l], rz[l], rw[l], tqx, tqy, tqz, tqw, mx, my, mz, mw);
-      normalize(mx, my, mz, mw);
-      const bool moving = length > kMinLength && inv_local < 1e30f;  // false on NaN too
-      lqx = moving ? mx : lqx;
-      lqy = moving ? my : lqy;
-      lqz = moving ? mz : lqz;
-      lqw = moving ? mw : lqw;
+      sx = usable ? headx + fx * to_length : sx;
+      sy = usable ? heady + fy * to_length : sy;
+      sz = usable ? headz + fz * to_length : sz;
     }
+    hx[l] = headx;
+    hy[l] = heady;
+    hz[l] = headz;
+    qx[l] = rqx;
+    qy[l] = rqy;
+    qz[l] = rqz;
+    qw[l] = rqw;
+    len[l] = length;
+    scl[l] = scale;
+    nx[l] = sx;
+    ny[l] = sy;
+    nz[l] = sz;
+  }
+
+  // Pass 2, one loop per collider (so each loop vectorises): push the tail out of the shape
+  // (closest point on the capsule segment, or the sphere center), then restore the bone length.
+  if (!kSeed) {
+    for (std::size_t c = 0; c < colliders.count; ++c) {
+      const float ax0 = colliders.x0[c], ay0 = colliders.y0[c], az0 = colliders.z0[c];
+      const float sgx = colliders.x1[c] - ax0, sgy = colliders.y1[c] - ay0, sgz = colliders.z1[c] - az0;
+      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
+      const float inv_segment2 = segment2 > 0.0f ? 1.0f / segment2 : 0.0f;
+      const float radius = colliders.radius[c];
+      const std::uint32_t bit = 1u << c;
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+      for (std::size_t l = 0; l < lanes; ++l) {
+        const float vx = nx[l] - ax0, vy = ny[l] - ay0, vz = nz[l] - az0;
+        float t = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
+        t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+        const float dx = vx - sgx * t, dy = vy - sgy * t, dz = vz - sgz * t;
+        const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float penetration = radius + hit[l] - distance;
+        const bool pushed = (mask[l] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
+        const float push = pushed ? penetration / distance : 0.0f;
+        const float sx = nx[l] + dx * push, sy = ny[l] + dy * push, sz = nz[l] + dz * push;
+        const float fx = sx - hx[l], fy = sy - hy[l], fz = sz - hz[l];
+        const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
+        const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
+        const float to_length = len[l] / offset_length;
+        nx[l] = usable ? hx[l] + fx * to_length : nx[l];
+        ny[l] = usable ? hy[l] + fy * to_length : ny[l];
+        nz[l] = usable ? hz[l] + fz * to_length : nz[l];
+      }
+    }
+  }
+
+  // Pass 3: store the tail (center space), turn the joint toward it, and hand the joint's world
+  // transform to the next depth of the lane.
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+  for (std::size_t l = 0; l < lanes; ++l) {
+    float sx = nx[l], sy = ny[l], sz = nz[l];
+    const float fx = sx - hx[l], fy = sy - hy[l], fz = sz - hz[l];
+    if (kCenter) {
+      float ux, uy, uz;
+      rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
+      sx = ux / cs[l];
+      sy = uy / cs[l];
+      sz = uz / cs[l];
+    }
+    ox[l] = kSeed ? sx : cx[l];
+    oy[l] = kSeed ? sy : cy[l];
+    oz[l] = kSeed ? sz : cz[l];
+    cx[l] = sx;
+    cy[l] = sy;
+    cz[l] = sz;
+
+    // The rest axis turned toward the tail, in the joint's rest local frame.
+    float lx, ly, lz;
+    rotate(-qx[l], -qy[l], -qz[l], qw[l], fx, fy, fz, lx, ly, lz);
+    const float inv_local = 1.0f / std::sqrt(lx * lx + ly * ly + lz * lz);
+    lx *= inv_local;
+    ly *= inv_local;
+    lz *= inv_local;
+    const float dot = ax[l] * lx + ay[l] * ly + az[l] * lz;
+    const bool opposite = dot < kOppositeDot;
+    float tqx = opposite ? px[l] : ay[l] * lz - az[l] * ly;
+    float tqy = opposite ? py[l] : az[l] * lx - ax[l] * lz;
+    float tqz = opposite ? pz[l] : ax[l] * ly - ay[l] * lx;
+    float tqw = opposite ? 0.0f : 1.0f + dot;
+    normalize(tqx, tqy, tqz, tqw);
+    float mx, my, mz, mw;
+    multiply(rx[l], ry[l], rz[l], rw[l], tqx, tqy, tqz, tqw, mx, my, mz, mw);
+    normalize(mx, my, mz, mw);
+    // Seeding, a zero-length bone or a lost direction (NaN fails the comparison) keep the rest.
+    const bool moving = !kSeed && len[l] > kMinLength && inv_local < 1e30f;
+    const float lqx = moving ? mx : rx[l];
+    const float lqy = moving ? my : ry[l];
+    const float lqz = moving ? mz : rz[l];
+    const float lqw = moving ? mw : rw[l];
     out_x[l] = lqx;
     out_y[l] = lqy;
     out_z[l] = lqz;
     out_w[l] = lqw;
-    // The joint's world transform: stored, and the parent of the next depth in this lane.
     float jx, jy, jz, jw;
     multiply(pqx[l], pqy[l], pqz[l], pqw[l], lqx, lqy, lqz, lqw, jx, jy, jz, jw);
-    wpx[l] = ppx[l] = hx;
-    wpy[l] = ppy[l] = hy;
-    wpz[l] = ppz[l] = hz;
+    wpx[l] = ppx[l] = hx[l];
+    wpy[l] = ppy[l] = hy[l];
+    wpz[l] = ppz[l] = hz[l];
     wqx[l] = pqx[l] = jx;
     wqy[l] = pqy[l] = jy;
     wqz[l] = pqz[l] = jz;
     wqw[l] = pqw[l] = jw;
-    ws[l] = ps[l] = scale;
+    ws[l] = ps[l] = scl[l];
   }
 }
 

@@ -139,11 +139,38 @@ struct Joint {
   Transform rest_local;     ///< the node's rest local transform
   glm::vec3 tail_local{0};  ///< tail position in the joint's local space (child translation)
   float rest_length = 0;    ///< world distance head->tail in the rest pose
+  float hit_radius = 0;     ///< radius of the tail against colliders, world units
+  std::vector<int> colliders;  ///< indices into Rig::colliders this joint's tail collides with
 };
 
 struct Driver {
-  int node = -1;
+  int node = -1;  ///< -1: a node the GLB does not have (a collider on an avatar bone); the caller
+                  ///< still writes its world matrix, found by name
   std::string name;
+};
+
+/// A collision shape carried by a driver's world matrix (VRMC_springBone colliders).
+struct Collider {
+  enum class Shape { kSphere, kCapsule };
+  Shape shape = Shape::kSphere;
+  int driver = -1;
+  glm::vec3 offset{0.0f};  ///< sphere center / capsule start, in the driver node's space
+  glm::vec3 tail{0.0f};    ///< capsule end, in the driver node's space
+  float radius = 0.0f;     ///< in the driver node's space (world radius = radius x its scale)
+};
+
+/// A collider to attach by node name, for avatars whose GLB says nothing about colliders.
+struct ColliderSpec {
+  std::string node;
+  Collider::Shape shape = Collider::Shape::kSphere;
+  glm::vec3 offset{0.0f};
+  glm::vec3 tail{0.0f};
+  float radius = 0.0f;
+};
+
+struct RigOptions {
+  std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
+  float hit_radius = 0.0f;              ///< joint radius against them, world units, >= 0
 };
 
 struct Rig {
@@ -151,13 +178,16 @@ struct Rig {
   std::vector<Joint> joints;    ///< parents before children
   std::vector<Driver> drivers;  ///< chain-root parents and center nodes, in first-use order
   std::vector<int> chain_roots;  ///< joint indices of the roots
+  std::vector<Collider> colliders;
   std::vector<Warning> warnings;
 };
 
 /// Builds the chains of a skeleton from the chosen metadata entry (DESIGN.md section 4).
 /// Never fails: problems become warnings and the affected joints are left out or fall back.
+/// Collider nodes (found by name in the GLB, or else external drivers the caller supplies) join
+/// the driver list.
 std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
-                                    std::vector<Warning> warnings = {});
+                                    std::vector<Warning> warnings = {}, const RigOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 // The simulation: one Instance per avatar
