@@ -1,0 +1,99 @@
+// Shared helpers of the WebAssembly tests: fixture paths, small glTF documents built in memory,
+// and the scripted sway that drives the parity scenario.
+import { existsSync, readFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const fixturesDir = join(root, 'tests', 'fixtures');
+
+export function fixture(name) {
+  return readFileSync(join(fixturesDir, name));
+}
+
+export function hasFixture(name) {
+  return existsSync(join(fixturesDir, name));
+}
+
+const encoder = new TextEncoder();
+
+/** glTF JSON text bytes for a document. */
+export function gltfBytes(doc) {
+  return encoder.encode(JSON.stringify(doc));
+}
+
+/** A GLB 2.0 container around a glTF document (JSON chunk only, padded with spaces). */
+export function glbBytes(doc) {
+  const json = encoder.encode(JSON.stringify(doc));
+  const padded = (json.length + 3) & ~3;
+  const out = new Uint8Array(12 + 8 + padded);
+  const view = new DataView(out.buffer);
+  view.setUint32(0, 0x46546c67, true);  // "glTF"
+  view.setUint32(4, 2, true);
+  view.setUint32(8, out.length, true);
+  view.setUint32(12, padded, true);
+  view.setUint32(16, 0x4e4f534a, true);  // "JSON"
+  out.set(json, 20);
+  out.fill(0x20, 20 + json.length);
+  return out;
+}
+
+/**
+ * A head node with `chains` spring chains of `joints` simulated joints each (plus a tip), bones
+ * 5 cm long pointing down, and the metadata that makes each chain a root under `hash`.
+ */
+export function springRig({ chains = 1, joints = 3, hash = 'test-hash', params = {} } = {}) {
+  const nodes = [{ name: 'Avatar_Head', children: [], translation: [0, 1.6, 0] }];
+  const bones = {};
+  for (let c = 0; c < chains; ++c) {
+    let parent = 0;
+    for (let j = 0; j <= joints; ++j) {
+      const index = nodes.length;
+      const name = j === joints ? `SpringBone_${c}_tip` : `SpringBone_${c}_${j}`;
+      nodes.push({ name, translation: j === 0 ? [0.01 * c, 0, 0.05] : [0, -0.05, 0] });
+      (nodes[parent].children ??= []).push(index);
+      parent = index;
+    }
+    bones[`SpringBone_${c}_0`] = {
+      stiffness: 1, gravityPower: 0.5, gravityDir: [0, -1, 0], drag: 0.4, isRoot: true, ...params,
+    };
+  }
+  for (const n of nodes) if (n.children?.length === 0) delete n.children;
+  const doc = { asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: [0] }], nodes };
+  return { doc, glb: glbBytes(doc), springBones: { version: 1, models: { [hash]: bones } }, hash };
+}
+
+let manifest;
+/** The models key a fixture GLB is meant to be loaded with (tests/fixtures/manifest.json). */
+export function metadataKeyOf(name) {
+  manifest ??= JSON.parse(fixture('manifest.json').toString('utf8'));
+  return manifest.files[name].metadataKey;
+}
+
+/** The content hash of a fixture as @dcl/hashing computes it (tests/fixtures/manifest.json). */
+export function contentHashOf(name) {
+  manifest ??= JSON.parse(fixture('manifest.json').toString('utf8'));
+  return manifest.files[name].contentHash;
+}
+
+/** Loads a fixture GLB with its metadata file and manifest key. */
+export function loadFixtureRig(sb, name) {
+  manifest ??= JSON.parse(fixture('manifest.json').toString('utf8'));
+  const entry = manifest.files[name];
+  return sb.loadRig(fixture(name), fixture(entry.metadata).toString('utf8'), { contentHash: entry.metadataKey });
+}
+
+/** The glTF JSON document inside a GLB. */
+export function gltfOf(glb) {
+  const view = new DataView(glb.buffer, glb.byteOffset, glb.byteLength);
+  const length = view.getUint32(12, true);
+  return JSON.parse(new TextDecoder().decode(glb.subarray(20, 20 + length)));
+}
+
+/** FNV-1a (32-bit) over the bytes of a typed array, as tests/native/determinism_test.cpp hashes. */
+export function fnv1a(typed) {
+  const bytes = new Uint8Array(typed.buffer, typed.byteOffset, typed.byteLength);
+  let hash = 2166136261;
+  for (const b of bytes) hash = Math.imul(hash ^ b, 16777619) >>> 0;
+  return hash;
+}
