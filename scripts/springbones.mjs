@@ -1,0 +1,284 @@
+#!/usr/bin/env node
+// springbones command line: look at a wearable's spring bones and simulate them headless, through
+// the same WebAssembly module and JS API as the browser (web/springbones.js; build it first with
+// scripts/build wasm).
+//
+//   node scripts/springbones.mjs inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]
+//   node scripts/springbones.mjs simulate <glb> --metadata f.json [--hash H | --body-shape S]
+//                                [--frames N] [--fps F] [--drive rest|sway] [--step-hz H] [--max-substeps N]
+//
+// Exit codes: 0 success, 1 the input could not be loaded (file missing, bad GLB or metadata),
+// 2 usage error. Commands live in one table below; adding one is adding an entry.
+import { realpathSync } from 'node:fs';
+import { readFile } from 'node:fs/promises';
+import { basename } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { parseArgs } from 'node:util';
+
+import { createSpringBones, SpringBonesError } from '../web/springbones.js';
+import { swayDrivers } from './lib/sway.mjs';
+
+class UsageError extends Error {}
+class LoadError extends Error {}
+
+const kMetadataOptions = {
+  metadata: { type: 'string' },
+  hash: { type: 'string' },
+  'body-shape': { type: 'string' },
+};
+
+const commands = {
+  inspect: {
+    synopsis: 'inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]',
+    summary: 'print the chains, drivers and warnings of a wearable',
+    options: { ...kMetadataOptions, json: { type: 'boolean' } },
+    positionals: ['glb'],
+    run: inspect,
+  },
+  simulate: {
+    synopsis: 'simulate <glb> --metadata f.json [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
+              '           [--drive rest|sway] [--step-hz H] [--max-substeps N]',
+    summary: 'step a wearable and print each frame\'s joint rotations as JSON lines',
+    options: {
+      ...kMetadataOptions,
+      frames: { type: 'string', default: '60' },
+      fps: { type: 'string', default: '60' },
+      drive: { type: 'string', default: 'rest' },
+      'step-hz': { type: 'string' },
+      'max-substeps': { type: 'string' },
+    },
+    positionals: ['glb'],
+    required: ['metadata'],
+    run: simulate,
+  },
+};
+
+const kUsage = `usage: node scripts/springbones.mjs <command> [arguments]
+
+commands:
+${Object.entries(commands).map(([name, c]) => `  ${name.padEnd(9)} ${c.summary}`).join('\n')}
+
+${Object.values(commands).map((c) => `  ${c.synopsis}`).join('\n')}
+
+  <glb>              a .glb file (or .gltf JSON text)
+  --metadata f.json  data.springBones, either the object itself or a wearable / entity / Builder
+                     item JSON that contains it (metadata.data.springBones or data.springBones)
+  --hash H           the springBones.models key to use (default: the GLB's content hash)
+  --body-shape S     with an entity metadata file: use the main file hash of the representation
+                     worn by body shape S (a URN, or its last segment such as BaseMale)
+  --json             inspect: print the rig as JSON instead of text
+  --frames N         simulate: frames to run (default 60)
+  --fps F            simulate: frame rate; each frame steps by 1/F seconds (default 60)
+  --drive rest|sway  simulate: keep the drivers at rest (default), or sway the whole avatar so the
+                     chains move (scripts/lib/sway.mjs)
+  --step-hz H        simulate: fixed simulation rate, 1..1000 (default 60)
+  --max-substeps N   simulate: steps per frame at most, 1..64 (default 4)
+
+exit codes: 0 ok, 1 input could not be loaded, 2 usage error
+`;
+
+// ---------------------------------------------------------------------------------------------
+// Commands
+
+async function inspect({ glb, values }, out) {
+  const sb = await createSpringBones();
+  const { rig, source } = await loadWearable(sb, glb, values);
+  if (values.json) {
+    const data = {
+      file: glb, contentHash: rig.contentHash, hashSource: source, nodeCount: rig.nodeCount,
+      chains: rig.chains, joints: rig.joints, drivers: rig.drivers, warnings: rig.warnings,
+    };
+    out.write(JSON.stringify(data, null, 2) + '\n');
+    return;
+  }
+  const lines = [];
+  lines.push(`${basename(glb)}: ${rig.nodeCount} nodes, ${rig.joints.length} simulated joints`);
+  lines.push(`models key: ${rig.contentHash} (${source})`);
+  lines.push(`chains (${rig.chains.length}):`);
+  for (const root of rig.chains) {
+    const members = rig.joints.filter((j) => j.chain === root);
+    const parent = rig.joints[root].parentDriver >= 0 ? rig.drivers[rig.joints[root].parentDriver].name : '(scene root)';
+    lines.push(`  ${rig.joints[root].name}: ${members.length} joint${members.length === 1 ? '' : 's'}, under ${parent}`);
+    for (const j of members) {
+      const depth = depthOf(rig.joints, j);
+      const p = j.params;
+      const center = j.centerDriver >= 0 ? `, center ${rig.drivers[j.centerDriver].name}` : '';
+      lines.push(`    ${'  '.repeat(depth)}${j.name} -> ${j.tail}  stiffness ${p.stiffness}, gravityPower ` +
+                 `${p.gravityPower}, gravityDir [${p.gravityDir.join(', ')}], drag ${p.drag}${center}`);
+    }
+  }
+  lines.push(`drivers (${rig.drivers.length}): ${rig.drivers.map((d) => d.name).join(', ') || '-'}`);
+  lines.push(`warnings (${rig.warnings.length}):`);
+  for (const w of rig.warnings) lines.push(`  ${w.code}${w.path ? ` at ${w.path}` : ''}: ${w.message}`);
+  out.write(lines.join('\n') + '\n');
+}
+
+async function simulate({ glb, values }, out) {
+  const frames = parseNumber('--frames', values.frames, { integer: true, min: 0 });
+  const fps = parseNumber('--fps', values.fps, { positive: true });
+  if (values.drive !== 'rest' && values.drive !== 'sway') {
+    throw new UsageError(`--drive must be rest or sway, not '${values.drive}'`);
+  }
+  const instanceOptions = {};
+  if (values['step-hz'] !== undefined) {
+    instanceOptions.stepHz = parseNumber('--step-hz', values['step-hz'], { min: 1, max: 1000 });
+  }
+  if (values['max-substeps'] !== undefined) {
+    instanceOptions.maxSubsteps = parseNumber('--max-substeps', values['max-substeps'], { integer: true, min: 1, max: 64 });
+  }
+  const sb = await createSpringBones();
+  const { rig } = await loadWearable(sb, glb, values);
+  const instance = rig.createInstance(instanceOptions);
+  const rest = Float32Array.from(instance.driverMatrices);
+  const scratch = new Float64Array(16);
+  const dt = 1 / fps;
+  let chunk = '';
+  for (let k = 1; k <= frames; ++k) {
+    const t = k / fps;
+    if (values.drive === 'sway') swayDrivers(rest, instance.driverMatrices, t, scratch);
+    instance.step(dt);
+    chunk += `{"frame":${k},"t":${t},"rotations":[${instance.rotations.join(',')}]}\n`;
+    if (chunk.length > 1 << 16) {
+      await write(out, chunk);
+      chunk = '';
+    }
+  }
+  await write(out, chunk);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading
+
+async function loadWearable(sb, glbPath, values) {
+  if (values.hash !== undefined && values['body-shape'] !== undefined) {
+    throw new UsageError('give --hash or --body-shape, not both');
+  }
+  const glb = await readInput(glbPath);
+  let springBones = null;
+  let entity;
+  if (values.metadata !== undefined) {
+    const text = (await readInput(values.metadata)).toString('utf8');
+    let json;
+    try {
+      json = JSON.parse(text);
+    } catch (error) {
+      throw new LoadError(`${values.metadata}: not JSON (${error.message})`);
+    }
+    ({ springBones, entity } = splitMetadata(json));
+  }
+  let options = {};
+  let source = 'computed from the GLB';
+  if (values.hash !== undefined) {
+    options = { contentHash: values.hash };
+    source = 'given with --hash';
+  } else if (values['body-shape'] !== undefined) {
+    if (entity === undefined) {
+      throw new UsageError('--body-shape needs a --metadata file that is an entity or item (with representations)');
+    }
+    options = { entity, bodyShape: values['body-shape'] };
+    source = `main file of ${values['body-shape']} in the entity`;
+  }
+  try {
+    return { rig: sb.loadRig(glb, springBones, options), source };
+  } catch (error) {
+    if (error instanceof SpringBonesError) {
+      throw new LoadError(`${glbPath}: ${error.code}: ${error.message}${error.path ? ` (at ${error.path})` : ''}`);
+    }
+    throw error;
+  }
+}
+
+/**
+ * A metadata file is either data.springBones itself or a document holding it: a catalyst entity
+ * (metadata.data.springBones), a wearable's metadata or a Builder item (data.springBones).
+ */
+export function splitMetadata(json) {
+  if (json === null || typeof json !== 'object' || Array.isArray(json)) {
+    return { springBones: json, entity: undefined };
+  }
+  const data = json.metadata?.data ?? json.data;
+  if (data !== null && typeof data === 'object' && !('models' in json)) {
+    return { springBones: data.springBones ?? null, entity: json };
+  }
+  return { springBones: json, entity: undefined };
+}
+
+async function readInput(path) {
+  try {
+    return await readFile(path);
+  } catch (error) {
+    throw new LoadError(`cannot read ${path}: ${error.code ?? error.message}`);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plumbing
+
+function depthOf(joints, joint) {
+  let depth = 0;
+  for (let j = joint; j.parent >= 0; j = joints[j.parent]) ++depth;
+  return depth;
+}
+
+function parseNumber(flag, text, { integer = false, min = -Infinity, max = Infinity, positive = false } = {}) {
+  const value = Number(text);
+  if (text.trim() === '' || !Number.isFinite(value) || (integer && !Number.isInteger(value)) ||
+      value < min || value > max || (positive && !(value > 0))) {
+    const bounds = [positive ? '> 0' : '', min > -Infinity ? `>= ${min}` : '', max < Infinity ? `<= ${max}` : '']
+      .filter(Boolean).join(' and ');
+    throw new UsageError(`${flag} must be ${integer ? 'an integer' : 'a number'}${bounds ? ` ${bounds}` : ''}, not '${text}'`);
+  }
+  return value;
+}
+
+function write(stream, text) {
+  if (text.length === 0) return Promise.resolve();
+  return new Promise((resolve) => (stream.write(text) ? resolve() : stream.once('drain', resolve)));
+}
+
+export async function main(argv, out = process.stdout, err = process.stderr) {
+  const [name, ...rest] = argv;
+  if (name === undefined || name === 'help' || name === '--help' || name === '-h') {
+    (name === undefined ? err : out).write(kUsage);
+    return name === undefined ? 2 : 0;
+  }
+  const command = Object.hasOwn(commands, name) ? commands[name] : undefined;
+  try {
+    if (command === undefined) throw new UsageError(`unknown command '${name}'`);
+    let parsed;
+    try {
+      parsed = parseArgs({ args: rest, options: command.options, allowPositionals: true, strict: true });
+    } catch (error) {
+      throw new UsageError(error.message);
+    }
+    const { values, positionals } = parsed;
+    if (positionals.length !== command.positionals.length) {
+      throw new UsageError(`${name} takes ${command.positionals.map((p) => `<${p}>`).join(' ')}` +
+                           (positionals.length ? `, got: ${positionals.join(' ')}` : ''));
+    }
+    for (const option of command.required ?? []) {
+      if (values[option] === undefined) throw new UsageError(`${name} needs --${option}`);
+    }
+    await command.run({ glb: positionals[0], values }, out);
+    return 0;
+  } catch (error) {
+    if (error instanceof UsageError) {
+      err.write(`springbones: ${error.message}\n\n${kUsage}`);
+      return 2;
+    }
+    if (error instanceof LoadError || error instanceof SpringBonesError) {
+      err.write(`springbones: ${error.message}\n`);
+      return 1;
+    }
+    throw error;
+  }
+}
+
+if (process.argv[1] && fileURLToPath(import.meta.url) === realpathSync(process.argv[1])) {
+  // `simulate | head` closes the pipe early: that is not an error.
+  process.stdout.on('error', (error) => {
+    if (error.code === 'EPIPE') process.exit(0);
+    throw error;
+  });
+  process.exitCode = await main(process.argv.slice(2));
+}

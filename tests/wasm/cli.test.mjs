@@ -1,0 +1,172 @@
+// scripts/springbones.mjs: output of inspect and simulate, metadata file shapes, exit codes.
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+
+import { splitMetadata } from '../../scripts/springbones.mjs';
+import { contentHashOf, fixture, fixturesDir, metadataKeyOf, root } from './helpers.mjs';
+
+const cli = join(root, 'scripts', 'springbones.mjs');
+const hairGlb = join(fixturesDir, 'avatar_hair.glb');
+const hairMetadata = join(fixturesDir, 'avatar_hair.metadata.json');
+
+function run(...args) {
+  const result = spawnSync(process.execPath, [cli, ...args], { encoding: 'utf8', maxBuffer: 1 << 26 });
+  return { code: result.status, stdout: result.stdout, stderr: result.stderr };
+}
+
+let scratch;
+before(() => {
+  scratch = mkdtempSync(join(tmpdir(), 'springbones-cli-'));
+});
+after(() => rmSync(scratch, { recursive: true, force: true }));
+
+describe('inspect', () => {
+  test('prints the chains with their parameters, the drivers and the warnings', () => {
+    const { code, stdout, stderr } = run('inspect', hairGlb, '--metadata', hairMetadata);
+    assert.equal(code, 0, stderr);
+    assert.match(stdout, /models key: bafk\S+ \(computed from the GLB\)/);
+    assert.match(stdout, /chains \(\d+\):/);
+    assert.match(stdout, /SpringBone_hair_left: 4 joints, under Avatar_Head/);
+    assert.match(stdout, /SpringBone_hair_left -> SpringBone_hair_left_1 {2}stiffness 1\.5, gravityPower 0\.5, gravityDir \[0, -1, 0\], drag 0\.4/);
+    assert.match(stdout, /drivers \(2\): Avatar_Head, Avatar_Hips/);
+    assert.match(stdout, /center-not-found at \/models\/\S+\/SpringBone_ribbon\/center: /);
+  });
+
+  test('--json prints the rig as JSON', () => {
+    const { code, stdout } = run('inspect', hairGlb, '--metadata', hairMetadata, '--json');
+    assert.equal(code, 0);
+    const data = JSON.parse(stdout);
+    assert.equal(data.contentHash, contentHashOf('avatar_hair.glb'));
+    assert.ok(data.joints.length > 10);
+    assert.deepEqual(data.drivers.map((d) => d.name), ['Avatar_Head', 'Avatar_Hips']);
+  });
+
+  test('without metadata: no chains, no warnings', () => {
+    const { code, stdout } = run('inspect', hairGlb);
+    assert.equal(code, 0);
+    assert.match(stdout, /chains \(0\):/);
+    assert.match(stdout, /warnings \(0\):/);
+  });
+
+  test('--hash selects the models entry', () => {
+    const adr = join(fixturesDir, 'adr_example_posed.glb');
+    const metadata = join(fixturesDir, 'adr_example.metadata.json');
+    assert.match(run('inspect', adr, '--metadata', metadata).stdout, /model-not-found/);
+    const { stdout } = run('inspect', adr, '--metadata', metadata, '--hash', metadataKeyOf('adr_example_posed.glb'));
+    assert.match(stdout, /chains \(2\):/);
+    assert.match(stdout, /given with --hash/);
+  });
+
+  test('reads springBones out of an entity file, and --body-shape picks the representation\'s hash', () => {
+    const springBones = JSON.parse(fixture('avatar_hair.metadata.json'));
+    const hash = Object.keys(springBones.models)[0];
+    const entity = {
+      type: 'wearable',
+      content: [{ file: 'hair.glb', hash }],
+      metadata: { data: { representations: [{ bodyShapes: ['urn:decentraland:off-chain:base-avatars:BaseFemale'], mainFile: 'hair.glb' }], springBones } },
+    };
+    const path = join(scratch, 'entity.json');
+    writeFileSync(path, JSON.stringify(entity));
+    const computed = run('inspect', hairGlb, '--metadata', path);
+    assert.equal(computed.code, 0, computed.stderr);
+    assert.match(computed.stdout, /SpringBone_hair_left: 4 joints/);
+    const viaEntity = run('inspect', hairGlb, '--metadata', path, '--body-shape', 'BaseFemale');
+    assert.equal(viaEntity.code, 0, viaEntity.stderr);
+    assert.match(viaEntity.stdout, /main file of BaseFemale in the entity/);
+    const wrongShape = run('inspect', hairGlb, '--metadata', path, '--body-shape', 'BaseMale');
+    assert.equal(wrongShape.code, 1);
+    assert.match(wrongShape.stderr, /invalid-argument: .*BaseMale/);
+  });
+});
+
+describe('simulate', () => {
+  test('prints one JSON line per frame with 4 floats per joint; --drive sway moves the chains', () => {
+    const joints = JSON.parse(run('inspect', hairGlb, '--metadata', hairMetadata, '--json').stdout).joints.length;
+    const { code, stdout, stderr } = run('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '30', '--fps', '30', '--drive', 'sway');
+    assert.equal(code, 0, stderr);
+    const lines = stdout.trim().split('\n').map((line) => JSON.parse(line));
+    assert.equal(lines.length, 30);
+    assert.deepEqual(lines.map((l) => l.frame), Array.from({ length: 30 }, (_, i) => i + 1));
+    assert.equal(lines[29].t, 1);
+    for (const l of lines) assert.equal(l.rotations.length, 4 * joints);
+    assert.notDeepEqual(lines[29].rotations, lines[0].rotations);
+  });
+
+  test('without --drive the drivers stay at rest; the output is the same on every run', () => {
+    const a = run('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '5');
+    const b = run('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '5');
+    assert.equal(a.code, 0);
+    assert.equal(a.stdout, b.stdout);
+    assert.equal(a.stdout.trim().split('\n').length, 5);
+  });
+});
+
+describe('exit codes', () => {
+  const usage = (...args) => {
+    const { code, stderr } = run(...args);
+    assert.equal(code, 2, `${args.join(' ')}: ${stderr}`);
+    assert.match(stderr, /usage: node scripts\/springbones\.mjs/);
+  };
+  test('2 for usage errors, with the usage text', () => {
+    usage();
+    usage('frobnicate');
+    usage('inspect');
+    usage('inspect', hairGlb, 'extra.glb');
+    usage('inspect', hairGlb, '--bogus');
+    usage('simulate', hairGlb);
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '-1');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '2.5');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', '0');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', 'fast');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--drive', 'spin');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--step-hz', '5000');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--max-substeps', '0');
+    usage('inspect', hairGlb, '--hash', 'h', '--body-shape', 'BaseMale');
+    usage('inspect', hairGlb, '--metadata', hairMetadata, '--body-shape', 'BaseMale');
+  });
+
+  test('0 and the usage on stdout for help', () => {
+    const { code, stdout } = run('help');
+    assert.equal(code, 0);
+    assert.match(stdout, /inspect <glb>/);
+    assert.match(stdout, /simulate <glb>/);
+  });
+
+  test('1 for inputs that cannot be loaded, with the error code', () => {
+    const notJson = join(scratch, 'not.json');
+    writeFileSync(notJson, '{"version": 1, ');
+    const png = join(scratch, 'image.png');
+    writeFileSync(png, Buffer.from([0x89, 0x50, 0x4e, 0x47, 13, 10, 26, 10, 0, 0, 0, 13]));
+    const badModels = join(scratch, 'bad_models.json');
+    writeFileSync(badModels, '{"version": 1, "models": []}');
+    for (const [args, message] of [
+      [['inspect', join(scratch, 'missing.glb')], /cannot read .*missing\.glb: ENOENT/],
+      [['inspect', hairGlb, '--metadata', join(scratch, 'missing.json')], /cannot read/],
+      [['inspect', join(fixturesDir, 'cycle.gltf')], /hierarchy-cycle/],
+      [['inspect', png], /glb-bad-magic/],
+      [['inspect', hairMetadata], /gltf-invalid/],
+      [['inspect', hairGlb, '--metadata', notJson], /not JSON/],
+      [['simulate', hairGlb, '--metadata', badModels], /metadata-invalid: .*\(at \/models\)/],
+    ]) {
+      const { code, stderr } = run(...args);
+      assert.equal(code, 1, `${args.join(' ')}: ${stderr}`);
+      assert.match(stderr, message);
+    }
+  });
+});
+
+test('splitMetadata: springBones itself, an entity, a wearable metadata, a Builder item', () => {
+  const springBones = { version: 1, models: {} };
+  assert.deepEqual(splitMetadata(springBones), { springBones, entity: undefined });
+  const entity = { content: [], metadata: { data: { springBones } } };
+  assert.deepEqual(splitMetadata(entity), { springBones, entity });
+  const wearable = { id: 'urn:x', data: { representations: [], springBones } };
+  assert.deepEqual(splitMetadata(wearable), { springBones, entity: wearable });
+  const withoutBones = { metadata: { data: { representations: [] } } };
+  assert.deepEqual(splitMetadata(withoutBones), { springBones: null, entity: withoutBones });
+  assert.deepEqual(splitMetadata(null), { springBones: null, entity: undefined });
+});
