@@ -1,0 +1,117 @@
+// A tiny static HTTP server for the demo: serves the repository root (the page imports three from
+// node_modules/ and the WebAssembly module from web/dist/), with the MIME types browsers insist
+// on (application/wasm for streaming compilation, text/javascript for modules).
+//
+//   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1]
+//
+// Also imported by tests/browser/ (startServer) to serve on a free port in-process. No
+// dependencies beyond node:http.
+import { createReadStream, statSync } from 'node:fs';
+import { createServer } from 'node:http';
+import { extname, join, normalize, resolve, sep } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const repoRoot = resolve(fileURLToPath(new URL('..', import.meta.url)));
+
+const MIME = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.json': 'application/json; charset=utf-8',
+  '.map': 'application/json; charset=utf-8',
+  '.wasm': 'application/wasm',
+  '.glb': 'model/gltf-binary',
+  '.gltf': 'model/gltf+json',
+  '.bin': 'application/octet-stream',
+  '.png': 'image/png',
+  '.jpg': 'image/jpeg',
+  '.svg': 'image/svg+xml',
+  '.ico': 'image/x-icon',
+  '.txt': 'text/plain; charset=utf-8',
+  '.md': 'text/markdown; charset=utf-8',
+  '.ts': 'text/plain; charset=utf-8',  // .d.ts files, for reading in the browser
+};
+
+/** Starts serving `root`; resolves to { server, url } once listening. port 0 picks a free port. */
+export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, log = false } = {}) {
+  const server = createServer((req, res) => {
+    const send = (status, text) => {
+      res.writeHead(status, { 'Content-Type': 'text/plain; charset=utf-8', 'Cache-Control': 'no-store' });
+      res.end(req.method === 'HEAD' ? undefined : text);
+    };
+    if (req.method !== 'GET' && req.method !== 'HEAD') return send(405, 'method not allowed\n');
+    let pathname;
+    try {
+      pathname = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
+    } catch {
+      return send(400, 'bad request\n');
+    }
+    if (pathname === '/') {
+      res.writeHead(302, { Location: '/web/demo/' });
+      return res.end();
+    }
+    // Resolve inside root only: no "..", no NUL, no escaping through an absolute path.
+    const file = normalize(join(root, pathname));
+    if (pathname.includes('\0') || (file !== root && !file.startsWith(root + sep))) return send(403, 'forbidden\n');
+    let target = file;
+    let stat;
+    try {
+      stat = statSync(target);
+      if (stat.isDirectory()) {
+        if (!pathname.endsWith('/')) {
+          res.writeHead(301, { Location: pathname + '/' });
+          return res.end();
+        }
+        target = join(target, 'index.html');
+        stat = statSync(target);
+      }
+    } catch {
+      if (log) console.log(`404 ${pathname}`);
+      return send(404, `not found: ${pathname}\n`);
+    }
+    res.writeHead(200, {
+      'Content-Type': MIME[extname(target).toLowerCase()] ?? 'application/octet-stream',
+      'Content-Length': stat.size,
+      'Cache-Control': 'no-store',  // a development server: always the file on disk
+      // Cross-origin isolation: everything is same-origin, and an isolated page gets a 5 us
+      // performance.now() instead of 100 us, which the demo's per-frame solver readout needs.
+      'Cross-Origin-Opener-Policy': 'same-origin',
+      'Cross-Origin-Embedder-Policy': 'require-corp',
+    });
+    if (req.method === 'HEAD') return res.end();
+    createReadStream(target).on('error', () => res.destroy()).pipe(res);
+  });
+  return new Promise((resolvePromise, reject) => {
+    server.once('error', reject);
+    server.listen(port, host, () => {
+      const { port: actual } = server.address();
+      const shownHost = host.includes(':') ? `[${host}]` : host;
+      resolvePromise({ server, url: `http://${shownHost}:${actual}/` });
+    });
+  });
+}
+
+// Command line
+if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
+  const args = process.argv.slice(2);
+  const option = (name, fallback) => {
+    const i = args.indexOf(`--${name}`);
+    return i >= 0 && i + 1 < args.length ? args[i + 1] : (process.env[name.toUpperCase()] ?? fallback);
+  };
+  const port = Number(option('port', 8080));
+  const host = option('host', '127.0.0.1');
+  if (!Number.isInteger(port) || port < 0 || port > 65535) {
+    console.error(`serve: bad port ${option('port')}`);
+    process.exit(2);
+  }
+  try {
+    const { url } = await startServer({ port, host, log: true });
+    console.log(`springbones demo: ${url}web/demo/`);
+    console.log('(Ctrl+C to stop)');
+  } catch (e) {
+    console.error(`serve: cannot listen on ${host}:${port}: ${e.message}` +
+      (e.code === 'EADDRINUSE' ? ' (try --port 0 for a free port)' : ''));
+    process.exit(1);
+  }
+}

@@ -1,0 +1,513 @@
+// The creator panel: open a wearable GLB with its metadata (a data.springBones JSON or a whole
+// entity), list its spring-bone nodes, edit each entry with live feedback, see the deploy-time
+// validation and export data.springBones keyed by the GLB's content hash.
+//
+// Every edit rebuilds the rig from the GLB bytes and the edited entries (a few hundred
+// microseconds for a wearable) and hands it to the preview, which switches every avatar's
+// attachment to it without touching the animation. The GLB itself is never modified.
+import { Group } from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
+import { wearableNodes } from '../../three/springBonesThree.js';
+import {
+  RANGES, activeHashes, classifyJson, completeEntry, editorWarnings, effectiveParams, exportSpringBones,
+  prefillEntries, representationsOf, springBoneTree, springBonesOf, validateForDeploy, validateSchema,
+} from './springBonesData.js';
+
+const $ = (id) => document.getElementById(id);
+const ASSETS = new URL('../assets/', import.meta.url);
+const SAMPLE = { glb: 'hair_wearable.glb', json: 'hair_wearable.metadata.json' };
+
+const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
+const isGlb = (bytes) => bytes.length >= 4 && bytes[0] === 0x67 && bytes[1] === 0x6c && bytes[2] === 0x54 && bytes[3] === 0x46;
+const round = (v) => Math.round(v * 1000) / 1000;
+const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
+const unescapePointer = (segment) => segment.replace(/~1/g, '/').replace(/~0/g, '~');
+const shortHash = (h) => (h && h.length > 16 ? `${h.slice(0, 10)}…${h.slice(-6)}` : h);
+
+function element(tag, props = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(props)) {
+    if (k === 'class') e.className = v;
+    else if (k === 'dataset') Object.assign(e.dataset, v);
+    else if (k in e) e[k] = v;
+    else e.setAttribute(k, v);
+  }
+  for (const c of children) if (c !== null && c !== undefined) e.append(c);  // text via append: never parsed as HTML
+  return e;
+}
+
+/** A glTF without scenes (valid: the ADR's example has none) gets one holding its root nodes. */
+async function addDefaultScene(gltf) {
+  const objects = await gltf.parser.getDependencies('node');
+  const json = gltf.parser.json.nodes ?? [];
+  const children = new Set(json.flatMap((n) => (Array.isArray(n.children) ? n.children : [])));
+  const scene = new Group();
+  scene.name = 'Scene';
+  objects.forEach((o, i) => { if (!children.has(i) && !o.parent) scene.add(o); });
+  gltf.scene = scene;
+  gltf.scenes = [scene];
+}
+
+export class Creator {
+  constructor(preview) {
+    this.preview = preview;
+    this.sb = preview.sb;
+    this.loader = new GLTFLoader();
+    this.bytes = null;      // the GLB being edited
+    this.name = '';
+    this.hash = null;       // its content hash (the models key)
+    this.tree = null;       // springBoneTree of its glTF JSON
+    this.entries = {};      // the edited models[hash]
+    this.original = null;   // the springBones value that was loaded (other hashes survive export)
+    this.entity = null;     // the entity, when one was loaded
+    this.bodyShape = null;
+    this.selected = -1;     // candidate slot shown in the editor
+    this.messages = [];     // { level: 'error'|'warning'|'info', text }
+    this.exportUrl = null;
+    this.busy = Promise.resolve();
+    this.wire();
+  }
+
+  // ---- reading files
+
+  wire() {
+    $('file-glb').addEventListener('change', (e) => { this.openFiles(e.target.files); e.target.value = ''; });
+    $('file-json').addEventListener('change', (e) => { this.openFiles(e.target.files); e.target.value = ''; });
+    $('load-sample').addEventListener('click', () => this.queue(() => this.loadSample()));
+    const zone = $('dropzone');
+    const over = (on) => (e) => { e.preventDefault(); document.body.classList.toggle('dragging', on); };
+    window.addEventListener('dragover', over(true));
+    window.addEventListener('dragleave', (e) => { if (!e.relatedTarget) document.body.classList.remove('dragging'); });
+    window.addEventListener('drop', (e) => {
+      over(false)(e);
+      if (e.dataTransfer?.files?.length) this.openFiles(e.dataTransfer.files);
+    });
+    zone.addEventListener('keydown', (e) => { if (e.key === 'Enter') $('file-glb').click(); });
+    $('body-shape').addEventListener('change', (e) => { this.bodyShape = e.target.value; this.refreshEntityNotes(); this.refreshValidation(); });
+    this.wireEditor();
+    $('export').addEventListener('click', () => this.showExport());
+    $('copy-export').addEventListener('click', () => this.copyExport());
+  }
+
+  /** Loads run one after another (a second drop waits for the first). */
+  queue(task) {
+    this.busy = this.busy.then(task, task).catch((e) => this.fail(`Unexpected error: ${e.message}`));
+    return this.busy;
+  }
+
+  openFiles(fileList) {
+    const files = [...fileList];
+    return this.queue(async () => {
+      let glb = null;
+      let json = null;
+      for (const file of files) {
+        const bytes = new Uint8Array(await file.arrayBuffer());
+        if (/\.(glb|gltf)$/i.test(file.name) || isGlb(bytes)) glb = { name: file.name, bytes };
+        else json = { name: file.name, bytes };
+      }
+      await this.open({ glb, json });
+    });
+  }
+
+  async loadSample() {
+    const [glbBytes, jsonBytes] = await Promise.all([SAMPLE.glb, SAMPLE.json].map(async (f) => {
+      const r = await fetch(new URL(f, ASSETS));
+      if (!r.ok) throw new Error(`${f}: HTTP ${r.status}`);
+      return new Uint8Array(await r.arrayBuffer());
+    }));
+    await this.open({ glb: { name: SAMPLE.glb, bytes: glbBytes }, json: { name: SAMPLE.json, bytes: jsonBytes } });
+  }
+
+  /**
+   * Opens a GLB and/or a JSON file. A GLB alone starts without parameters (prefilled defaults); a
+   * JSON alone applies to the GLB already open. Anything that fails leaves the current state.
+   */
+  async open({ glb, json }) {
+    const messages = [];
+    let value = null;
+    let kind = null;
+    if (json) {
+      try {
+        value = JSON.parse(new TextDecoder('utf-8', { fatal: false }).decode(json.bytes));
+      } catch (e) {
+        return this.fail(`${json.name}: not valid JSON (${e.message})`);
+      }
+      kind = classifyJson(value);
+      if (kind === 'unknown') return this.fail(`${json.name}: neither a data.springBones object ({version, models}) nor a wearable entity`);
+    }
+    if (!glb && !this.bytes) return this.fail('Open a GLB first (or together with the JSON).');
+
+    let loaded = null;
+    if (glb) {
+      try {
+        loaded = await this.readGlb(glb);
+      } catch (e) {
+        const code = e.code ? ` [${e.code}]` : '';
+        return this.fail(`Could not load ${glb.name}${code}: ${e.message}`);
+      }
+    }
+
+    // Commit: from here on nothing throws on bad input.
+    if (loaded) {
+      Object.assign(this, loaded);
+      this.original = null;
+      this.entity = null;
+    }
+    if (kind === 'springBones') {
+      this.original = value;
+      this.entity = null;
+    } else if (kind === 'entity') {
+      this.entity = value;
+      this.original = springBonesOf(value);
+    }
+    this.setupBodyShapes();
+    const schemaErrors = this.original ? validateSchema(this.original) : [];
+    const shown = (path) => path.split(this.hash).join('<GLB hash>');
+    for (const e of schemaErrors.slice(0, 8)) messages.push({ level: 'warning', text: `loaded springBones${shown(e.path)}: ${e.message}` });
+    if (schemaErrors.length > 8) messages.push({ level: 'warning', text: `… and ${schemaErrors.length - 8} more schema errors` });
+    const picked = this.pickEntries();
+    this.entries = picked.entries;
+    if (picked.note) messages.push({ level: picked.level ?? 'info', text: picked.note });
+    this.messages = messages;
+    this.selected = this.tree.candidates.findIndex((c) => this.entries[c.name]?.isRoot === true);
+    if (this.selected < 0 && this.tree.candidates.length) this.selected = 0;
+
+    let rig;
+    try {
+      rig = this.buildRig();
+    } catch (e) {
+      // Cannot happen for entries we built; report rather than keep a half-open state.
+      this.fail(`Could not build the rig: ${e.message}`);
+      return;
+    }
+    if (loaded) this.preview.setWearable(loaded.gltf, rig, this.name);
+    else this.preview.setRig(rig);
+    if (this.tree.candidates.length === 0) this.messages.push({ level: 'warning', text: 'This GLB has no node whose name contains "springbone".' });
+    this.refreshAll();
+  }
+
+  /** Checks the bytes with the core (hierarchy, limits) and three.js (meshes), hashes them. */
+  async readGlb({ name, bytes }) {
+    const hash = this.sb.contentHash(bytes);
+    const probe = this.sb.loadRig(bytes, null, { contentHash: hash });  // throws SpringBonesError
+    probe.dispose();
+    const copy = bytes.slice().buffer;  // GLTFLoader may keep views on it
+    const gltf = await this.loader.parseAsync(copy, ASSETS.href);
+    if (!gltf.scene) await addDefaultScene(gltf);
+    wearableNodes(gltf, SkeletonUtils.clone(gltf.scene));  // what the preview will do: fail here, not there
+    const tree = springBoneTree(gltf.parser.json);
+    return { bytes, name, hash, gltf, tree };
+  }
+
+  pickEntries() {
+    const models = isObject(this.original?.models) ? this.original.models : {};
+    const keys = Object.keys(models).filter((k) => isObject(models[k]));
+    if (isObject(models[this.hash])) return { entries: structuredClone(models[this.hash]) };
+    const entityKey = this.entityMainFileHash();
+    if (entityKey && isObject(models[entityKey])) {
+      return {
+        entries: structuredClone(models[entityKey]),
+        level: 'warning',
+        note: `Using the entity's entry models["${shortHash(entityKey)}"] (its main-file hash); the export writes it under this GLB's hash ${shortHash(this.hash)}.`,
+      };
+    }
+    if (keys.length === 1) {
+      return {
+        entries: structuredClone(models[keys[0]]),
+        level: 'warning',
+        note: `The metadata has no entry for this GLB's hash ${shortHash(this.hash)}; using its only entry, models["${keys[0]}"], which the export re-keys.`,
+      };
+    }
+    const note = keys.length
+      ? `None of the metadata's ${keys.length} entries is for this GLB's hash; top-most spring bones prefilled with the defaults as roots.`
+      : 'No parameters for this GLB yet: top-most spring bones prefilled with the defaults as roots.';
+    return { entries: prefillEntries(this.tree), note };
+  }
+
+  buildRig() {
+    const metadata = { version: 1, models: { [this.hash]: this.entries } };
+    return this.sb.loadRig(this.bytes, metadata, { contentHash: this.hash });
+  }
+
+  fail(text) {
+    this.messages = [{ level: 'error', text }, ...this.messages.filter((m) => m.level !== 'error')];
+    this.renderMessages();
+    console.warn(`springbones demo: ${text}`);  // a user error, not a page error
+  }
+
+  // ---- entity
+
+  setupBodyShapes() {
+    const select = $('body-shape');
+    select.replaceChildren();
+    const reps = this.entity ? representationsOf(this.entity) : [];
+    const shapes = [...new Set(reps.flatMap((r) => r.bodyShapes))];
+    $('body-shape-row').hidden = shapes.length === 0;
+    if (!shapes.length) {
+      this.bodyShape = null;
+      return;
+    }
+    for (const s of shapes) select.append(element('option', { value: s }, s.split(':').pop()));
+    const wearing = reps.find((r) => r.mainFileHash === this.hash);
+    this.bodyShape = wearing?.bodyShapes[0] ?? shapes[0];
+    select.value = this.bodyShape;
+  }
+
+  entityMainFileHash() {
+    if (!this.entity || !this.bodyShape) return null;
+    const rep = representationsOf(this.entity).find((r) => r.bodyShapes.includes(this.bodyShape));
+    return rep?.mainFileHash ?? null;
+  }
+
+  refreshEntityNotes() {
+    this.messages = this.messages.filter((m) => !m.entityNote);
+    const key = this.entityMainFileHash();
+    if (this.entity && key && key !== this.hash) {
+      this.messages.push({
+        level: 'warning', entityNote: true,
+        text: `The entity's main file for ${this.bodyShape.split(':').pop()} has hash ${shortHash(key)}, this GLB ${shortHash(this.hash)}: the export keys the parameters by the GLB's hash (update the entity's content list too).`,
+      });
+    }
+    this.renderMessages();
+  }
+
+  activeHashes() {
+    return activeHashes(this.hash, this.entity, this.bodyShape);
+  }
+
+  // ---- rendering
+
+  refreshAll() {
+    $('wearable-info').textContent = `${this.name} · ${this.bytes.length.toLocaleString('en')} bytes · hash ${this.hash}`;
+    this.refreshEntityNotes();
+    this.renderTree();
+    this.renderEditor();
+    this.refreshValidation();
+    this.hideExport();
+  }
+
+  renderMessages() {
+    $('messages').replaceChildren(...this.messages.map((m) => element('li', { class: m.level }, m.text)));
+  }
+
+  renderTree() {
+    const { candidates } = this.tree;
+    const simulated = new Set(this.preview.wearable?.rig.joints.map((j) => j.name));
+    const build = (slot) => {
+      const c = candidates[slot];
+      const entry = isObject(this.entries[c.name]) ? this.entries[c.name] : null;
+      const badges = [];
+      if (entry?.isRoot === true) badges.push(element('span', { class: 'badge root' }, 'root'));
+      else if (entry) badges.push(element('span', { class: 'badge override' }, 'override'));
+      if (c.children.length === 0) badges.push(element('span', { class: 'badge' }, 'tip'));
+      const row = element('div', {
+        class: `node${slot === this.selected ? ' selected' : ''}`,
+        role: 'treeitem', tabIndex: 0, dataset: { node: c.name, slot: String(slot) },
+        title: simulated.has(c.name) ? 'simulated joint' : 'not simulated',
+      }, element('span', { class: `dot${simulated.has(c.name) ? ' sim' : ''}` }, simulated.has(c.name) ? '●' : '○'),
+      element('span', {}, c.name), ...badges);
+      row.addEventListener('click', () => this.select(slot));
+      row.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); this.select(slot); } });
+      const li = element('li', {}, row);
+      if (c.children.length) li.append(element('ul', { role: 'group' }, ...c.children.map(build)));
+      return li;
+    };
+    const roots = candidates.map((c, slot) => (c.parent === -1 ? slot : -1)).filter((s) => s >= 0);
+    $('tree').replaceChildren(...roots.map(build));
+  }
+
+  select(slot) {
+    this.selected = slot;
+    for (const row of $('tree').querySelectorAll('.node')) row.classList.toggle('selected', Number(row.dataset.slot) === slot);
+    this.renderEditor();
+  }
+
+  // ---- the parameter editor
+
+  wireEditor() {
+    const pairs = [
+      ['stiffness', 'stiffness'], ['gravityPower', 'gravityPower'], ['drag', 'drag'],
+      ['gx', 0], ['gy', 1], ['gz', 2],
+    ];
+    for (const [id, field] of pairs) {
+      const slider = $(`param-${id}`);
+      const box = $(`param-${id}-num`);
+      const set = (v) => (typeof field === 'number' ? this.setDir(field, v) : this.setField(field, v));
+      slider.addEventListener('input', () => set(Number(slider.value)));
+      box.addEventListener('change', () => {
+        const v = Number(String(box.value).replace(',', '.'));
+        if (box.value === '' || !Number.isFinite(v)) return this.renderEditor();  // revert
+        set(clamp(v, Number(box.min), Number(box.max)));
+      });
+    }
+    $('param-override').addEventListener('change', (e) => {
+      const name = this.selectedName();
+      if (!name) return;
+      if (e.target.checked) this.ensureEntry();
+      else delete this.entries[name];
+      this.apply();
+    });
+    $('param-isRoot').addEventListener('change', (e) => {
+      this.ensureEntry().isRoot = e.target.checked;
+      this.apply();
+    });
+    $('param-center').addEventListener('change', (e) => {
+      const entry = this.ensureEntry();
+      if (e.target.value === '') delete entry.center;
+      else entry.center = e.target.value;
+      this.apply();
+    });
+  }
+
+  selectedName() {
+    return this.tree?.candidates[this.selected]?.name ?? null;
+  }
+
+  /** The selected node's own entry, created from the values it currently inherits if needed. */
+  ensureEntry() {
+    const name = this.selectedName();
+    if (!isObject(this.entries[name])) {
+      const { params } = effectiveParams(this.tree, this.selected, this.entries);
+      this.entries[name] = { ...params, isRoot: false };
+    } else {
+      this.entries[name] = completeEntry(this.entries[name]);  // schema-required fields present
+    }
+    return this.entries[name];
+  }
+
+  setField(field, value) {
+    if (!this.selectedName()) return;
+    const [lo, hi] = RANGES[field];
+    this.ensureEntry()[field] = round(clamp(value, lo, hi));
+    this.apply();
+  }
+
+  setDir(k, value) {
+    if (!this.selectedName()) return;
+    const entry = this.ensureEntry();
+    entry.gravityDir = [...entry.gravityDir];
+    entry.gravityDir[k] = round(clamp(value, RANGES.gravityDir[0], RANGES.gravityDir[1]));
+    this.apply();
+  }
+
+  /** Rebuilds the rig from the edited entries; the animation keeps going. */
+  apply() {
+    try {
+      this.preview.setRig(this.buildRig());
+    } catch (e) {
+      this.fail(`Could not rebuild the rig: ${e.message}`);
+    }
+    this.renderTree();
+    this.renderEditor();
+    this.refreshValidation();
+    this.hideExport();
+  }
+
+  renderEditor() {
+    const name = this.selectedName();
+    $('editor').hidden = !name;
+    if (!name) return;
+    const entry = isObject(this.entries[name]) ? this.entries[name] : null;
+    const { params, from } = effectiveParams(this.tree, this.selected, this.entries);
+    $('editor-title').textContent = name;
+    $('editor-source').textContent = entry
+      ? (entry.isRoot === true ? 'Chain root: its entry applies to the chain below it.' : 'Member with its own entry (overrides what it inherits).')
+      : (from ? `No entry: inherits from ${from}. Moving a control creates an override.` : 'No entry: not part of a chain. Tick isRoot to start one.');
+    $('param-override').checked = Boolean(entry);
+    $('param-isRoot').checked = entry?.isRoot === true;
+    const show = (id, v) => {
+      $(`param-${id}`).value = String(v);
+      $(`param-${id}-num`).value = String(round(v));
+    };
+    show('stiffness', params.stiffness);
+    show('gravityPower', params.gravityPower);
+    show('drag', params.drag);
+    params.gravityDir.forEach((v, k) => show(['gx', 'gy', 'gz'][k], v));
+    const center = $('param-center');
+    const current = entry && typeof entry.center === 'string' ? entry.center : '';
+    const options = [element('option', { value: '' }, entry?.isRoot === true ? 'none (world space)' : 'none (inherit / world space)')];
+    for (const n of this.tree.otherNodes) options.push(element('option', { value: n }, n));
+    if (current && !this.tree.otherNodes.includes(current)) options.push(element('option', { value: current }, `${current} (not a non-spring node)`));
+    center.replaceChildren(...options);
+    center.value = current;
+  }
+
+  // ---- validation and export
+
+  exportResult() {
+    return exportSpringBones({ glbHash: this.hash, entries: this.entries, original: this.original, active: this.activeHashes() });
+  }
+
+  exportText() {
+    return JSON.stringify(this.exportResult().data, null, 2);
+  }
+
+  refreshValidation() {
+    const { data } = this.exportResult();
+    const errors = validateForDeploy(data, this.activeHashes());
+    // The core's runtime warnings (clamps, missing nodes, nested roots...), then the editor's own
+    // for bones the core said nothing about.
+    const core = (this.preview.wearable?.rig.warnings ?? []).map((w) => ({ text: w.message, path: w.path, code: w.code }));
+    const coreBones = new Set(core.map((w) => w.path.split('/')[3]).filter(Boolean).map(unescapePointer));
+    const warnings = [
+      ...core,
+      ...editorWarnings(this.tree, this.entries).filter((w) => !coreBones.has(w.path)).map((w) => ({ text: w.message, path: '' })),
+    ];
+    const shown = (path) => path.split(this.hash).join('<GLB hash>');  // the hash is 59 characters
+    const items = [];
+    for (const e of errors) {
+      items.push(element('li', { class: 'error' }, e.message, ' ', element('span', { class: 'path' }, shown(`springBones${e.path}`))));
+    }
+    for (const w of warnings) {
+      items.push(element('li', { class: 'warning' }, w.text, w.path ? ' ' : '', w.path ? element('span', { class: 'path' }, shown(w.path)) : null));
+    }
+    if (!errors.length) items.unshift(element('li', { class: 'ok' }, 'Passes the catalyst checks (SpringBonesData schema, models keys, bone names).'));
+    $('validation').replaceChildren(...items);
+    this.lastValidation = { errors, warnings };
+  }
+
+  messageList() {
+    return this.messages.map((m) => ({ level: m.level, text: m.text }));
+  }
+
+  validationList() {
+    return structuredClone(this.lastValidation ?? { errors: [], warnings: [] });
+  }
+
+  showExport() {
+    const { data, dropped } = this.exportResult();
+    const text = JSON.stringify(data, null, 2);
+    const area = $('export-json');
+    area.hidden = false;
+    area.value = text;
+    if (this.exportUrl) URL.revokeObjectURL(this.exportUrl);
+    this.exportUrl = URL.createObjectURL(new Blob([text + '\n'], { type: 'application/json' }));
+    const link = $('download-export');
+    link.href = this.exportUrl;
+    link.hidden = false;
+    $('copy-export').disabled = false;
+    const notes = [`data.springBones keyed by ${this.hash}.`];
+    if (dropped.length) notes.push(`Dropped ${dropped.length} stale entr${dropped.length === 1 ? 'y' : 'ies'}: ${dropped.map(shortHash).join(', ')}.`);
+    const errors = this.lastValidation?.errors.length ?? 0;
+    if (errors) notes.push(`${errors} validation error${errors === 1 ? '' : 's'}: the catalyst would reject this.`);
+    $('export-note').textContent = notes.join(' ');
+  }
+
+  hideExport() {
+    $('export-json').hidden = true;
+    $('download-export').hidden = true;
+    $('copy-export').disabled = true;
+    $('export-note').textContent = '';
+  }
+
+  async copyExport() {
+    const area = $('export-json');
+    try {
+      await navigator.clipboard.writeText(area.value);
+      $('export-note').textContent = 'Copied.';
+    } catch {
+      area.select();  // clipboard API unavailable (http, permissions): leave it selected
+    }
+  }
+}

@@ -1,0 +1,441 @@
+// The preview: a three.js scene with the sample avatar (or a crowd of them), each wearing the
+// current wearable through the springbones three.js adapter, animated with the avatar's clips.
+// The creator panel (creator.js) decides which wearable and which parameters; this file owns the
+// scene, the frame loop, the playback controls and the read-only debug hook
+// (window.springbonesDemo) the browser test drives.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
+import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
+import { createSpringBones } from '../../springbones.js';
+import { attachWearable, wearableNodes, SpringBonesHelper } from '../../three/springBonesThree.js';
+import { Creator } from './creator.js';
+
+const $ = (id) => document.getElementById(id);
+export const ASSETS = new URL('../assets/', import.meta.url);
+
+const kSpacing = 1.1;         // metres between avatars of a crowd
+const kSpinSpeed = 120;       // degrees per second with "spin"
+const kShakeSeconds = 1.4;
+const kFade = 0.35;           // seconds of cross-fade between clips
+const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
+const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
+
+class Preview {
+  constructor() {
+    this.sb = null;
+    this.avatarGltf = null;
+    this.avatars = [];         // { holder, root, body, mixer, actions, attachment, helper }
+    this.wearable = null;      // { gltf, rig, label }
+    this.animation = 'walk';
+    this.paused = false;
+    this.yaw = 0;              // degrees
+    this.spin = false;
+    this.shakeTime = -1;       // seconds since the shake started, -1 when not shaking
+    this.showChains = false;
+    this.showBody = true;
+    this.springTimes = new Float64Array(120);  // ms per frame spent in the adapter, a ring
+    this.springTimeCount = 0;
+    this.frameTimes = new Float64Array(120);
+    this.frameCount = 0;
+    this.lastReadout = 0;
+  }
+
+  async init() {
+    const canvas = $('view');
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.renderer.toneMapping = THREE.NeutralToneMapping;
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0x23262e);
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.05, 100);
+    this.camera.position.set(2.3, 1.55, 3.2);
+    this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.target.set(0, 1.0, 0);
+    this.controls.enableDamping = true;
+    this.controls.update();
+
+    // Image-based light for the metals, plus a key light.
+    const pmrem = new THREE.PMREMGenerator(this.renderer);
+    this.scene.environment = pmrem.fromScene(new RoomEnvironment(), 0.04).texture;
+    this.scene.environmentIntensity = 0.8;
+    pmrem.dispose();
+    this.scene.add(new THREE.HemisphereLight(0xdde6ff, 0x3a3430, 0.8));
+    const sun = new THREE.DirectionalLight(0xffffff, 2.2);
+    sun.position.set(2, 4, 3);
+    this.scene.add(sun);
+    const ground = new THREE.Mesh(new THREE.CircleGeometry(4, 64), new THREE.MeshStandardMaterial({ color: 0x2e323c, roughness: 1 }));
+    ground.rotation.x = -Math.PI / 2;
+    this.scene.add(ground);
+    const grid = new THREE.GridHelper(8, 16, 0x4a5060, 0x3a3f4c);
+    grid.position.y = 0.001;
+    this.scene.add(grid);
+
+    new ResizeObserver(() => this.resize()).observe(canvas.parentElement);
+    this.resize();
+
+    this.loader = new GLTFLoader();
+    this.sb = await createSpringBones();
+    const avatarBytes = await fetchBytes(new URL('avatar.glb', ASSETS));
+    this.avatarGltf = await this.loader.parseAsync(avatarBytes.buffer, ASSETS.href);
+    this.timer = new THREE.Timer();
+    this.timer.connect(document);  // a hidden tab's pause does not come back as one long frame
+    this.setAvatarCount(1);
+    this.renderer.setAnimationLoop((timestamp) => this.frame(timestamp));
+  }
+
+  resize() {
+    const parent = this.renderer.domElement.parentElement;
+    const w = Math.max(1, parent.clientWidth);
+    const h = Math.max(1, parent.clientHeight);
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  // ---- avatars
+
+  setAvatarCount(n) {
+    n = Math.max(1, Math.min(100, Math.floor(n) || 1));
+    while (this.avatars.length > n) this.removeAvatar(this.avatars.pop());
+    while (this.avatars.length < n) this.avatars.push(this.createAvatar(this.avatars.length));
+    const cols = Math.ceil(Math.sqrt(n));
+    this.avatars.forEach((a, i) => {
+      const col = i % cols;
+      const row = Math.floor(i / cols);
+      a.base.set((col - (cols - 1) / 2) * kSpacing, 0, -row * kSpacing);
+    });
+    this.placeAvatars();
+  }
+
+  createAvatar(index) {
+    const root = SkeletonUtils.clone(this.avatarGltf.scene);
+    const holder = new THREE.Group();  // carries the turn and the shake, so the springs feel them
+    holder.name = `avatar_${index}`;
+    holder.add(root);
+    this.scene.add(holder);
+    let body = null;
+    root.traverse((o) => { if (o.isSkinnedMesh && !body) body = o; });
+    if (body) body.visible = this.showBody;
+    const mixer = new THREE.AnimationMixer(root);
+    const actions = {};
+    for (const clip of this.avatarGltf.animations) actions[clip.name] = mixer.clipAction(clip);
+    const avatar = { holder, root, body, mixer, actions, base: new THREE.Vector3(), attachment: null, helper: null, wearableRoot: null };
+    // a crowd does not march in step
+    const action = actions[this.animation];
+    if (action) {
+      action.play();
+      mixer.setTime(index * 0.37);
+    }
+    if (this.wearable) this.wear(avatar);
+    return avatar;
+  }
+
+  removeAvatar(avatar) {
+    this.unwear(avatar);
+    avatar.mixer.stopAllAction();
+    avatar.holder.removeFromParent();
+  }
+
+  placeAvatars() {
+    const shake = this.shakeOffset();
+    for (const a of this.avatars) {
+      a.holder.position.set(a.base.x + shake.x, a.base.y + shake.y, a.base.z);
+      a.holder.rotation.set(0, THREE.MathUtils.degToRad(this.yaw), shake.roll);
+    }
+  }
+
+  /** A decaying side-to-side jolt (metres, radians), written into a scratch object. */
+  shakeOffset() {
+    const t = this.shakeTime;
+    const out = kShakeScratch;
+    if (t < 0 || t > kShakeSeconds) {
+      out.x = 0; out.y = 0; out.roll = 0;
+      return out;
+    }
+    const envelope = Math.exp(-3 * t);
+    out.x = 0.14 * envelope * Math.sin(2 * Math.PI * 3.5 * t);
+    out.y = 0.04 * envelope * Math.sin(2 * Math.PI * 7 * t);
+    out.roll = 0.08 * envelope * Math.sin(2 * Math.PI * 3.5 * t + 0.6);
+    return out;
+  }
+
+  // ---- wearable
+
+  /** Replaces the worn item on every avatar. `gltf` is kept pristine: avatars wear clones. */
+  setWearable(gltf, rig, label) {
+    const old = this.wearable;
+    for (const a of this.avatars) this.unwear(a);
+    if (old) {
+      old.rig.dispose();
+      disposeGltf(old.gltf);
+    }
+    this.wearable = { gltf, rig, label };
+    for (const a of this.avatars) this.wear(a);
+  }
+
+  /** Same GLB, new parameters: every attachment switches to the new rig (shared by all). */
+  setRig(rig) {
+    const old = this.wearable.rig;
+    this.wearable.rig = rig;
+    for (const a of this.avatars) {
+      if (!a.attachment) continue;
+      a.attachment.setRig(rig);
+      a.helper.rebuild();
+    }
+    old.dispose();
+  }
+
+  wear(avatar) {
+    const { gltf, rig } = this.wearable;
+    const clone = SkeletonUtils.clone(gltf.scene);
+    avatar.attachment = attachWearable(avatar.root, clone, rig, { nodes: wearableNodes(gltf, clone) });
+    avatar.wearableRoot = clone;
+    avatar.helper = new SpringBonesHelper(avatar.attachment);
+    avatar.helper.visible = this.showChains;
+    this.scene.add(avatar.helper);
+    for (const w of avatar.attachment.warnings) console.warn(`springbones demo: ${w.message}`);
+  }
+
+  unwear(avatar) {
+    if (!avatar.attachment) return;
+    avatar.attachment.dispose();
+    avatar.helper.removeFromParent();
+    avatar.helper.dispose();
+    avatar.attachment = null;
+    avatar.helper = null;
+    avatar.wearableRoot = null;
+  }
+
+  get jointCount() {
+    return this.avatars.reduce((n, a) => n + (a.attachment ? a.attachment.jointObjects.length : 0), 0);
+  }
+
+  // ---- controls
+
+  setAnimation(name) {
+    this.animation = name;
+    for (const a of this.avatars) {
+      const next = a.actions[name];
+      for (const [clipName, action] of Object.entries(a.actions)) {
+        if (clipName !== name && action.isRunning()) action.fadeOut(kFade);
+      }
+      if (next) next.reset().fadeIn(kFade).play();
+    }
+  }
+
+  setPaused(paused) {
+    this.paused = paused;
+    $('pause').setAttribute('aria-pressed', String(paused));
+    $('pause').textContent = paused ? 'Play' : 'Pause';
+  }
+
+  setYaw(degrees) {
+    this.yaw = THREE.MathUtils.euclideanModulo(degrees + 180, 360) - 180;
+    $('turn').value = String(Math.round(this.yaw));
+    $('turn-num').value = String(Math.round(this.yaw));
+  }
+
+  shake() {
+    this.shakeTime = 0;
+  }
+
+  /** The springs back to rest, the animation to its start, the avatar facing forward. */
+  reset() {
+    this.shakeTime = -1;
+    this.spin = false;
+    $('spin').checked = false;
+    this.setYaw(0);
+    this.avatars.forEach((a, i) => {
+      a.mixer.stopAllAction();
+      const action = a.actions[this.animation];
+      if (action) action.reset().play();
+      a.mixer.setTime(i * 0.37);
+    });
+    this.placeAvatars();
+    this.scene.updateMatrixWorld();
+    for (const a of this.avatars) a.attachment?.reset();
+  }
+
+  setShowChains(show) {
+    this.showChains = show;
+    for (const a of this.avatars) if (a.helper) a.helper.visible = show;
+  }
+
+  setShowBody(show) {
+    this.showBody = show;
+    for (const a of this.avatars) if (a.body) a.body.visible = show;
+  }
+
+  // ---- the frame
+
+  frame(timestamp) {
+    this.timer.update(timestamp);
+    const dt = Math.min(this.timer.getDelta(), kMaxFrameDt);
+    this.advance(this.paused ? 0 : dt);
+    this.controls.update();
+    this.renderer.render(this.scene, this.camera);
+    this.frameTimes[this.frameCount++ % this.frameTimes.length] = dt;
+    const now = performance.now();
+    if (now - this.lastReadout > 250) {
+      this.lastReadout = now;
+      this.updateReadout();
+    }
+  }
+
+  /** One frame of dt seconds: animation, avatar transforms, then the springs. */
+  advance(dt) {
+    if (dt > 0) {
+      if (this.spin) this.setYaw(this.yaw + kSpinSpeed * dt);
+      if (this.shakeTime >= 0) {
+        this.shakeTime += dt;
+        if (this.shakeTime > kShakeSeconds) this.shakeTime = -1;
+      }
+      this.placeAvatars();
+      for (const a of this.avatars) a.mixer.update(dt);
+    }
+    // The drivers' matrixWorld must be current before the springs read them.
+    this.scene.updateMatrixWorld();
+    if (dt > 0) {
+      const t0 = performance.now();
+      for (const a of this.avatars) a.attachment?.update(dt);
+      this.springTimes[this.springTimeCount++ % this.springTimes.length] = performance.now() - t0;
+    }
+  }
+
+  springMsAverage() {
+    const n = Math.min(this.springTimeCount, this.springTimes.length);
+    if (n === 0) return NaN;
+    let sum = 0;
+    for (let i = 0; i < n; i++) sum += this.springTimes[i];
+    return sum / n;
+  }
+
+  fps() {
+    const n = Math.min(this.frameCount, this.frameTimes.length);
+    let sum = 0;
+    for (let i = 0; i < n; i++) sum += this.frameTimes[i];
+    return sum > 0 ? n / sum : NaN;
+  }
+
+  updateReadout() {
+    const joints = this.jointCount;
+    const ms = this.springMsAverage();
+    $('readout-joints').textContent = String(joints);
+    $('readout-springs').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
+    $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
+    const fps = this.fps();
+    $('readout-fps').textContent = Number.isFinite(fps) ? fps.toFixed(0) : '–';
+  }
+
+  /**
+   * Times the adapter alone: `frames` back-to-back updates of every attachment (drivers in, step,
+   * rotations out) at 60 Hz, the avatars frozen. More precise than the readout, whose per-frame
+   * samples are near the browser's timer resolution.
+   */
+  benchmark(frames = 300) {
+    this.scene.updateMatrixWorld();
+    const t0 = performance.now();
+    for (let f = 0; f < frames; f++) {
+      for (const a of this.avatars) a.attachment?.update(1 / 60);
+    }
+    const ms = (performance.now() - t0) / frames;
+    const joints = this.jointCount;
+    return { msPerFrame: ms, joints, avatars: this.avatars.length, nsPerJoint: joints ? (ms * 1e6) / joints : NaN };
+  }
+}
+
+async function fetchBytes(url) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+  return new Uint8Array(await response.arrayBuffer());
+}
+
+function disposeGltf(gltf) {
+  gltf.scene.traverse((o) => {
+    if (o.geometry) o.geometry.dispose();
+    if (o.material) for (const m of [o.material].flat()) m.dispose();
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Wiring
+
+function wireControls(preview) {
+  $('animation').addEventListener('change', (e) => preview.setAnimation(e.target.value));
+  const turn = (e) => preview.setYaw(Number(e.target.value) || 0);
+  $('turn').addEventListener('input', turn);
+  $('turn-num').addEventListener('change', turn);
+  $('spin').addEventListener('change', (e) => { preview.spin = e.target.checked; });
+  $('shake').addEventListener('click', () => preview.shake());
+  $('pause').addEventListener('click', () => preview.setPaused(!preview.paused));
+  $('reset').addEventListener('click', () => preview.reset());
+  $('show-chains').addEventListener('change', (e) => preview.setShowChains(e.target.checked));
+  $('show-body').addEventListener('change', (e) => preview.setShowBody(e.target.checked));
+  $('avatars').addEventListener('change', (e) => {
+    preview.setAvatarCount(Number(e.target.value));
+    e.target.value = String(preview.avatars.length);
+  });
+}
+
+/** window.springbonesDemo: read-only state and the same controls as the panel, for tests. */
+function debugHook(preview, creator) {
+  const first = () => preview.avatars[0]?.attachment;
+  return Object.freeze({
+    get ready() { return preview.wearable !== null; },
+    /** Joint names of the worn item, in rotation order. */
+    jointNames: () => (first() ? first().rig.joints.map((j) => j.name) : []),
+    /** A copy of the first avatar's joint rotations (x, y, z, w per joint). */
+    rotations: () => (first() ? Array.from(first().instance.rotations) : []),
+    /** World position of a node of the first avatar (e.g. a chain tip). */
+    worldPosition: (name) => {
+      const o = preview.avatars[0]?.root.getObjectByName(name);
+      return o ? o.getWorldPosition(new THREE.Vector3()).toArray() : null;
+    },
+    state: () => ({
+      animation: preview.animation,
+      paused: preview.paused,
+      yaw: preview.yaw,
+      avatars: preview.avatars.length,
+      joints: preview.jointCount,
+      wearable: preview.wearable?.label ?? null,
+      contentHash: creator.hash,
+      springMsPerFrame: preview.springMsAverage(),
+      fps: preview.fps(),
+      messages: creator.messageList(),
+      validation: creator.validationList(),
+    }),
+    entries: () => structuredClone(creator.entries),
+    setAnimation: (name) => { $('animation').value = name; preview.setAnimation(name); },
+    setPaused: (paused) => preview.setPaused(Boolean(paused)),
+    setYaw: (degrees) => preview.setYaw(degrees),
+    setAvatarCount: (n) => { preview.setAvatarCount(n); $('avatars').value = String(preview.avatars.length); },
+    shake: () => preview.shake(),
+    reset: () => preview.reset(),
+    /** Advances `seconds` in fixed frames of dt (use while paused: deterministic). */
+    advance: (seconds, dt = 1 / 60) => {
+      for (let t = 0; t < seconds - 1e-9; t += dt) preview.advance(dt);
+    },
+    benchmark: (frames) => preview.benchmark(frames),
+    exportText: () => creator.exportText(),
+  });
+}
+
+async function main() {
+  const preview = new Preview();
+  wireControls(preview);
+  try {
+    await preview.init();
+    const creator = new Creator(preview);
+    await creator.loadSample();
+    window.springbonesDemo = debugHook(preview, creator);
+    $('boot').textContent = '';
+  } catch (e) {
+    $('boot').textContent = `Could not start the preview: ${e.message}`;
+    $('boot').classList.add('failed');
+    throw e;
+  }
+}
+
+main();

@@ -1,0 +1,104 @@
+// Types of the three.js adapter (springBonesThree.js). `three` is a peer dependency.
+import type { LineSegments, Object3D, SkinnedMesh } from 'three';
+import type { GLTF } from 'three/examples/jsm/loaders/GLTFLoader.js';
+import type { Instance, InstanceOptions, Rig } from '../springbones.js';
+
+/**
+ * The avatar's armature by glTF node name: every bone of its skinned meshes and their ancestors
+ * below `avatarRoot` (e.g. `Armature`). Computed on first use and cached per root, so bones that
+ * attached wearables add are never matched by later wearables.
+ */
+export function avatarArmature(avatarRoot: Object3D): Map<string, Object3D>;
+
+/**
+ * The Object3D of every glTF node of a loaded GLB, indexed like its `nodes` array (the indices in
+ * rig.joints[].node and rig.drivers[].node). Pass `root`, a SkeletonUtils.clone of gltf.scene, to
+ * get the clone's objects instead.
+ * @throws TypeError without gltf.parser; Error when root is not shaped like gltf.scene
+ */
+export function wearableNodes(gltf: GLTF, root?: Object3D): Array<Object3D | undefined>;
+
+export interface AttachOptions {
+  /** glTF node index -> Object3D of the wearable being attached (see wearableNodes). Required
+   *  when `wearable` is an Object3D (a clone) rather than the GLTFLoader result. */
+  nodes?: Array<Object3D | undefined>;
+  /** Options of rig.createInstance (stepHz, maxSubsteps). */
+  instance?: InstanceOptions;
+}
+
+export interface AttachWarning {
+  readonly code: 'node-not-found';
+  readonly message: string;
+}
+
+/** A wearable worn by an avatar and simulated by one springbones instance. */
+export class SpringBonesAttachment {
+  private constructor();
+  readonly avatarRoot: Object3D;
+  readonly wearableRoot: Object3D;
+  /** glTF node index -> object after matching (an avatar bone where the names match). */
+  readonly nodes: ReadonlyArray<Object3D | undefined>;
+  /** The wearable's skinned meshes, re-bound to the avatar's bones and moved into the avatar. */
+  readonly meshes: readonly SkinnedMesh[];
+  readonly warnings: readonly AttachWarning[];
+  readonly rig: Rig;
+  readonly instance: Instance;
+  /** Per rig.joints entry: the object whose quaternion is written (null if not found). */
+  readonly jointObjects: ReadonlyArray<Object3D | null>;
+  /** Per rig.joints entry: the joint's tail object (for drawing). */
+  readonly tailObjects: ReadonlyArray<Object3D | null>;
+  /** Per rig.drivers entry: the object whose matrixWorld is read (null if not found). */
+  readonly driverObjects: ReadonlyArray<Object3D | null>;
+
+  /**
+   * One frame of dt seconds. Call after animating and updating world matrices
+   * (avatarRoot.updateMatrixWorld() or the scene's); reads each driver's matrixWorld, steps, and
+   * writes each joint's quaternion fields (_x, _y, _z, _w: no onChange, so `.rotation` is not
+   * kept in sync). The joints' matrixWorld is refreshed by the next updateMatrixWorld (the
+   * renderer's). Allocation-free.
+   */
+  update(dt: number): void;
+  /** The first half of update(): drivers' matrixWorld into the instance. */
+  readDrivers(): void;
+  /** The last half of update(): the instance's rotations into the joints' quaternions. */
+  writeRotations(): void;
+  /** Forgets the motion (teleport, avatar swap). */
+  reset(): void;
+  /**
+   * Switches to another rig of the same GLB (edited metadata): new instance, joints the new rig
+   * does not simulate go back to their rest rotation. The rig stays the caller's to dispose of.
+   * @throws TypeError for a non-rig, or rig.createInstance's errors; nothing changes then
+   */
+  setRig(rig: Rig): void;
+  /**
+   * Disposes of the instance (update() then throws SpringBonesError 'disposed'); with detach
+   * (default true) also takes the wearable's objects off the avatar, restores the joints' rest
+   * rotations and frees the re-bound skeletons' bone textures. Does not dispose of the rig,
+   * geometries or materials.
+   */
+  dispose(options?: { detach?: boolean }): void;
+}
+
+/**
+ * Wears `wearable` on the avatar: wearable nodes named like a node of the avatar's armature are
+ * that avatar node; the others (spring bones, meshes) move, with their local transforms, under the
+ * avatar counterpart of their nearest matched ancestor; skinned meshes are re-bound to the avatar
+ * bones of the same names with the wearable's inverse bind matrices. Creates the rig's instance.
+ * A wearable's objects can be worn once: for several avatars, attach SkeletonUtils clones.
+ * @throws TypeError for arguments of the wrong kind
+ */
+export function attachWearable(
+  avatarRoot: Object3D,
+  wearable: GLTF | Object3D,
+  rig: Rig,
+  options?: AttachOptions,
+): SpringBonesAttachment;
+
+/** The simulated bones of an attachment as coloured line segments (one colour per chain). */
+export class SpringBonesHelper extends LineSegments {
+  constructor(attachment: SpringBonesAttachment);
+  readonly attachment: SpringBonesAttachment;
+  /** Call after attachment.setRig(): the joint list may have changed. */
+  rebuild(): void;
+  dispose(): void;
+}

@@ -1,0 +1,326 @@
+// three.js adapter for springbones: wears a loaded wearable on a loaded avatar the way
+// Decentraland assembles avatars (ADR-57: a wearable carries the armature bones it needs and is
+// matched to the avatar by bone name), then drives its spring bones with a springbones rig.
+//
+//   const attachment = attachWearable(avatar.scene, wearableGltf, rig);
+//   // every frame, after the animation mixer and avatar.scene.updateMatrixWorld():
+//   attachment.update(dt);
+//
+// Per frame: each driver's `matrixWorld` goes into the instance's driver matrices, the instance
+// steps, and each joint's local rotation is written into its Object3D's quaternion. No allocation
+// per frame. The rotations are written into the quaternion's fields (_x, _y, _z, _w) rather than
+// with Quaternion.set(), which would fire the onChange callback that recomputes Object3D.rotation
+// (an Euler, with trigonometry) for every joint every frame; a joint's `.rotation` is therefore
+// stale — read `.quaternion`. Measured on this machine: see web/three/README.md.
+//
+// `three` is a peer dependency (imported as 'three'); this module only uses springbones' public
+// JavaScript API (rig.joints, rig.drivers, rig.createInstance, instance.driverMatrices / step /
+// rotations / reset / dispose), never the WebAssembly glue.
+import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Quaternion, Skeleton } from 'three';
+
+/** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
+const gltfName = (object) => object.userData?.name ?? object.name;
+
+// Avatar armatures, computed once per avatar root before anything is attached to it, so bones a
+// wearable adds are never matched by the next wearable.
+const armatureCache = new WeakMap();
+
+/**
+ * The avatar's armature as a map from glTF node name to object: every bone of the avatar's
+ * skinned meshes and every ancestor of those bones below `avatarRoot` (e.g. `Armature`). Computed
+ * on first use and cached per root.
+ */
+export function avatarArmature(avatarRoot) {
+  let map = armatureCache.get(avatarRoot);
+  if (map) return map;
+  map = new Map();
+  const add = (object) => {
+    const name = gltfName(object);
+    if (name && !map.has(name)) map.set(name, object);
+  };
+  avatarRoot.traverse((object) => {
+    if (!object.isSkinnedMesh) return;
+    for (const bone of object.skeleton.bones) {
+      for (let o = bone; o && o !== avatarRoot; o = o.parent) add(o);
+    }
+  });
+  if (map.size === 0) avatarRoot.traverse((o) => { if (o.isBone) add(o); });  // no skinned mesh
+  armatureCache.set(avatarRoot, map);
+  return map;
+}
+
+/**
+ * The Object3D of every glTF node of a loaded GLB, indexed like the file's `nodes` array (the
+ * indices rig.joints[].node and rig.drivers[].node use). `gltf` is GLTFLoader's result; pass
+ * `root` when attaching a clone of gltf.scene (SkeletonUtils.clone): the clone has the same shape,
+ * so its objects are found by walking both trees side by side.
+ */
+export function wearableNodes(gltf, root = gltf.scene) {
+  const nodes = [];
+  const associations = gltf.parser?.associations;
+  if (!associations) throw new TypeError('wearableNodes: expected a GLTFLoader result ({ scene, parser })');
+  const walk = (original, copy) => {
+    const index = associations.get(original)?.nodes;
+    if (index !== undefined) nodes[index] = copy;
+    if (original.children.length !== copy.children.length) {
+      throw new Error('wearableNodes: root is not a clone of gltf.scene (different shapes)');
+    }
+    for (let i = 0; i < original.children.length; i++) walk(original.children[i], copy.children[i]);
+  };
+  walk(gltf.scene, root);
+  return nodes;
+}
+
+/**
+ * A wearable worn by an avatar and simulated by one springbones instance. Made by attachWearable.
+ */
+export class SpringBonesAttachment {
+  /** @private use attachWearable */
+  constructor(avatarRoot, wearableRoot, nodeObjects, rig, options, meshes = [], moved = []) {
+    this.avatarRoot = avatarRoot;
+    this.wearableRoot = wearableRoot;
+    /** Every glTF node of the wearable (index = glTF node index), after matching: a node the
+     *  avatar also has is replaced by the avatar's object. */
+    this.nodes = nodeObjects;
+    /** The wearable's skinned meshes, now bound to the avatar's bones. */
+    this.meshes = meshes;
+    /** Problems found while attaching ({ code, message }); the attachment still works. */
+    this.warnings = [];  // rebuilt by setRig
+    this._moved = moved;  // [object, previous parent], for detach
+    this._restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
+    this._instanceOptions = options.instance;
+    this.rig = null;
+    this.instance = null;
+    /** Object3D per rig joint (its rotation is written) and per driver (its matrixWorld is read). */
+    this.jointObjects = [];
+    this.tailObjects = [];
+    this.driverObjects = [];
+    this.setRig(rig);
+  }
+
+  /**
+   * Switches to another rig of the same GLB (e.g. the same file loaded with edited metadata):
+   * disposes of the current instance, restores the rest rotation of joints the new rig does not
+   * simulate, and creates a new instance. The rig is not owned: the caller disposes of it.
+   */
+  setRig(rig) {
+    if (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers)) {
+      throw new TypeError('setRig: expected a springbones rig (with joints and drivers)');
+    }
+    const instance = rig.createInstance(this._instanceOptions);  // throws before anything changes
+    const previous = this.jointObjects;
+    if (this.instance) this.instance.dispose();
+    this.instance = instance;
+    this.rig = rig;
+    this.warnings = [];
+    const find = (index, what, name) => {
+      const object = this.nodes[index];
+      if (!object) this.warnings.push({ code: 'node-not-found', message: `${what} ${name} (glTF node ${index}) has no three.js object` });
+      return object ?? null;
+    };
+    this.jointObjects = rig.joints.map((j) => find(j.node, 'joint', j.name));
+    this.tailObjects = rig.joints.map((j) => this.nodes[j.tailNode] ?? null);
+    this.driverObjects = rig.drivers.map((d) => find(d.node, 'driver', d.name));
+    for (const object of this.jointObjects) {
+      if (object && !this._restQuaternions.has(object)) {
+        const q = object.quaternion;
+        this._restQuaternions.set(object, [q.x, q.y, q.z, q.w]);
+      }
+    }
+    const current = new Set(this.jointObjects);
+    for (const object of previous) {
+      if (object && !current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
+    }
+    // The per-frame loops touch only these arrays: the joints' Quaternion objects (a joint without
+    // an object writes into a spare one, so the array stays of one type) and the drivers'
+    // matrixWorld.elements arrays (Matrix4 keeps its array for life; a missing driver keeps the
+    // rest world matrix the instance starts with). Reaching through object.quaternion each frame
+    // cost 3x more (cache misses).
+    this._quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Quaternion()));
+    this._driverElements = this.driverObjects.map((o) => (o ? o.matrixWorld.elements : null));
+    // Start from the rest pose (the rig's rotations before the first step).
+    this.writeRotations();
+  }
+
+  /**
+   * One frame: reads the drivers' matrixWorld (call avatarRoot.updateMatrixWorld() — or the
+   * scene's — after animating and before this), steps by dt seconds and writes the joints'
+   * quaternions. The joints' matrixWorld is refreshed by the next updateMatrixWorld (the renderer
+   * does it). Allocation-free.
+   */
+  update(dt) {
+    this.readDrivers();
+    this.instance.step(dt);
+    this.writeRotations();
+  }
+
+  /** Copies each driver's matrixWorld into the instance. */
+  readDrivers() {
+    const matrices = this.instance.driverMatrices;  // a getter: the view survives memory growth
+    const drivers = this._driverElements;
+    for (let d = 0; d < drivers.length; d++) {
+      const e = drivers[d];
+      if (e === null) continue;
+      // An explicit loop: TypedArray.set() from a plain Array took 2x longer here.
+      for (let i = 0, o = d * 16; i < 16; i++, o++) matrices[o] = e[i];
+    }
+  }
+
+  /** Writes the instance's rotations into the joints' quaternions, fields only (no onChange). */
+  writeRotations() {
+    const r = this.instance.rotations;
+    const quaternions = this._quaternions;
+    for (let j = 0, k = 0; j < quaternions.length; j++, k += 4) {
+      const q = quaternions[j];
+      q._x = r[k];
+      q._y = r[k + 1];
+      q._z = r[k + 2];
+      q._w = r[k + 3];
+    }
+  }
+
+  /** Forgets the motion (teleports, avatar swaps): the next update starts from rest. */
+  reset() {
+    this.instance.reset();
+  }
+
+  /**
+   * Disposes of the instance (update() then throws the API's 'disposed' error) and, with detach
+   * (the default), takes the wearable's objects off the avatar, restores the joints' rest
+   * rotations and frees the re-bound skeletons' bone textures. The rig, geometries and materials
+   * are the caller's to dispose of.
+   */
+  dispose({ detach = true } = {}) {
+    this.instance.dispose();
+    if (detach) {
+      for (const [object, rest] of this._restQuaternions) object.quaternion.fromArray(rest);
+      for (const [object, parent] of this._moved) {
+        object.removeFromParent();
+        if (parent) parent.add(object);
+      }
+      this._moved.length = 0;
+      for (const mesh of this.meshes) mesh.skeleton.dispose();
+    }
+  }
+}
+
+/**
+ * Wears a loaded wearable on an avatar and creates its simulation.
+ *
+ * avatarRoot: the avatar's Object3D (its GLTF scene, or a clone), already in the scene or not.
+ * wearable:   GLTFLoader's result for the wearable GLB ({ scene, parser }), or an Object3D with
+ *             `options.nodes` (glTF node index -> Object3D, see wearableNodes) — for a clone.
+ * rig:        the springbones rig loaded from the same GLB bytes (and its metadata).
+ * options:    { nodes?: Object3D[], instance?: options for rig.createInstance }.
+ *
+ * Matching, as Decentraland's armature does: a wearable node whose glTF name is a node of the
+ * avatar's armature (avatarArmature) *is* that avatar node; every other node (spring bones,
+ * meshes) is moved, with its local transform, under the avatar's counterpart of its nearest
+ * matched ancestor (the avatar root when there is none). The wearable's skinned meshes are re-bound
+ * to the avatar's bones of the same names, with the wearable's own inverse bind matrices. The
+ * wearable's objects can be attached once; to wear one item on several avatars, attach clones.
+ */
+export function attachWearable(avatarRoot, wearable, rig, options = {}) {
+  if (!avatarRoot?.isObject3D) throw new TypeError('attachWearable: avatarRoot must be an Object3D');
+  if (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers)) {
+    throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers)');
+  }
+  const wearableRoot = wearable?.isObject3D ? wearable : wearable?.scene;
+  if (!wearableRoot?.isObject3D) throw new TypeError('attachWearable: wearable must be a GLTF result or an Object3D');
+  const original = options.nodes ?? (wearable.parser ? wearableNodes(wearable) : null);
+  if (!original) throw new TypeError('attachWearable: pass options.nodes with an Object3D wearable');
+
+  const armature = avatarArmature(avatarRoot);
+  const counterpart = (object) => {
+    if (object.isSkinnedMesh) return null;
+    const match = armature.get(gltfName(object));
+    return match && match !== object ? match : null;
+  };
+  // Which wearable objects have a matched descendant (those are walked through, not moved).
+  const hasMatch = new Set();
+  wearableRoot.traverse((object) => {
+    if (counterpart(object)) for (let o = object.parent; o && !hasMatch.has(o); o = o.parent) hasMatch.add(o);
+  });
+  const skinned = [];
+  wearableRoot.traverse((o) => { if (o.isSkinnedMesh) skinned.push(o); });
+
+  const moved = [];
+  const visit = (node, target) => {
+    for (const child of [...node.children]) {
+      const match = counterpart(child);
+      if (match) visit(child, match);
+      else if (hasMatch.has(child)) visit(child, target);
+      else {
+        moved.push([child, child.parent]);
+        target.add(child);  // keeps child.position/quaternion/scale: same local transform
+      }
+    }
+  };
+  visit(wearableRoot, avatarRoot);
+
+  // Re-bind: same inverse bind matrices, avatar bones where the names match.
+  for (const mesh of skinned) {
+    const old = mesh.skeleton;
+    const bones = old.bones.map((bone) => counterpart(bone) ?? bone);
+    mesh.bind(new Skeleton(bones, old.boneInverses), mesh.bindMatrix);
+    old.dispose();
+    mesh.boundingSphere = null;  // recomputed from the avatar's pose on first use
+    mesh.boundingBox = null;
+  }
+
+  const nodes = original.map((o) => (o ? counterpart(o) ?? o : o));
+  return new SpringBonesAttachment(avatarRoot, wearableRoot, nodes, rig, options, skinned, moved);
+}
+
+/**
+ * Draws an attachment's simulated bones as line segments (joint head to tail), one colour per
+ * chain. Add it to the scene after the avatar; it follows the joints every frame.
+ */
+export class SpringBonesHelper extends LineSegments {
+  constructor(attachment) {
+    const geometry = new BufferGeometry();
+    super(geometry, new LineBasicMaterial({ vertexColors: true, depthTest: false, depthWrite: false, transparent: true, toneMapped: false }));
+    this.type = 'SpringBonesHelper';
+    this.renderOrder = 999;
+    this.matrixAutoUpdate = false;
+    this.frustumCulled = false;
+    this.attachment = attachment;
+    this.rebuild();
+  }
+
+  /** Call after attachment.setRig(): the joint list may have changed. */
+  rebuild() {
+    const { jointObjects, rig } = this.attachment;
+    const count = jointObjects.length;
+    const colors = new Float32Array(count * 6);
+    const color = new Color();
+    const chains = [...new Set(rig.joints.map((j) => j.chain))];
+    rig.joints.forEach((j, i) => {
+      color.setHSL((chains.indexOf(j.chain) * 0.17 + 0.05) % 1, 1, 0.55);
+      color.toArray(colors, i * 6);
+      color.toArray(colors, i * 6 + 3);
+    });
+    this.geometry.setAttribute('position', new BufferAttribute(new Float32Array(count * 6), 3));
+    this.geometry.setAttribute('color', new BufferAttribute(colors, 3));
+  }
+
+  updateMatrixWorld(force) {
+    const { jointObjects, tailObjects } = this.attachment;
+    const position = this.geometry.getAttribute('position');
+    const p = position.array;
+    for (let i = 0; i < jointObjects.length; i++) {
+      const a = jointObjects[i]?.matrixWorld.elements;
+      const b = tailObjects[i]?.matrixWorld.elements;
+      if (!a || !b) continue;
+      p[i * 6] = a[12]; p[i * 6 + 1] = a[13]; p[i * 6 + 2] = a[14];
+      p[i * 6 + 3] = b[12]; p[i * 6 + 4] = b[13]; p[i * 6 + 5] = b[14];
+    }
+    position.needsUpdate = true;
+    super.updateMatrixWorld(force);
+  }
+
+  dispose() {
+    this.geometry.dispose();
+    this.material.dispose();
+  }
+}
