@@ -1,13 +1,38 @@
 #include "builder_edits.h"
 
 #include <algorithm>
+#include <string>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "entity.h"
 
 namespace springbones {
 
 using nlohmann::json;
+
+namespace {
+
+// Metadata is at most five levels deep (springBones/models/hash/bone/gravityDir); unknown keys in
+// a bone entry may add some. nlohmann's copy (and dump) recurse once per level, so a document
+// nested millions deep would overflow the stack (the WebAssembly one first) when copied below.
+constexpr std::size_t kMaxCopyDepth = 64;
+
+// True when `value` nests more than max_depth arrays/objects deep. Iterative on purpose.
+bool nestsDeeperThan(const json& value, std::size_t max_depth) {
+  std::vector<std::pair<const json*, std::size_t>> stack{{&value, 0}};
+  while (!stack.empty()) {
+    const auto [v, depth] = stack.back();
+    stack.pop_back();
+    if (!v->is_structured()) continue;
+    if (depth >= max_depth) return true;
+    for (const json& child : *v) stack.emplace_back(&child, depth + 1);
+  }
+  return false;
+}
+
+}  // namespace
 
 std::vector<SpringBoneCandidate> detectSpringBones(const Skeleton& skeleton, const ModelEntry& existing) {
   std::unordered_map<std::string, const BoneEntry*> entries;
@@ -54,6 +79,14 @@ Error setSpringBoneParams(const json& springBones, const json& entity, const std
   }
   if (!springBones.is_null() && !springBones.is_object()) {
     return Error{ErrorCode::kMetadataInvalid, "springBones is not an object", ""};
+  }
+  if (nestsDeeperThan(params, kMaxCopyDepth)) {
+    return Error{ErrorCode::kInvalidArgument,
+                 "params nest more than " + std::to_string(kMaxCopyDepth) + " levels deep", ""};
+  }
+  if (nestsDeeperThan(springBones, kMaxCopyDepth)) {
+    return Error{ErrorCode::kMetadataInvalid,
+                 "springBones nests more than " + std::to_string(kMaxCopyDepth) + " levels deep", ""};
   }
   std::vector<Representation> representations;
   if (Error e = readRepresentations(entity, representations)) return e;

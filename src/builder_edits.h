@@ -32,7 +32,8 @@ std::vector<SpringBoneCandidate> detectSpringBones(const Skeleton& skeleton, con
 /// shared by both body shapes therefore gets one entry. `params` null removes the node's entry.
 /// Entries under hashes that no current representation uses are dropped, and version is set to 1.
 /// Errors: unknown body shape, main file missing from the content list, a node name without the
-/// "springbone" token, params that are neither an object nor null.
+/// "springbone" token, params that are neither an object nor null, springBones or params nested
+/// more than 64 levels deep (they are copied, and copying recurses once per level).
 Error setSpringBoneParams(const nlohmann::json& springBones, const nlohmann::json& entity,
                           const std::string& body_shape, const std::string& node_name,
                           const nlohmann::json& params, nlohmann::json& out);

@@ -1,0 +1,130 @@
+// Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/) from tests/fixtures.
+// Deterministic: running it again gives the same files. Usage: node tests/fuzz/make_corpus.mjs
+//   glb_metadata/  fixture GLB/glTF + "\n@@springBones@@\n" + metadata text, GLBs without their
+//                  BIN chunk (the loader never reads it), and a few broken containers
+//   metadata/      the fixture metadata plus one input per distinct outcome of the validator's
+//                  differential cases (tests/fixtures/validation_cases.json), at most 48
+//   simulation/    pseudo-random byte programs (the target builds everything from bytes)
+//   vrm/           the VRM fixtures (0.x and 1.0), both extensions in one file, glTF text
+import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const fixtures = join(here, '..', 'fixtures');
+const corpus = join(here, 'corpus');
+const separator = Buffer.from('\n@@springBones@@\n');
+
+function reset(target) {
+  const dir = join(corpus, target);
+  rmSync(dir, { recursive: true, force: true });
+  mkdirSync(dir, { recursive: true });
+  return dir;
+}
+
+// A GLB holding only the JSON chunk of `glb`, with the same JSON.
+function withoutBin(glb) {
+  const jsonLength = glb.readUInt32LE(12);
+  const out = Buffer.alloc(20 + jsonLength);
+  glb.copy(out, 0, 0, 20 + jsonLength);
+  out.writeUInt32LE(out.length, 8);
+  return out;
+}
+
+function glbOf(jsonText) {
+  let text = Buffer.from(jsonText);
+  const padded = Buffer.alloc(Math.ceil(text.length / 4) * 4, 0x20);
+  text.copy(padded);
+  const out = Buffer.alloc(20 + padded.length);
+  out.writeUInt32LE(0x46546c67, 0);
+  out.writeUInt32LE(2, 4);
+  out.writeUInt32LE(out.length, 8);
+  out.writeUInt32LE(padded.length, 12);
+  out.writeUInt32LE(0x4e4f534a, 16);
+  padded.copy(out, 20);
+  return out;
+}
+
+const fixture = (name) => readFileSync(join(fixtures, name));
+const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).toString())));
+
+// --- glb_metadata
+{
+  const dir = reset('glb_metadata');
+  const adrMeta = compact('adr_example.metadata.json');
+  const hairMeta = compact('avatar_hair.metadata.json');
+  const seeds = {
+    adr_example_glb: [fixture('adr_example.glb'), adrMeta],
+    adr_example_gltf: [fixture('adr_example.gltf'), adrMeta],
+    adr_example_posed_glb: [fixture('adr_example_posed.glb'), adrMeta],
+    avatar_hair_glb: [withoutBin(fixture('avatar_hair.glb')), hairMeta],
+    cycle_gltf: [fixture('cycle.gltf'), adrMeta],
+    two_parents_gltf: [fixture('two_parents.gltf'), adrMeta],
+    adr_example_no_metadata: [fixture('adr_example.glb'), null],
+    matrix_node_glb: [
+      glbOf(JSON.stringify({
+        asset: { version: '2.0' },
+        nodes: [
+          { name: 'Avatar_Hips', children: [1], matrix: [0, 2, 0, 0, -3, 0, 0, 0, 0, 0, 4, 0, 1, 2, 3, 1] },
+          { name: 'springbone_a', children: [2], scale: [1, 1, 1], rotation: [0, 0, 0.7071068, 0.7071068] },
+          { name: 'springbone_a_tip', translation: [0, 0.1, 0] },
+        ],
+      })),
+      Buffer.from(JSON.stringify({
+        version: 1,
+        models: { h: { springbone_a: { stiffness: 1, gravityPower: 1, gravityDir: [0, -1, 0], drag: 0.4, isRoot: true, center: 'Avatar_Hips' } } },
+      })),
+    ],
+    truncated_header: [fixture('adr_example.glb').subarray(0, 16), null],
+  };
+  for (const [name, [glb, meta]] of Object.entries(seeds)) {
+    writeFileSync(join(dir, name), meta ? Buffer.concat([glb, separator, meta]) : glb);
+  }
+}
+
+// --- vrm
+{
+  const dir = reset('vrm');
+  for (const name of ['vrm0_springs.vrm', 'vrm10_springs.vrm']) {
+    const vrm = fixture(name);
+    writeFileSync(join(dir, name.replace('.vrm', '')), vrm.length > 20 + vrm.readUInt32LE(12) ? withoutBin(vrm) : vrm);
+  }
+  // Both extensions in one document, and the 1.0 one alone as glTF text.
+  const gltf = (name) => JSON.parse(fixture(name).subarray(20, 20 + fixture(name).readUInt32LE(12)).toString());
+  const v0 = gltf('vrm0_springs.vrm');
+  const v1 = gltf('vrm10_springs.vrm');
+  writeFileSync(join(dir, 'both_extensions'), glbOf(JSON.stringify({ ...v1, extensions: { ...v0.extensions, ...v1.extensions } })));
+  writeFileSync(join(dir, 'vrm10_text'), JSON.stringify(v1));
+}
+
+// --- metadata
+{
+  const dir = reset('metadata');
+  writeFileSync(join(dir, 'adr_example'), fixture('adr_example.metadata.json'));
+  writeFileSync(join(dir, 'avatar_hair'), fixture('avatar_hair.metadata.json'));
+  const cases = JSON.parse(fixture('validation_cases.json').toString());
+  const seen = new Set();
+  let written = 0;
+  for (const c of cases) {
+    const key = c.valid ? 'valid' : c.errors.map((e) => String(e).replace(/\/models\/[^/ ]*/, '/models/*')).join('|');
+    if (seen.has(key) || written >= 48 || c.input === undefined) continue;
+    seen.add(key);
+    writeFileSync(join(dir, `case_${String(written).padStart(2, '0')}`), JSON.stringify(c.input));
+    written += 1;
+  }
+}
+
+// --- simulation
+{
+  const dir = reset('simulation');
+  let state = 0x2545f491;
+  const next = () => {
+    state = (Math.imul(state, 1103515245) + 12345) >>> 0;
+    return state >>> 16;
+  };
+  for (let i = 0; i < 16; i += 1) {
+    const bytes = Buffer.alloc(64 << (i % 6));
+    for (let k = 0; k < bytes.length; k += 1) bytes[k] = next() & 0xff;
+    writeFileSync(join(dir, `random_${String(i).padStart(2, '0')}`), bytes);
+  }
+}

@@ -1,0 +1,388 @@
+// Hostile input through the JavaScript API (issue 8), the same named cases as
+// tests/native/hostile_input_test.cpp: each ends in a SpringBonesError with the core's code, or in
+// a documented clamp with a warning; rotations are always finite unit quaternions; nothing traps
+// (the WebAssembly stack is far smaller than a native one) and nothing leaks.
+import assert from 'node:assert/strict';
+import { before, describe, test } from 'node:test';
+
+import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
+import { fixture, glbBytes, gltfBytes } from './helpers.mjs';
+
+let sb;
+before(async () => {
+  sb = await createSpringBones();
+});
+
+const kHash = 'bafkreihostile';
+const encoder = new TextEncoder();
+
+// A GLB around raw JSON text (which may be anything, including invalid UTF-8 bytes).
+function glbOfText(text) {
+  const json = typeof text === 'string' ? encoder.encode(text) : text;
+  const padded = (json.length + 3) & ~3;
+  const out = new Uint8Array(20 + padded);
+  const view = new DataView(out.buffer);
+  view.setUint32(0, 0x46546c67, true);
+  view.setUint32(4, 2, true);
+  view.setUint32(8, out.length, true);
+  view.setUint32(12, padded, true);
+  view.setUint32(16, 0x4e4f534a, true);
+  out.set(json, 20);
+  out.fill(0x20, 20 + json.length);
+  return out;
+}
+
+// The wearable of the native test: Avatar_Head driving a hair chain of two joints and an earring.
+const hairDoc = {
+  asset: { version: '2.0' },
+  nodes: [
+    { name: 'Avatar_Head', children: [1, 4], translation: [0, 1.6, 0] },
+    { name: 'SpringBone_hair', children: [2], translation: [0.1, 0, 0] },
+    { name: 'SpringBone_hair_1', children: [3], translation: [0, -0.1, 0] },
+    { name: 'SpringBone_hair_tip', translation: [0, -0.1, 0] },
+    { name: 'SpringBone_earring', children: [5], translation: [-0.1, 0, 0] },
+    { name: 'SpringBone_earring_tip', translation: [0, -0.05, 0.01] },
+  ],
+};
+const hairGlb = glbBytes(hairDoc);
+
+function entry(stiffness, gravityPower, gravityDir, drag) {
+  return { stiffness, gravityPower, gravityDir, drag, isRoot: true };
+}
+
+function hairMetadata(hairEntry) {
+  return {
+    version: 1,
+    models: { [kHash]: { SpringBone_hair: hairEntry, SpringBone_earring: entry(1, 1, [0, -1, 0], 0.4) } },
+  };
+}
+
+function expectCode(code, fn) {
+  const before = sb.stats();
+  assert.throws(fn, (e) => {
+    assert.ok(e instanceof SpringBonesError, `${e}`);
+    assert.equal(e.code, code, e.message);
+    assert.ok(e.message.length > 0);
+    return true;
+  });
+  const after = sb.stats();
+  assert.equal(after.rigs, before.rigs);
+  assert.equal(after.heapInUse, before.heapInUse, 'a failed load frees everything it allocated');
+}
+
+function assertFiniteUnit(rotations, when = '') {
+  for (let j = 0; j < rotations.length; j += 4) {
+    const [x, y, z, w] = rotations.subarray(j, j + 4);
+    assert.ok([x, y, z, w].every(Number.isFinite), `joint ${j / 4} has a non-finite rotation ${when}`);
+    assert.ok(Math.abs(Math.hypot(x, y, z, w) - 1) < 1e-4, `joint ${j / 4} is not unit ${when}`);
+  }
+}
+
+function stepAndCheck(inst, frames = 10, dt = 1 / 60) {
+  assertFiniteUnit(inst.rotations, 'before stepping');
+  for (let i = 0; i < frames; ++i) {
+    inst.step(dt);
+    assertFiniteUnit(inst.rotations, `after frame ${i}`);
+  }
+}
+
+function withRig(glb, springBones, fn) {
+  const rig = sb.loadRig(glb, springBones, { contentHash: kHash });
+  const inst = rig.createInstance();
+  try {
+    fn(rig, inst);
+  } finally {
+    inst.dispose();
+    rig.dispose();
+  }
+}
+
+// One chain of `depth` spring bones under Avatar_Hips, 1 cm apart, as glTF JSON text.
+function deepChainText(depth, extras = '') {
+  const parts = ['{"asset":{"version":"2.0"},"nodes":[{"name":"Avatar_Hips","children":[1]}'];
+  for (let i = 1; i <= depth; ++i) {
+    let node = `,{"name":"springbone_${i}","translation":[0,-0.01,0]`;
+    if (i < depth) node += `,"children":[${i + 1}]`;
+    if (extras) node += `,"extras":${extras}`;
+    parts.push(`${node}}`);
+  }
+  parts.push(']}');
+  return parts.join('');
+}
+
+describe('the GLB container', () => {
+  test('a GLB header truncated at every length below 20 bytes is glb-truncated', () => {
+    const glb = fixture('adr_example.glb');
+    for (let size = 0; size < 20; ++size) {
+      expectCode('glb-truncated', () => sb.loadRig(glb.subarray(0, size), null));
+    }
+  });
+
+  test('oversized GLB lengths up to 0xFFFFFFFF are glb-truncated, never a read past the bytes', () => {
+    for (const offset of [8, 12]) {
+      for (const length of [fixture('adr_example.glb').length + 1, 0x7fffffff, 0xffffffff]) {
+        const glb = new Uint8Array(fixture('adr_example.glb'));
+        new DataView(glb.buffer).setUint32(offset, length, true);
+        expectCode('glb-truncated', () => sb.loadRig(glb, null));
+      }
+    }
+  });
+
+  test('a wrong magic is glb-bad-magic', () => {
+    const glb = new Uint8Array(fixture('adr_example.glb'));
+    glb[0] = 0x78;
+    expectCode('glb-bad-magic', () => sb.loadRig(glb, null));
+  });
+
+  test('a JSON chunk that is not JSON is gltf-bad-json', () => {
+    for (const text of ['{not json at all', '{"asset":{"version":"2.0"},"nodes":[', '{"a":"\u0000"}', '{}}']) {
+      expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(text), null));
+    }
+    expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(Uint8Array.from({ length: 256 }, (_, i) => i)), null));
+  });
+});
+
+describe('the hierarchy', () => {
+  test('a node that is its own ancestor is hierarchy-cycle', () => {
+    expectCode('hierarchy-cycle', () => sb.loadRig(fixture('cycle.gltf'), null));
+    const self = { asset: { version: '2.0' }, nodes: [{ name: 'springbone_a', children: [0] }] };
+    expectCode('hierarchy-cycle', () => sb.loadRig(gltfBytes(self), null));
+  });
+
+  test('a node with two parents is hierarchy-multiple-parents', () => {
+    expectCode('hierarchy-multiple-parents', () => sb.loadRig(fixture('two_parents.gltf'), null));
+    const twice = { asset: { version: '2.0' }, nodes: [{ name: 'p', children: [1, 1] }, { name: 'c' }] };
+    expectCode('hierarchy-multiple-parents', () => sb.loadRig(gltfBytes(twice), null));
+  });
+
+  test('100,000 nodes load, and one more than the limit of 262,144 is limit-exceeded', () => {
+    const nodes = [{ name: 'Avatar_Hips', children: Array.from({ length: 99999 }, (_, i) => i + 1) }];
+    for (let i = 1; i < 100000; ++i) nodes.push({ name: `springbone_${i}` });
+    withRig(glbBytes({ asset: { version: '2.0' }, nodes }), hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
+      assert.equal(rig.nodeCount, 100000);
+      stepAndCheck(inst, 2);
+    });
+    const over = `{"asset":{"version":"2.0"},"nodes":[${Array(262145).fill('{}').join(',')}]}`;
+    expectCode('limit-exceeded', () => sb.loadRig(encoder.encode(over), null));
+  });
+
+  test('a 10,000-deep hierarchy loads, steps and disposes without recursion', () => {
+    const springBones = { version: 1, models: { [kHash]: { springbone_1: entry(0.5, 2, [1, 0, 0], 0.1) } } };
+    withRig(encoder.encode(deepChainText(10000)), springBones, (rig, inst) => {
+      assert.equal(rig.joints.length, 9999);
+      stepAndCheck(inst, 30);
+      inst.reset();
+      stepAndCheck(inst, 2, 1e9);
+    });
+  });
+
+  test('deeply nested extras and metadata values (200,000 levels) do not exhaust the WebAssembly stack', () => {
+    const deep = '['.repeat(200000) + ']'.repeat(200000);
+    const text = `{"asset":{"version":"2.0","extras":${deep}},"nodes":[{"name":"Avatar_Hips","children":[1],"extras":${deep}},` +
+      `{"name":"springbone_a","children":[2],"translation":[0,-0.1,0]},{"name":"springbone_b","translation":[0,-0.1,0]}],"extras":${deep}}`;
+    const metadata = `{"version":1,"models":{"${kHash}":{"springbone_a":{"stiffness":${deep},"gravityPower":1,` +
+      `"gravityDir":[0,-1,0],"drag":0.5,"isRoot":true,"custom":${deep}}}}}`;
+    withRig(encoder.encode(text), metadata, (rig, inst) => {
+      assert.equal(rig.joints.length, 1);
+      assert.ok(rig.warnings.some((w) => w.code === 'param-not-number'));
+      stepAndCheck(inst);
+    });
+    expectCode('metadata-invalid', () => sb.loadRig(hairGlb, deep, { contentHash: kHash }));
+    // 1,000 nodes with ten levels of extras each.
+    const shallow = '['.repeat(10) + ']'.repeat(10);
+    withRig(encoder.encode(deepChainText(1000, shallow)), null, () => {});
+  });
+});
+
+describe('names', () => {
+  test('invalid UTF-8 in a node name is gltf-bad-json', () => {
+    const prefix = encoder.encode('{"asset":{"version":"2.0"},"nodes":[{"name":"springbone_');
+    const suffix = encoder.encode('"}]}');
+    for (const bad of [[0xff, 0xfe], [0xc3], [0xed, 0xa0, 0x80], [0xc0, 0xaf]]) {
+      const bytes = new Uint8Array([...prefix, ...bad, ...suffix]);
+      expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(bytes), null));
+    }
+    expectCode('gltf-bad-json', () => sb.loadRig(glbOfText('{"asset":{"version":"2.0"},"nodes":[{"name":"a\\ud800"}]}'), null));
+    // Well-formed odd names load and come back intact.
+    const odd = 'springbone_\u0000\u{1F600}/~"\\';
+    withRig(gltfBytes({ asset: { version: '2.0' }, nodes: [{ name: 'Avatar_Head', children: [1] }, { name: odd, children: [2] }, { name: 't', translation: [0, -1, 0] }] }),
+      { version: 1, models: { [kHash]: { [odd]: entry(1, 1, [0, -1, 0], 0.5) } } }, (rig, inst) => {
+        assert.equal(rig.joints[0].name, odd);
+        stepAndCheck(inst);
+      });
+  });
+
+  test('a lone surrogate in metadata is metadata-bad-json (JSON text cannot carry it as UTF-8)', () => {
+    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, { version: 1, models: { [kHash]: { 'springbone_\ud800': {} } } }, { contentHash: kHash }));
+    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, `{"version":1,"models":{"${kHash}":{"springbone_\ud800":{}}}}`, { contentHash: kHash }));
+  });
+});
+
+describe('metadata', () => {
+  test('10 MB of metadata loads, more than 16 MiB is limit-exceeded', () => {
+    const filler = JSON.stringify({ stiffness: 1, gravityPower: 1, gravityDir: [0, -1, 0], drag: 0.5, pad: 'x'.repeat(900) });
+    const parts = [`{"version":1,"models":{"${kHash}":{`];
+    let size = parts[0].length;
+    let count = 0;
+    while (size < 10 << 20) {
+      const part = `"springbone_unused_${count++}":${filler},`;
+      parts.push(part);
+      size += part.length;
+    }
+    parts.push(`"SpringBone_hair":${JSON.stringify(entry(1, 1, [0, -1, 0], 0.5))}}}}`);
+    const text = parts.join('');
+    const start = performance.now();
+    withRig(hairGlb, text, (rig, inst) => {
+      console.log(`10 MB metadata: ${(text.length / 1e6).toFixed(1)} MB loaded in ${(performance.now() - start).toFixed(0)} ms`);
+      assert.equal(rig.joints.length, 2);
+      assert.equal(rig.warnings.filter((w) => w.code === 'bone-not-found').length, count);
+      stepAndCheck(inst);
+    });
+    expectCode('limit-exceeded', () => sb.loadRig(hairGlb, `{${' '.repeat(16 << 20)}}`, { contentHash: kHash }));
+  });
+
+  test('parameters as strings, null, arrays, booleans and ±1e308 are replaced or clamped with warnings', () => {
+    const cases = [['2', 'param-not-number'], [null, 'param-not-number'], [[1], 'param-not-number'],
+      [true, 'param-not-number'], [1e308, 'param-out-of-range'], [-1e308, 'param-out-of-range'],
+      [Number.MIN_VALUE, null]];
+    for (const [value, code] of cases) {
+      withRig(hairGlb, hairMetadata(entry(value, value, [0, -1, 0], value)), (rig, inst) => {
+        if (code) assert.equal(rig.warnings.filter((w) => w.code === code).length, 3, JSON.stringify(value));
+        const p = rig.joints[0].params;
+        assert.ok(p.stiffness >= 0 && p.stiffness <= 4);
+        assert.ok(p.gravityPower >= 0 && p.gravityPower <= 2);
+        assert.ok(p.drag >= 0 && p.drag <= 1);
+        stepAndCheck(inst, 20);
+      });
+    }
+    // NaN and Infinity have no JSON form: JSON.stringify writes null, read as not a number.
+    withRig(hairGlb, hairMetadata(entry(NaN, Infinity, [0, -1, 0], -Infinity)), (rig, inst) => {
+      assert.equal(rig.warnings.filter((w) => w.code === 'param-not-number').length, 3);
+      stepAndCheck(inst);
+    });
+    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, JSON.stringify(hairMetadata(entry(1, 1, [0, -1, 0], 0.5))).replace('"stiffness":1', '"stiffness":1e309'), { contentHash: kHash }));
+  });
+
+  test('gravityDir of length 2 or 4 (or zero, huge, not an array) falls back with a warning', () => {
+    for (const dir of [[0, -1], [0, -1, 0, 0], [], [1e308, 1e308, 1e308], [0, 0, 0], 'down', null]) {
+      withRig(hairGlb, hairMetadata(entry(1, 2, dir, 0.5)), (rig, inst) => {
+        const g = rig.joints[0].params.gravityDir;
+        assert.ok(Math.abs(Math.hypot(...g) - 1) < 1e-6, JSON.stringify(dir));
+        assert.ok(rig.warnings.some((w) => ['param-not-vector', 'gravity-dir-zero', 'param-out-of-range'].includes(w.code)), JSON.stringify(dir));
+        stepAndCheck(inst, 20);
+      });
+    }
+  });
+});
+
+describe('driver matrices and frame times', () => {
+  test('NaN, infinite and singular driver matrices keep rotations finite unit quaternions', () => {
+    withRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
+      assert.equal(rig.drivers.length, 1);
+      const rest = Float32Array.from(inst.driverMatrices);
+      const variant = (f) => { const m = Float32Array.from(rest); f(m); return m; };
+      const bad = [
+        new Float32Array(16).fill(NaN), new Float32Array(16).fill(Infinity), new Float32Array(16),
+        variant((m) => { m.fill(0); m[15] = 1; }), variant((m) => { m[5] = 0; }), variant((m) => { m[13] = NaN; }),
+        variant((m) => { m[3] = 1; }), variant((m) => { for (let k = 0; k < 12; ++k) m[k] *= 3e38; }),
+        variant((m) => { for (let k = 0; k < 12; ++k) m[k] *= 1e-40; }), variant((m) => { for (let k = 0; k < 4; ++k) m[k] = -m[k]; }),
+        variant((m) => { m[12] = 3e38; }),
+      ];
+      stepAndCheck(inst, 5);
+      for (const [b, matrix] of bad.entries()) {
+        inst.driverMatrices.set(matrix);
+        for (let i = 0; i < 5; ++i) {
+          inst.step(1 / 60);
+          assertFiniteUnit(inst.rotations, `bad matrix ${b}, frame ${i}`);
+        }
+        inst.driverMatrices.set(rest);
+        stepAndCheck(inst, 5);
+        inst.driverMatrices.set(matrix);
+        inst.reset();
+        inst.step(1 / 60);
+        assertFiniteUnit(inst.rotations, `reset under bad matrix ${b}`);
+        inst.driverMatrices.set(rest);
+        stepAndCheck(inst, 3);
+      }
+    });
+  });
+
+  test('dt of 1e9 runs at most maxSubsteps steps, dt of -1 does nothing, a non-finite dt is a RangeError', () => {
+    withRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
+      stepAndCheck(inst, 10);
+      inst.step(1e9);
+      assertFiniteUnit(inst.rotations);
+      inst.step(Number.MAX_VALUE);
+      assertFiniteUnit(inst.rotations);
+      const before = Float32Array.from(inst.rotations);
+      for (const dt of [-1, 0, -0, -1e9]) {
+        inst.step(dt);
+        assert.deepEqual(inst.rotations, before, `dt ${dt}`);
+      }
+      for (const dt of [NaN, Infinity, -Infinity]) assert.throws(() => inst.step(dt), RangeError);
+      assert.deepEqual(inst.rotations, before);
+      const fast = rig.createInstance({ stepHz: 1000, maxSubsteps: 64 });
+      for (const dt of [1e9, 1e12, 1e300]) {
+        fast.step(dt);
+        assertFiniteUnit(fast.rotations, `dt ${dt} at 1000 Hz`);
+      }
+      fast.dispose();
+    });
+  });
+});
+
+describe('size and leaks', () => {
+  test('a rig of 100,000 joints loads and steps', () => {
+    // 1,000 chains of 100 joints (+ a tip each) under Avatar_Hips, as in the native test.
+    const chains = 1000, joints = 100;
+    const nodes = [{ name: 'Avatar_Hips', children: [] }];
+    const bones = {};
+    for (let c = 0; c < chains; ++c) {
+      nodes[0].children.push(nodes.length);
+      for (let j = 0; j <= joints; ++j) {
+        const name = `springbone_${c}_${j}`;
+        const node = { name, translation: [j === 0 ? 0.001 : 0, -0.01, 0] };
+        if (j < joints) node.children = [nodes.length + 1];
+        nodes.push(node);
+        if (j === 0) bones[name] = entry(1, 1, [0, -1, 0], 0.4);
+      }
+    }
+    const glb = glbBytes({ asset: { version: '2.0' }, nodes });
+    const heapBefore = sb.stats().heapBytes;
+    const t0 = performance.now();
+    const rig = sb.loadRig(glb, { version: 1, models: { [kHash]: bones } }, { contentHash: kHash });
+    const t1 = performance.now();
+    const inst = rig.createInstance();
+    const t2 = performance.now();
+    for (let i = 0; i < 10; ++i) inst.step(1 / 60);
+    const t3 = performance.now();
+    assert.equal(rig.joints.length, chains * joints);
+    assertFiniteUnit(inst.rotations);
+    const stats = sb.stats();
+    console.log(`100k joints (WASM): GLB ${(glb.length / 1e6).toFixed(1)} MB, loadRig ${(t1 - t0).toFixed(0)} ms, ` +
+      `createInstance ${(t2 - t1).toFixed(0)} ms, ${((t3 - t2) / 10).toFixed(2)} ms per step, ` +
+      `heap ${(heapBefore / 1048576).toFixed(0)} -> ${(stats.heapBytes / 1048576).toFixed(0)} MiB, in use ${(stats.heapInUse / 1048576).toFixed(0)} MiB`);
+    inst.dispose();
+    rig.dispose();
+  });
+
+  test('10,000 load/dispose cycles leave the WASM heap where it started', () => {
+    const springBones = JSON.stringify(hairMetadata(entry(1, 1, [0, -1, 0], 0.5)));
+    const cycle = (i) => {
+      const rig = sb.loadRig(hairGlb, springBones, { contentHash: kHash });
+      const inst = rig.createInstance();
+      inst.step(1 / 60);
+      if (i % 100 === 0) {
+        // A failing load now and then: errors must free what they allocated too.
+        assert.throws(() => sb.loadRig(fixture('cycle.gltf'), null), SpringBonesError);
+      }
+      inst.dispose();
+      rig.dispose();
+    };
+    for (let i = 0; i < 100; ++i) cycle(i);  // warm up allocator pools
+    const before = sb.stats();
+    for (let i = 0; i < 10000; ++i) cycle(i);
+    const after = sb.stats();
+    assert.deepEqual(after, before);
+  });
+});
