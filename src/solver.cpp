@@ -27,6 +27,7 @@
 #include "spring_lanes.h"
 #include "springbones.h"
 #include "transform_math.h"
+#include "xpbd_solver.h"
 
 namespace springbones {
 namespace {
@@ -92,6 +93,18 @@ bool similarityOf(const glm::mat4& m, Similarity& out) {
   return true;
 }
 
+// Interpolated rotation between two drivers' poses: normalized lerp along the shorter arc. Used
+// instead of slerp because slerp calls acos/sin, whose last bits differ between the native libm
+// and Emscripten's, and native and WebAssembly builds must give the same bits. Between the poses
+// of two consecutive frames the angle is small and nlerp's speed error is far below float noise.
+glm::quat interpolateRotation(const glm::quat& a, const glm::quat& b, float t) {
+  const glm::quat target = glm::dot(a, b) < 0.0f ? -b : b;
+  const glm::quat mixed(a.w + (target.w - a.w) * t, a.x + (target.x - a.x) * t, a.y + (target.y - a.y) * t,
+                        a.z + (target.z - a.z) * t);
+  const float length = glm::length(mixed);
+  return length > 0.0f ? mixed / length : b;
+}
+
 // Inverse of an affine matrix, or false when it has no usable inverse (a zero scale).
 bool affineInverse(const glm::mat4& m, glm::mat4& out) {
   const glm::mat3 linear(m);
@@ -125,6 +138,7 @@ struct Instance::State {
   bool seeded = false;
   bool lanes_usable = true;  // every rest scale is a positive uniform one and the colliders fit the lanes
   bool fast_path = true;       // what the current frame's steps use
+  std::unique_ptr<XpbdSolver> xpbd;  // set when options.integrator is kXpbd
 
   // Rig-derived constants, per joint.
   std::vector<glm::mat4> rest_local_matrix;
@@ -181,7 +195,7 @@ struct Instance::State {
           s = b.similarity;
         } else {
           s.position = glm::mix(a.similarity.position, b.similarity.position, t);
-          s.rotation = glm::slerp(a.similarity.rotation, b.similarity.rotation, t);
+          s.rotation = interpolateRotation(a.similarity.rotation, b.similarity.rotation, t);
           s.scale = a.similarity.scale + (b.similarity.scale - a.similarity.scale) * t;
         }
         driver_table.set(d + 1, s.position, s.rotation, s.scale);
@@ -192,7 +206,7 @@ struct Instance::State {
       } else {
         Transform r;
         r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
-        r.rotation = glm::slerp(a.trs.rotation, b.trs.rotation, t);
+        r.rotation = interpolateRotation(a.trs.rotation, b.trs.rotation, t);
         r.scale = glm::mix(a.trs.scale, b.trs.scale, t);
         step_drivers[d] = composeTransform(r);
       }
@@ -333,6 +347,17 @@ struct Instance::State {
   }
 
   void run(float h, bool seed_only) {
+    if (xpbd) {
+      // The XPBD integrator reads the general path's driver matrices and the shared collider
+      // table, and writes the general path's outputs.
+      world_from_similarity = false;
+      if (seed_only) {
+        xpbd->seed(step_drivers.data(), rotations.data(), joint_world.data());
+      } else {
+        xpbd->step(step_drivers.data(), collider_table, h, rotations.data(), joint_world.data());
+      }
+      return;
+    }
     world_from_similarity = fast_path;
     if (fast_path) {
       lanes.run(driver_table, collider_table, h, seed_only, rotations.data());
@@ -349,7 +374,14 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   if (!(options.step_hz >= kMinStepHz)) options.step_hz = options.step_hz > 0 ? kMinStepHz : 60.0;
   options.step_hz = std::min(options.step_hz, kMaxStepHz);
   options.max_substeps = std::clamp(options.max_substeps, 1, kMaxSubstepsLimit);
+  options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxSubstepsLimit);
+  if (options.integrator != Integrator::kXpbd) options.integrator = Integrator::kVrm;
   s.options = options;
+  if (options.integrator == Integrator::kXpbd) {
+    XpbdOptions xpbd_options;
+    xpbd_options.iterations = options.xpbd_iterations;
+    s.xpbd = std::make_unique<XpbdSolver>(*s.rig, xpbd_options);
+  }
   s.step_seconds = 1.0 / options.step_hz;
 
   const std::size_t joints = s.rig->joints.size();
@@ -427,12 +459,12 @@ void Instance::step(double dt) {
   s.readDrivers();
   if (!s.seeded) {
     s.previous_drivers = s.current_drivers;
-    s.fast_path = s.lanes_usable && s.driversAreSimilarities();
+    s.fast_path = !s.xpbd && s.lanes_usable && s.driversAreSimilarities();
     s.prepareDrivers(1.0f);
     s.run(0.0f, /*seed_only=*/true);
     s.seeded = true;
   }
-  s.fast_path = s.lanes_usable && s.driversAreSimilarities();
+  s.fast_path = !s.xpbd && s.lanes_usable && s.driversAreSimilarities();
   // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
   // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
   const double h = s.step_seconds;

@@ -192,9 +192,16 @@ std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
 // ---------------------------------------------------------------------------------------------
 // The simulation: one Instance per avatar
 
+/// Which update moves the joints. kVrm is the VRM spring-bone update (DESIGN.md section 5);
+/// kXpbd the XPBD integrator of xpbd_solver.h (exact bone lengths, compliant constraints, meant
+/// for 120 Hz substeps), driven by the same parameters.
+enum class Integrator { kVrm, kXpbd };
+
 struct InstanceOptions {
-  double step_hz = 60.0;  ///< fixed simulation rate, [1, 1000]
+  double step_hz = 60.0;  ///< fixed simulation rate, [1, 1000]; kXpbdDefaultStepHz (120) suits kXpbd
   int max_substeps = 4;   ///< steps per frame at most, [1, 64]; surplus time is dropped
+  Integrator integrator = Integrator::kVrm;
+  int xpbd_iterations = 4;  ///< kXpbd only: constraint passes per substep, [1, 64]
 };
 
 class Instance {

@@ -95,23 +95,18 @@ function check(scenario, timing) {
   return compare(native, wasm);
 }
 
-// Frame rates that are not a multiple of stepHz interpolate the driver rotations across substeps
-// with glm::slerp, whose acosf/sinf come from glibc natively and from musl in WebAssembly; the two
-// differ in the last bit now and then, and at avatar scale (positions ~1.5 m, bones ~5 cm) one ulp
-// of a position is ~1e-6 of a rotation. With an interpolation made of +, *, / and sqrt only (a
-// normalized lerp on the shorter arc) both builds agree bit for bit on every scenario below. Until
-// the solver makes that change these scenarios are reported as TODO instead of failing the suite.
-const kLibmTodo = 'needs a libm-free driver interpolation in src/solver.cpp (glm::slerp uses acosf/sinf)';
-
+// Frame rates that are not a multiple of stepHz interpolate the driver rotations across substeps.
+// The solver does it with a normalized lerp (+, *, / and sqrt only) rather than slerp, whose
+// acosf/sinf come from glibc natively and from musl in WebAssembly and differ in the last bit.
 describe('native and WASM agree within 1e-6 under the scripted sway', () => {
   const hair = () => fixtureScenario('avatar_hair.glb', 'avatar_hair.metadata.json', undefined);
   test('avatar_hair.glb at 60 fps (one step per frame)', () => {
     check(hair(), { frames: 300, fps: 60 });
   });
-  test('avatar_hair.glb at 45 fps (drivers interpolated across substeps)', { todo: kLibmTodo }, () => {
+  test('avatar_hair.glb at 45 fps (drivers interpolated across substeps)', () => {
     check(hair(), { frames: 300, fps: 45 });
   });
-  test('avatar_hair.glb at 144 fps with stepHz 90', { todo: kLibmTodo }, () => {
+  test('avatar_hair.glb at 144 fps with stepHz 90', () => {
     check(hair(), { frames: 400, fps: 144, stepHz: 90 });
   });
   test('avatar_hair.glb at 8 fps, maxSubsteps 2 (surplus time dropped)', () => {
