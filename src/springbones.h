@@ -129,7 +129,8 @@ bool isSpringBoneName(const std::string& name);
 
 struct Joint {
   int node = -1;           ///< the bone this joint rotates
-  int tail_node = -1;      ///< its first child: where the bone ends
+  int tail_node = -1;      ///< its first child: where the bone ends; -1 when the tail is no node
+                           ///< (a VRM 0.x leaf's virtual tail): tail_local is authoritative
   int parent_joint = -1;   ///< joint of the glTF parent, -1 for a chain root
   int parent_driver = -1;  ///< for a chain root: driver holding its parent's world matrix
                            ///< (-1: the root is a scene root, its parent is the identity)
