@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "entity.h"
+#include "json_depth.h"
 
 namespace springbones {
 
@@ -18,19 +19,6 @@ namespace {
 // a bone entry may add some. nlohmann's copy (and dump) recurse once per level, so a document
 // nested millions deep would overflow the stack (the WebAssembly one first) when copied below.
 constexpr std::size_t kMaxCopyDepth = 64;
-
-// True when `value` nests more than max_depth arrays/objects deep. Iterative on purpose.
-bool nestsDeeperThan(const json& value, std::size_t max_depth) {
-  std::vector<std::pair<const json*, std::size_t>> stack{{&value, 0}};
-  while (!stack.empty()) {
-    const auto [v, depth] = stack.back();
-    stack.pop_back();
-    if (!v->is_structured()) continue;
-    if (depth >= max_depth) return true;
-    for (const json& child : *v) stack.emplace_back(&child, depth + 1);
-  }
-  return false;
-}
 
 }  // namespace
 

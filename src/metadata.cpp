@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bone_params.h"
+#include "json_depth.h"
+#include "json_pointer.h"
 #include "springbones.h"
 
 namespace springbones {
@@ -16,35 +18,8 @@ namespace {
 
 using nlohmann::json;
 
-// RFC 6901 escaping, so paths stay unambiguous for names containing '/' or '~'.
-std::string pointerToken(const std::string& key) {
-  std::string out;
-  out.reserve(key.size());
-  for (char c : key) {
-    if (c == '~') {
-      out += "~0";
-    } else if (c == '/') {
-      out += "~1";
-    } else {
-      out += c;
-    }
-  }
-  return "/" + out;
-}
-
-// True when `value` nests at most `levels` arrays/objects deep. Bounded recursion: json::dump
-// recurses once per level, so hostile metadata nested millions deep must never reach it.
-bool nestsAtMost(const json& value, int levels) {
-  if (!value.is_structured()) return true;
-  if (levels == 0) return false;
-  for (const json& item : value) {
-    if (!nestsAtMost(item, levels - 1)) return false;
-  }
-  return true;
-}
-
 std::string describe(const json& value) {
-  if (!nestsAtMost(value, 8)) return value.is_array() ? "a deeply nested array" : "a deeply nested object";
+  if (nestsDeeperThan(value, 8)) return value.is_array() ? "a deeply nested array" : "a deeply nested object";
   std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   return text;

@@ -105,17 +105,6 @@ glm::quat interpolateRotation(const glm::quat& a, const glm::quat& b, float t) {
   return length > 0.0f ? mixed / length : b;
 }
 
-// Inverse of an affine matrix, or false when it has no usable inverse (a zero scale).
-bool affineInverse(const glm::mat4& m, glm::mat4& out) {
-  const glm::mat3 linear(m);
-  const float det = glm::determinant(linear);
-  if (!(std::fabs(det) > 1e-18f) || !std::isfinite(det)) return false;
-  const glm::mat3 inv = glm::inverse(linear);
-  out = glm::mat4(inv);
-  out[3] = glm::vec4(-(inv * glm::vec3(m[3])), 1.0f);
-  return true;
-}
-
 // The spring update shared by both paths: Verlet inertia (center space) reduced by drag, the
 // stiffness and gravity impulses (world space), then back onto the sphere of the bone length.
 // Returns the new tail offset from the head, in world space.

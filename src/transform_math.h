@@ -23,6 +23,18 @@ inline bool isFinite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+/// Inverse of an affine matrix, or false when it has no usable inverse (a zero scale, or
+/// non-finite entries). Callers treat a center without an inverse as world space for that step.
+inline bool affineInverse(const glm::mat4& m, glm::mat4& out) {
+  const glm::mat3 linear(m);
+  const float det = glm::determinant(linear);
+  if (!(std::fabs(det) > 1e-18f) || !std::isfinite(det)) return false;
+  const glm::mat3 inv = glm::inverse(linear);
+  out = glm::mat4(inv);
+  out[3] = glm::vec4(-(inv * glm::vec3(m[3])), 1.0f);
+  return true;
+}
+
 /// Splits an affine matrix into translation, rotation and (positive or mirrored) scale. Shear is
 /// dropped: glTF requires node matrices to be decomposable into TRS, so a sheared one is invalid
 /// input and the closest rotation is the best we can do.

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bone_params.h"
+#include "json_pointer.h"
 
 namespace springbones {
 namespace {
@@ -48,22 +49,6 @@ bool isNumberOne(const json& value) {
   if (value.is_number_unsigned()) return value.get<std::uint64_t>() == 1;
   if (value.is_number_integer()) return value.get<std::int64_t>() == 1;
   return value.is_number_float() && value.get<double>() == 1.0;
-}
-
-// RFC 6901 token, as Ajv writes keys into instancePath.
-std::string pointerToken(const std::string& key) {
-  std::string out = "/";
-  out.reserve(key.size() + 1);
-  for (char c : key) {
-    if (c == '~') {
-      out += "~0";
-    } else if (c == '/') {
-      out += "~1";
-    } else {
-      out += c;
-    }
-  }
-  return out;
 }
 
 // JavaScript's "array index" keys: "0" .. "4294967294" without leading zeros.

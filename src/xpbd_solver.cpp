@@ -92,18 +92,6 @@ namespace {
 constexpr float kMinLength = 1e-6f;
 constexpr int kMaxIterations = 64;
 
-// Inverse of an affine matrix, or false when it has none (a zero scale): such a center counts as
-// world space for the step, as in the default path.
-bool affineInverse(const glm::mat4& m, glm::mat4& out) {
-  const glm::mat3 linear(m);
-  const float det = glm::determinant(linear);
-  if (!(std::fabs(det) > 1e-18f) || !std::isfinite(det)) return false;
-  const glm::mat3 inv = glm::inverse(linear);
-  out = glm::mat4(inv);
-  out[3] = glm::vec4(-(inv * glm::vec3(m[3])), 1.0f);
-  return true;
-}
-
 // The hard bone-length constraint with a kinematic head: exact projection onto the sphere. A tail
 // on the head (or lost to a non-finite value) restarts at rest, as in the default path.
 inline void projectLength(const glm::vec3& head, const glm::vec3& rest_offset, float length, glm::vec3& x) {
