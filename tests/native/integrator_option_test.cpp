@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "springbones.h"
+#include "test_helpers.h"
 #include "xpbd_runner.h"
 #include "xpbd_solver.h"
 
@@ -28,16 +29,8 @@ std::shared_ptr<const Rig> chainRig() {
       {{"name", "springbone_c"}, {"translation", {0.1, 0, 0}}, {"children", {4}}},
       {{"name", "springbone_tip"}, {"translation", {0.1, 0, 0}}},
   });
-  const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-  Skeleton skeleton;
-  Error e = loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton);
-  EXPECT_FALSE(e) << e.message;
-  ModelEntry model;
-  std::vector<Warning> warnings;
   const json bones = {{"springbone_a", {{"isRoot", true}, {"stiffness", 0.5}, {"gravityPower", 1.5}, {"drag", 0.2}}}};
-  e = parseSpringBones(json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
-  EXPECT_FALSE(e) << e.message;
-  return buildRig(std::move(skeleton), model, warnings);
+  return test::rigFromJson(nodes, bones);
 }
 
 glm::mat4 swayingHips(double t) {

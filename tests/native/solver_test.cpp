@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "springbones.h"
+#include "test_helpers.h"
 
 namespace springbones {
 namespace {
@@ -30,17 +31,7 @@ json node(const std::string& name, glm::vec3 t, std::vector<int> children = {},
   return n;
 }
 
-std::shared_ptr<const Rig> makeRig(const json& nodes, const json& bones) {
-  const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-  Skeleton skeleton;
-  Error e = loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton);
-  EXPECT_FALSE(e) << e.message;
-  ModelEntry model;
-  std::vector<Warning> warnings;
-  e = parseSpringBones(json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
-  EXPECT_FALSE(e) << e.message;
-  return buildRig(std::move(skeleton), model, warnings);
-}
+std::shared_ptr<const Rig> makeRig(const json& nodes, const json& bones) { return test::rigFromJson(nodes, bones); }
 
 json params(double stiffness, double gravity, double drag, glm::vec3 dir = {0, -1, 0}) {
   return {{"stiffness", stiffness}, {"gravityPower", gravity}, {"drag", drag},

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,20 @@ inline nlohmann::json node(const std::string& name, std::vector<int> children = 
   if (!children.empty()) n["children"] = children;
   if (!translation.empty()) n["translation"] = translation;
   return n;
+}
+
+/// The rig of a glTF made of `nodes` (a JSON array) with `bones` as the entries of its one models
+/// key; fails the current test when the glTF or the metadata does not load.
+inline std::shared_ptr<const Rig> rigFromJson(const nlohmann::json& nodes, const nlohmann::json& bones,
+                                              const RigOptions& options = {}) {
+  Skeleton skeleton;
+  const Error e = loadText(gltfWithNodes(nodes), skeleton);
+  EXPECT_FALSE(e) << e.message;
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  const Error m = parseSpringBones(nlohmann::json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
+  EXPECT_FALSE(m) << m.message;
+  return buildRig(std::move(skeleton), model, warnings, options);
 }
 
 inline int nodeIndex(const Skeleton& skeleton, const std::string& name) {

@@ -15,6 +15,7 @@
 
 #include "spring_lanes.h"
 #include "springbones.h"
+#include "test_helpers.h"
 #include "xpbd_runner.h"
 #include "xpbd_solver.h"
 
@@ -34,15 +35,7 @@ json node(const std::string& name, glm::vec3 t, std::vector<int> children = {}) 
 }
 
 std::shared_ptr<const Rig> makeRig(const json& nodes, const json& bones, const RigOptions& options = {}) {
-  const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-  Skeleton skeleton;
-  Error e = loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton);
-  EXPECT_FALSE(e) << e.message;
-  ModelEntry model;
-  std::vector<Warning> warnings;
-  e = parseSpringBones(json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
-  EXPECT_FALSE(e) << e.message;
-  return buildRig(std::move(skeleton), model, warnings, options);
+  return test::rigFromJson(nodes, bones, options);
 }
 
 json rootParams(double stiffness, double gravity, double drag) {
