@@ -14,20 +14,25 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <exception>
 #include <memory>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 
 #include <emscripten/bind.h>
 #include <nlohmann/json.hpp>
 
+#include "builder_edits.h"
 #include "content_hash.h"
 #include "entity.h"
 #include "springbones.h"
+#include "validation.h"
+#include "vrm_loader.h"
 
 namespace springbones {
 namespace {
@@ -36,13 +41,17 @@ using nlohmann::json;
 
 struct LoadedRig {
   std::shared_ptr<const Rig> rig;
-  std::string hash;  ///< the models key the rig was built from
+  std::string hash;  ///< the models key the rig was built from ("" for a VRM)
+  std::string format = "dcl";  ///< where the springs came from: dcl, vrmc-springbone, vrm0, none
 };
 
 // Instances hold their rig through a shared_ptr, so disposing of a rig handle while instances of
 // it are alive only drops the handle; the memory goes with the last instance.
 std::unordered_map<int, LoadedRig> g_rigs;
 std::unordered_map<int, std::unique_ptr<Instance>> g_instances;
+// Scenes hold raw Instance pointers (they own nothing): disposeInstance removes the instance from
+// every scene first, so a scene never steps freed memory.
+std::unordered_map<int, std::unique_ptr<Scene>> g_scenes;
 int g_next_handle = 1;
 
 // The pending error. Its code is the core's errorCodeName(), or one of the codes that only exist
@@ -90,6 +99,10 @@ double shortestDouble(float value) {
   return std::strtod(text, nullptr);
 }
 
+json vec3Json(const glm::vec3& v) {
+  return json::array({shortestDouble(v.x), shortestDouble(v.y), shortestDouble(v.z)});
+}
+
 json paramsJson(const BoneParams& p) {
   return json{{"stiffness", shortestDouble(p.stiffness)},
               {"gravityPower", shortestDouble(p.gravity_power)},
@@ -104,10 +117,14 @@ std::string rigJson(const LoadedRig& loaded) {
   const auto& nodes = rig.skeleton.nodes;
   json joints = json::array();
   for (const Joint& j : rig.joints) {
+    // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
+    const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
     joints.push_back(json{{"name", nodes[j.node].name},
                           {"node", j.node},
-                          {"tail", nodes[j.tail_node].name},
-                          {"tailNode", j.tail_node},
+                          {"tail", tail_is_node ? json(nodes[j.tail_node].name) : json(nullptr)},
+                          {"tailNode", tail_is_node ? j.tail_node : -1},
+                          {"tailOffset", vec3Json(j.tail_local)},
+                          {"hitRadius", shortestDouble(j.hit_radius)},
                           {"parent", j.parent_joint},
                           {"parentDriver", j.parent_driver},
                           {"centerDriver", j.center_driver},
@@ -117,6 +134,17 @@ std::string rigJson(const LoadedRig& loaded) {
   }
   json drivers = json::array();
   for (const Driver& d : rig.drivers) drivers.push_back(json{{"name", d.name}, {"node", d.node}});
+  json colliders = json::array();
+  for (const Collider& c : rig.colliders) {
+    const bool capsule = c.shape == Collider::Shape::kCapsule;
+    json entry{{"driver", c.driver},
+               {"node", c.driver >= 0 ? json(rig.drivers[c.driver].name) : json(nullptr)},
+               {"shape", capsule ? "capsule" : "sphere"},
+               {"offset", vec3Json(c.offset)},
+               {"radius", shortestDouble(c.radius)}};
+    if (capsule) entry["tail"] = vec3Json(c.tail);
+    colliders.push_back(std::move(entry));
+  }
   json warnings = json::array();
   for (const Warning& w : rig.warnings) {
     warnings.push_back(json{{"code", w.code}, {"message", w.message}, {"path", w.path}});
@@ -126,6 +154,8 @@ std::string rigJson(const LoadedRig& loaded) {
            {"joints", std::move(joints)},
            {"chains", rig.chain_roots},
            {"drivers", std::move(drivers)},
+           {"colliders", std::move(colliders)},
+           {"format", loaded.format},
            {"warnings", std::move(warnings)}};
   // replace: a message may quote a truncated node name cut inside a UTF-8 sequence.
   return out.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -156,13 +186,47 @@ std::string takeError() {
   }
 }
 
+/// Reads RigOptions from the JSON the JS API writes after checking every field:
+/// {"colliders": [{"node", "offset": [x,y,z], "radius", "tail"?: [x,y,z]}], "hitRadius"}.
+/// A collider with a tail is a capsule. Shapes it does not expect throw json::exception (caught).
+RigOptions rigOptionsFrom(const std::string& text) {
+  RigOptions options;
+  if (text.empty()) return options;
+  const json value = json::parse(text);
+  const auto vec3 = [](const json& a) {
+    return glm::vec3(a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>());
+  };
+  if (value.contains("hitRadius")) options.hit_radius = value.at("hitRadius").get<float>();
+  if (value.contains("colliders")) {
+    for (const json& c : value.at("colliders")) {
+      ColliderSpec spec;
+      spec.node = c.at("node").get<std::string>();
+      spec.offset = vec3(c.at("offset"));
+      spec.radius = c.at("radius").get<float>();
+      if (c.contains("tail")) {
+        spec.shape = Collider::Shape::kCapsule;
+        spec.tail = vec3(c.at("tail"));
+      }
+      options.colliders.push_back(std::move(spec));
+    }
+  }
+  return options;
+}
+
 /// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text (the text "null"
-/// for none) and the models key; an empty hash means the GLB's own content hash. Returns the rig
-/// handle, or 0 with the error pending. The caller keeps ownership of `data`.
+/// for none), the models key (empty: the GLB's own content hash) and the rig options as JSON
+/// (empty for none). Returns the rig handle, or 0 with the error pending. The caller keeps
+/// ownership of `data`.
 int loadRig(std::uintptr_t data, std::size_t size, const std::string& metadata,
-            const std::string& hash) {
+            const std::string& hash, const std::string& options_text) {
   return guarded([&] {
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
+    RigOptions options;
+    try {
+      options = rigOptionsFrom(options_text);
+    } catch (const json::exception& ex) {
+      return fail("invalid-argument", std::string("rig options could not be read: ") + ex.what());
+    }
     Skeleton skeleton;
     if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
     LoadedRig loaded;
@@ -172,7 +236,25 @@ int loadRig(std::uintptr_t data, std::size_t size, const std::string& metadata,
     if (Error e = parseSpringBonesText(metadata, loaded.hash, model, warnings)) {
       return fail(e);
     }
-    loaded.rig = buildRig(std::move(skeleton), model, std::move(warnings));
+    loaded.rig = buildRig(std::move(skeleton), model, std::move(warnings), options);
+    const int handle = newHandle();
+    g_rigs.emplace(handle, std::move(loaded));
+    return handle;
+  });
+}
+
+/// Loads the spring bones of a .vrm (VRMC_springBone 1.0 or VRM 0.x secondaryAnimation) into a
+/// rig. Returns the rig handle, or 0 with the error pending.
+int loadVrm(std::uintptr_t data, std::size_t size) {
+  return guarded([&] {
+    LoadedRig loaded;
+    VrmSpringFormat format = VrmSpringFormat::kNone;
+    if (Error e = loadVrmRig(reinterpret_cast<const std::uint8_t*>(data), size, loaded.rig, &format)) {
+      return fail(e);
+    }
+    loaded.format = format == VrmSpringFormat::kVrmcSpringBone1 ? "vrmc-springbone"
+                    : format == VrmSpringFormat::kVrm0          ? "vrm0"
+                                                                : "none";
     const int handle = newHandle();
     g_rigs.emplace(handle, std::move(loaded));
     return handle;
@@ -219,14 +301,16 @@ std::string rigInfo(int rig) {
 }
 
 /// A new instance of the rig; options out of range are clamped by the core (the JS API rejects
-/// them before). Returns the instance handle or 0.
-int createInstance(int rig, double step_hz, int max_substeps) {
+/// them before). integrator: 0 VRM, 1 XPBD. Returns the instance handle or 0.
+int createInstance(int rig, double step_hz, int max_substeps, int integrator, int xpbd_iterations) {
   return guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
     InstanceOptions options;
     options.step_hz = step_hz;
     options.max_substeps = max_substeps;
+    options.integrator = integrator == 1 ? Integrator::kXpbd : Integrator::kVrm;
+    options.xpbd_iterations = xpbd_iterations;
     auto instance = std::make_unique<Instance>(it->second.rig, options);
     const int handle = newHandle();
     g_instances.emplace(handle, std::move(instance));
@@ -247,6 +331,10 @@ int driverCount(int instance) {
 std::uintptr_t rotationsPtr(int instance) {
   Instance* i = findInstance(instance);
   return i ? reinterpret_cast<std::uintptr_t>(i->rotations()) : 0;
+}
+std::uintptr_t worldMatricesPtr(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? reinterpret_cast<std::uintptr_t>(i->worldMatrices()) : 0;
 }
 int jointCount(int instance) {
   Instance* i = findInstance(instance);
@@ -271,14 +359,202 @@ bool reset(int instance) {
 }
 
 bool disposeRig(int rig) { return g_rigs.erase(rig) == 1; }
-bool disposeInstance(int instance) { return g_instances.erase(instance) == 1; }
+bool disposeInstance(int instance) {
+  auto it = g_instances.find(instance);
+  if (it == g_instances.end()) return false;
+  for (auto& [handle, scene] : g_scenes) scene->remove(it->second.get());
+  g_instances.erase(it);
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes: many instances stepped in one call
+
+Scene* findScene(int handle) {
+  auto it = g_scenes.find(handle);
+  return it == g_scenes.end() ? nullptr : it->second.get();
+}
+
+int createScene() {
+  return guarded([&] {
+    auto scene = std::make_unique<Scene>();
+    const int handle = newHandle();
+    g_scenes.emplace(handle, std::move(scene));
+    return handle;
+  });
+}
+
+/// Adds an instance; returns its slot + 1 (so that 0 stays "failed", error pending).
+int sceneAdd(int scene, int instance) {
+  return guarded([&] {
+    Scene* s = findScene(scene);
+    if (s == nullptr) return badHandle("scene", scene);
+    Instance* i = findInstance(instance);
+    if (i == nullptr) return badHandle("instance", instance);
+    return static_cast<int>(s->add(i)) + 1;
+  });
+}
+
+bool sceneRemove(int scene, int instance) {
+  Scene* s = findScene(scene);
+  Instance* i = findInstance(instance);
+  if (s == nullptr || i == nullptr) return false;
+  s->remove(i);
+  return true;
+}
+
+int sceneSize(int scene) {
+  Scene* s = findScene(scene);
+  return s ? static_cast<int>(s->size()) : -1;
+}
+
+/// Moves when instances are added or removed (the vector reallocates); the JS side re-reads it then.
+std::uintptr_t scenePositionsPtr(int scene) {
+  Scene* s = findScene(scene);
+  return s ? reinterpret_cast<std::uintptr_t>(s->positions()) : 0;
+}
+
+bool sceneSetBudget(int scene, int max_active, float x, float y, float z) {
+  Scene* s = findScene(scene);
+  if (s == nullptr) return false;
+  s->setBudget(max_active, glm::vec3(x, y, z));
+  return true;
+}
+
+/// The per-frame call for a whole page. No try block, for the reason given at step().
+bool sceneStep(int scene, double dt) {
+  Scene* s = findScene(scene);
+  if (s == nullptr) return false;
+  s->step(dt);
+  return true;
+}
+
+bool sceneIsActive(int scene, int slot) {
+  Scene* s = findScene(scene);
+  return s != nullptr && slot >= 0 && s->isActive(static_cast<std::size_t>(slot));
+}
+
+bool disposeScene(int scene) { return g_scenes.erase(scene) == 1; }
+
+// ---------------------------------------------------------------------------------------------
+// Deploy-time validation and Builder edits
+
+// JSON has no NaN or Infinity, but a JS object can hold them and the validator must reject them
+// as Ajv does ("must be number") rather than see the null JSON.stringify writes. The JS side writes
+// each non-finite number as a string "<marker>NaN" (or Infinity, -Infinity), with a marker drawn at
+// random per call so no real string can be taken for one; this puts the doubles back. Iterative:
+// the value may nest deeply.
+void restoreNonFinite(json& value, const std::string& marker) {
+  if (marker.empty()) return;
+  std::vector<json*> stack{&value};
+  while (!stack.empty()) {
+    json* v = stack.back();
+    stack.pop_back();
+    if (v->is_structured()) {
+      for (json& child : *v) stack.push_back(&child);
+    } else if (v->is_string()) {
+      const std::string& text = v->get_ref<const std::string&>();
+      if (text.size() <= marker.size() || text.compare(0, marker.size(), marker) != 0) continue;
+      const std::string_view rest = std::string_view(text).substr(marker.size());
+      if (rest == "NaN") {
+        *v = std::nan("");
+      } else if (rest == "Infinity") {
+        *v = INFINITY;
+      } else if (rest == "-Infinity") {
+        *v = -INFINITY;
+      }
+    }
+  }
+}
+
+// Parses JSON text handed over by the JS side; on failure sets the pending error and returns false.
+bool parseJson(const std::string& text, const char* what, json& out) {
+  try {
+    out = json::parse(text);
+    return true;
+  } catch (const json::exception& ex) {
+    fail(std::string(what) + "-bad-json", std::string(what) + " JSON does not parse: " + ex.what());
+    return false;
+  }
+}
+
+/// The catalyst's errors for the entity as JSON [{path, message}], or "" with the error pending.
+std::string validateEntity(const std::string& entity_text, const std::string& marker) {
+  std::string text;
+  guarded([&] {
+    json entity;
+    if (!parseJson(entity_text, "entity", entity)) return 0;
+    restoreNonFinite(entity, marker);
+    json errors = json::array();
+    for (const ValidationError& e : validateSpringBones(entity)) {
+      errors.push_back(json{{"path", e.path}, {"message", e.message}});
+    }
+    text = errors.dump(-1, ' ', false, json::error_handler_t::replace);
+    return 1;
+  });
+  return text;
+}
+
+/// The spring-bone candidates of a GLB with their prefill values, as JSON {contentHash,
+/// candidates: [...], warnings: [...]}, or "" with the error pending. Same inputs as loadRig.
+std::string detectCandidates(std::uintptr_t data, std::size_t size, const std::string& metadata,
+                             const std::string& hash) {
+  std::string text;
+  guarded([&] {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
+    Skeleton skeleton;
+    if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
+    const std::string key = hash.empty() ? contentHash(bytes, size) : hash;
+    ModelEntry model;
+    std::vector<Warning> warnings;
+    if (Error e = parseSpringBonesText(metadata, key, model, warnings)) return fail(e);
+    json candidates = json::array();
+    for (const SpringBoneCandidate& c : detectSpringBones(skeleton, model)) {
+      json entry{{"name", c.name},
+                 {"node", c.node},
+                 {"parent", c.parent_candidate},
+                 {"hasEntry", c.has_entry},
+                 {"isRoot", c.is_root},
+                 {"params", paramsJson(c.params)}};
+      // No center key: the runtime default; null: explicitly world space; else a node name.
+      if (c.has_center) entry["center"] = c.center.empty() ? json(nullptr) : json(c.center);
+      candidates.push_back(std::move(entry));
+    }
+    json warnings_json = json::array();
+    for (const Warning& w : warnings) {
+      warnings_json.push_back(json{{"code", w.code}, {"message", w.message}, {"path", w.path}});
+    }
+    text = json{{"contentHash", key}, {"candidates", std::move(candidates)}, {"warnings", std::move(warnings_json)}}
+               .dump(-1, ' ', false, json::error_handler_t::replace);
+    return 1;
+  });
+  return text;
+}
+
+/// springBones with node_name's entry under the body shape's GLB hash set to params (JSON text;
+/// "null" removes it), as JSON text, or "" with the error pending.
+std::string setParams(const std::string& springbones_text, const std::string& entity_text,
+                      const std::string& body_shape, const std::string& node_name,
+                      const std::string& params_text) {
+  std::string text;
+  guarded([&] {
+    json springBones, entity, params, out;
+    if (!parseJson(springbones_text, "metadata", springBones)) return 0;
+    if (!parseJson(entity_text, "entity", entity)) return 0;
+    if (!parseJson(params_text, "params", params)) return 0;
+    if (Error e = setSpringBoneParams(springBones, entity, body_shape, node_name, params, out)) return fail(e);
+    text = out.dump(-1, ' ', false, json::error_handler_t::replace);  // at most 64 levels deep
+    return 1;
+  });
+  return text;
+}
 
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
-  char text[96];
-  std::snprintf(text, sizeof text, R"({"rigs":%zu,"instances":%zu,"heapInUse":%zu})", g_rigs.size(),
-                g_instances.size(), static_cast<std::size_t>(info.uordblks));
+  char text[128];
+  std::snprintf(text, sizeof text, R"({"rigs":%zu,"instances":%zu,"scenes":%zu,"heapInUse":%zu})",
+                g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
   return text;
 }
 
@@ -289,6 +565,7 @@ EMSCRIPTEN_BINDINGS(springbones) {
   using namespace springbones;
   emscripten::function("takeError", &takeError);
   emscripten::function("loadRig", &loadRig);
+  emscripten::function("loadVrm", &loadVrm);
   emscripten::function("mainFileHash", &mainFileHash);
   emscripten::function("hashBytes", &hashBytes);
   emscripten::function("rigInfo", &rigInfo);
@@ -296,10 +573,23 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("driverMatricesPtr", &driverMatricesPtr);
   emscripten::function("driverCount", &driverCount);
   emscripten::function("rotationsPtr", &rotationsPtr);
+  emscripten::function("worldMatricesPtr", &worldMatricesPtr);
   emscripten::function("jointCount", &jointCount);
   emscripten::function("step", &step);
   emscripten::function("reset", &reset);
   emscripten::function("disposeRig", &disposeRig);
   emscripten::function("disposeInstance", &disposeInstance);
+  emscripten::function("createScene", &createScene);
+  emscripten::function("sceneAdd", &sceneAdd);
+  emscripten::function("sceneRemove", &sceneRemove);
+  emscripten::function("sceneSize", &sceneSize);
+  emscripten::function("scenePositionsPtr", &scenePositionsPtr);
+  emscripten::function("sceneSetBudget", &sceneSetBudget);
+  emscripten::function("sceneStep", &sceneStep);
+  emscripten::function("sceneIsActive", &sceneIsActive);
+  emscripten::function("disposeScene", &disposeScene);
+  emscripten::function("validateEntity", &validateEntity);
+  emscripten::function("detectCandidates", &detectCandidates);
+  emscripten::function("setParams", &setParams);
   emscripten::function("stats", &stats);
 }

@@ -20,6 +20,7 @@ const kIsNode =
 
 const kMaxStepHz = 1000;
 const kMaxSubsteps = 64;
+const kMaxXpbdIterations = 64;
 
 /** Every failure the library reports, apart from TypeError/RangeError for bad arguments. */
 export class SpringBonesError extends Error {
@@ -93,45 +94,30 @@ class SpringBones {
 
   /**
    * Loads a wearable: GLB (or glTF JSON) bytes, its data.springBones (object, JSON text, or
-   * null/undefined for none) and which models entry applies.
+   * null/undefined for none), which models entry applies, and optional colliders.
    */
   loadRig(glbBytes, springBones, options) {
     const bytes = toBytes('loadRig: glbBytes', glbBytes);
     const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
+    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius']);
+    const rigOptionsText = rigOptionsJson(opts);
     const m = this.#m;
-    let hash = '';
-    if (options !== undefined && options !== null) {
-      if (typeof options !== 'object') throw new TypeError('loadRig: options must be an object');
-      checkKeys('loadRig', options, ['contentHash', 'entity', 'bodyShape']);
-      const { contentHash, entity, bodyShape } = options;
-      if (contentHash !== undefined) {
-        if (typeof contentHash !== 'string') throw new TypeError('loadRig: contentHash must be a string');
-        if (contentHash.length === 0) throw new RangeError('loadRig: contentHash must not be empty');
-      }
-      if (entity !== undefined || bodyShape !== undefined) {
-        if (entity === undefined) throw new TypeError('loadRig: bodyShape needs an entity');
-        if (typeof bodyShape !== 'string') {
-          throw new TypeError('loadRig: with an entity, bodyShape must be a string (a body shape URN)');
-        }
-        if (bodyShape.length === 0) throw new RangeError('loadRig: bodyShape must not be empty');
-      }
-      const entityText = entity === undefined ? undefined : toJsonText('loadRig: entity', entity, false);
-      // Preference order of DESIGN.md section 4: the caller's hash, then the entity's.
-      if (contentHash !== undefined) {
-        hash = contentHash;
-      } else if (entityText !== undefined) {
-        hash = call(() => m.mainFileHash(entityText, bodyShape));
-        if (hash === '') throw takeError(m);
-      }
-    }
-    const handle = withBytes(m, bytes, (ptr, size) => m.loadRig(ptr, size, metadataText, hash));
+    const hash = resolveHash(m, 'loadRig', opts);
+    const handle = withBytes(m, bytes, (ptr, size) => m.loadRig(ptr, size, metadataText, hash, rigOptionsText));
     if (handle === 0) throw takeError(m);
-    const info = call(() => m.rigInfo(handle));
-    if (info === '') {
-      m.disposeRig(handle);
-      throw takeError(m);
-    }
-    return new Rig(m, handle, JSON.parse(info));
+    return this.#rig(handle);
+  }
+
+  /**
+   * Loads the spring bones of a VRM avatar (.vrm bytes): VRMC_springBone 1.0, or VRM 0.x
+   * secondaryAnimation, with their colliders. The rig has the same interface as loadRig's.
+   */
+  loadVrm(vrmBytes) {
+    const bytes = toBytes('loadVrm: vrmBytes', vrmBytes);
+    const m = this.#m;
+    const handle = withBytes(m, bytes, (ptr, size) => m.loadVrm(ptr, size));
+    if (handle === 0) throw takeError(m);
+    return this.#rig(handle);
   }
 
   /** The Decentraland content hash (CIDv1 string) of some bytes, as the catalyst computes it. */
@@ -143,12 +129,107 @@ class SpringBones {
     return hash;
   }
 
-  /** Diagnostics: live rigs and instances, WASM memory size and bytes in use by malloc. */
+  /**
+   * The errors a catalyst would answer for the entity's data.springBones: the SpringBonesData
+   * schema first, then the cross-checks (models keys are mainFile hashes; bone names contain
+   * "springbone"). [] when it would be accepted. Each error: {path, message}.
+   */
+  validateSpringBones(entity) {
+    let text;
+    let marker = '';
+    if (typeof entity === 'string') {
+      text = entity;
+    } else if (entity !== null && typeof entity === 'object') {
+      // JSON has no NaN/Infinity; they go across as marked strings the core turns back into numbers.
+      marker = nonFiniteMarker();
+      text = JSON.stringify(entity, (_key, value) =>
+        typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value);
+    } else {
+      throw new TypeError('validateSpringBones: entity must be an object or JSON text');
+    }
+    const m = this.#m;
+    const result = call(() => m.validateEntity(text, marker));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result);
+  }
+
+  /**
+   * The spring-bone candidates of a GLB (nodes whose name contains "springbone"), parents first,
+   * with the values a Builder should prefill: the existing entry of springBones for this GLB's
+   * models key, else the defaults. Never modifies anything.
+   */
+  detectSpringBones(glbBytes, springBones, options) {
+    const bytes = toBytes('detectSpringBones: glbBytes', glbBytes);
+    const metadataText = toJsonText('detectSpringBones: springBones', springBones, true);
+    const opts = optionsObject('detectSpringBones', options, kHashOptions);
+    const m = this.#m;
+    const hash = resolveHash(m, 'detectSpringBones', opts);
+    const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result).candidates;
+  }
+
+  /**
+   * A new springBones object with nodeName's parameters set under the models key of the GLB that
+   * bodyShape wears in the entity (params null removes the entry). One entry serves a GLB shared
+   * by both body shapes; entries under hashes no representation uses are dropped; version is 1.
+   * The inputs are not modified.
+   */
+  setSpringBoneParams(springBones, entity, bodyShape, nodeName, params) {
+    const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true);
+    const entityText = toJsonText('setSpringBoneParams: entity', entity, false);
+    if (typeof bodyShape !== 'string') throw new TypeError('setSpringBoneParams: bodyShape must be a string');
+    if (bodyShape.length === 0) throw new RangeError('setSpringBoneParams: bodyShape must not be empty');
+    if (typeof nodeName !== 'string') throw new TypeError('setSpringBoneParams: nodeName must be a string');
+    if (nodeName.length === 0) throw new RangeError('setSpringBoneParams: nodeName must not be empty');
+    if (params !== null && (typeof params !== 'object' || Array.isArray(params))) {
+      throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
+    }
+    if (params !== null) checkFiniteParams(params);
+    const m = this.#m;
+    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, JSON.stringify(params)));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result);
+  }
+
+  /** A scene: many instances stepped in one call, optionally only the nearest ones. */
+  createScene() {
+    const m = this.#m;
+    const handle = call(() => m.createScene());
+    if (handle === 0) throw takeError(m);
+    return new Scene(m, handle);
+  }
+
+  /** Diagnostics: live rigs, instances and scenes, WASM memory size and bytes in use by malloc. */
   stats() {
     const s = JSON.parse(this.#m.stats());
-    return { rigs: s.rigs, instances: s.instances, heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse };
+    return {
+      rigs: s.rigs, instances: s.instances, scenes: s.scenes,
+      heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse,
+    };
+  }
+
+  #rig(handle) {
+    const m = this.#m;
+    const info = call(() => m.rigInfo(handle));
+    if (info === '') {
+      m.disposeRig(handle);
+      throw takeError(m);
+    }
+    return new Rig(m, handle, JSON.parse(info));
   }
 }
+
+const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+const kIntegrators = ['vrm', 'xpbd'];
+// The XPBD integrator is meant for fixed 120 Hz substeps (src/xpbd_solver.h kXpbdDefaultStepHz);
+// 8 of them cover a 15 fps frame.
+const kXpbdDefaults = { stepHz: 120, maxSubsteps: 8 };
+
+// Accessors into the private fields of instances and scenes for the other classes of this file,
+// installed by their static blocks.
+let instanceInternals;
+let sceneInternals;
 
 class Rig {
   #m;
@@ -157,8 +238,10 @@ class Rig {
   constructor(m, handle, info) {
     this.#m = m;
     this.#handle = handle;
-    /** The models key the rig was built from. */
+    /** The models key the rig was built from ('' for a VRM). */
     this.contentHash = info.contentHash;
+    /** Where the springs came from: 'dcl' (data.springBones), 'vrmc-springbone', 'vrm0' or 'none'. */
+    this.format = info.format;
     /** Nodes in the GLB. */
     this.nodeCount = info.nodeCount;
     /** Simulated joints, parents before children; rotations[4*i..4*i+3] belongs to joints[i]. */
@@ -167,6 +250,8 @@ class Rig {
     this.chains = deepFreeze(info.chains);
     /** Nodes whose world matrices the caller writes each frame; driverMatrices[16*i..] is drivers[i]. */
     this.drivers = deepFreeze(info.drivers);
+    /** Collision shapes, each carried by a driver's world matrix. */
+    this.colliders = deepFreeze(info.colliders);
     /** Everything the loader clamped, replaced or ignored: {code, message, path}. */
     this.warnings = deepFreeze(info.warnings);
     Object.freeze(this);
@@ -179,34 +264,38 @@ class Rig {
   /** A simulation state for one avatar wearing this item. */
   createInstance(options) {
     if (this.#handle === 0) throw disposedError('rig');
-    let stepHz = 60;
-    let maxSubsteps = 4;
-    if (options !== undefined && options !== null) {
-      if (typeof options !== 'object') throw new TypeError('createInstance: options must be an object');
-      checkKeys('createInstance', options, ['stepHz', 'maxSubsteps', 'integrator']);
-      if (options.stepHz !== undefined) {
-        stepHz = options.stepHz;
-        if (typeof stepHz !== 'number') throw new TypeError('createInstance: stepHz must be a number');
-        if (!(stepHz >= 1 && stepHz <= kMaxStepHz)) {
-          throw new RangeError(`createInstance: stepHz must be in [1, ${kMaxStepHz}], got ${stepHz}`);
-        }
+    const opts = optionsObject('createInstance', options, ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations']);
+    let integrator = 'vrm';
+    if (opts.integrator !== undefined) {
+      integrator = opts.integrator;
+      if (typeof integrator !== 'string') throw new TypeError('createInstance: integrator must be a string');
+      if (!kIntegrators.includes(integrator)) {
+        throw new RangeError(`createInstance: integrator must be one of ${kIntegrators.join(', ')}, got '${integrator}'`);
       }
-      if (options.maxSubsteps !== undefined) {
-        maxSubsteps = options.maxSubsteps;
-        if (typeof maxSubsteps !== 'number') throw new TypeError('createInstance: maxSubsteps must be a number');
-        if (!Number.isInteger(maxSubsteps) || maxSubsteps < 1 || maxSubsteps > kMaxSubsteps) {
-          throw new RangeError(`createInstance: maxSubsteps must be an integer in [1, ${kMaxSubsteps}], got ${maxSubsteps}`);
-        }
+    }
+    const defaults = integrator === 'xpbd' ? kXpbdDefaults : { stepHz: 60, maxSubsteps: 4 };
+    let stepHz = defaults.stepHz;
+    let maxSubsteps = defaults.maxSubsteps;
+    let xpbdIterations = 4;
+    if (opts.stepHz !== undefined) {
+      stepHz = opts.stepHz;
+      if (typeof stepHz !== 'number') throw new TypeError('createInstance: stepHz must be a number');
+      if (!(stepHz >= 1 && stepHz <= kMaxStepHz)) {
+        throw new RangeError(`createInstance: stepHz must be in [1, ${kMaxStepHz}], got ${stepHz}`);
       }
-      if (options.integrator !== undefined) {
-        if (typeof options.integrator !== 'string') throw new TypeError('createInstance: integrator must be a string');
-        if (options.integrator !== 'vrm') {
-          throw new RangeError(`createInstance: integrator '${options.integrator}' is not available (only 'vrm')`);
-        }
+    }
+    if (opts.maxSubsteps !== undefined) {
+      maxSubsteps = checkInteger('createInstance: maxSubsteps', opts.maxSubsteps, 1, kMaxSubsteps);
+    }
+    if (opts.xpbdIterations !== undefined) {
+      xpbdIterations = checkInteger('createInstance: xpbdIterations', opts.xpbdIterations, 1, kMaxXpbdIterations);
+      if (integrator !== 'xpbd') {
+        throw new RangeError("createInstance: xpbdIterations only applies to integrator 'xpbd'");
       }
     }
     const m = this.#m;
-    const handle = call(() => m.createInstance(this.#handle, stepHz, maxSubsteps));
+    const handle = call(() => m.createInstance(this.#handle, stepHz, maxSubsteps,
+                                               integrator === 'xpbd' ? 1 : 0, xpbdIterations));
     if (handle === 0) throw takeError(m);
     return new Instance(m, handle);
   }
@@ -227,20 +316,33 @@ class Instance {
   #handle;
   #driverPtr;
   #rotationsPtr;
+  #worldPtr;
   #driverFloats;
   #rotationFloats;
   #drivers;
   #rotations;
+  #world;
+  #scenes = new Set();  // scenes this instance is in, left on dispose
+
+  static {
+    instanceInternals = {
+      module: (instance) => instance.#m,
+      handle: (instance) => instance.#handle,
+      scenes: (instance) => instance.#scenes,
+    };
+  }
 
   constructor(m, handle) {
     this.#m = m;
     this.#handle = handle;
     this.#driverPtr = m.driverMatricesPtr(handle);
     this.#rotationsPtr = m.rotationsPtr(handle);
+    this.#worldPtr = m.worldMatricesPtr(handle);
     this.#driverFloats = 16 * m.driverCount(handle);
     this.#rotationFloats = 4 * m.jointCount(handle);
     this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
     this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
+    this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
     Object.freeze(this);
   }
 
@@ -266,11 +368,19 @@ class Instance {
     return this.#rotations;
   }
 
+  /** Joint world matrices (column-major 4x4, 16 floats per rig.joints entry) after the last step. */
+  get worldMatrices() {
+    if (this.#handle === 0) throw disposedError('instance');
+    if (this.#world.buffer !== this.#m.HEAPF32.buffer) {
+      this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
+    }
+    return this.#world;
+  }
+
   /** Advances by a frame of dt seconds (fixed substeps inside). dt <= 0 does nothing. */
   step(dt) {
     if (this.#handle === 0) throw disposedError('instance');
-    if (typeof dt !== 'number') throw new TypeError('step: dt must be a number of seconds');
-    if (!Number.isFinite(dt)) throw new RangeError(`step: dt must be finite, got ${dt}`);
+    checkDt(dt);
     this.#m.step(this.#handle, dt);
   }
 
@@ -280,15 +390,155 @@ class Instance {
     this.#m.reset(this.#handle);
   }
 
-  /** Frees the instance; its views must not be used afterwards. Calling it again does nothing. */
+  /**
+   * Frees the instance, first taking it out of every scene it is in; its views must not be used
+   * afterwards. Calling it again does nothing.
+   */
   dispose() {
     if (this.#handle === 0) return;
-    this.#m.disposeInstance(this.#handle);
+    for (const scene of this.#scenes) sceneInternals.forget(scene, this);
+    this.#scenes.clear();
+    this.#m.disposeInstance(this.#handle);  // also removes it from the scenes on the WASM side
     this.#handle = 0;
   }
 
   #view(ptr, length) {
     return new Float32Array(this.#m.HEAPF32.buffer, ptr, length);
+  }
+}
+
+class Scene {
+  #m;
+  #handle;
+  #members = [];  // instances in slot order, as the core holds them
+  #positionsPtr = 0;
+  #positions;
+
+  static {
+    sceneInternals = {
+      forget: (scene, instance) => scene.#forget(instance),
+    };
+  }
+
+  constructor(m, handle) {
+    this.#m = m;
+    this.#handle = handle;
+    this.#refresh();
+    Object.freeze(this);
+  }
+
+  get disposed() {
+    return this.#handle === 0;
+  }
+
+  /** Number of instances in the scene. */
+  get size() {
+    return this.#members.length;
+  }
+
+  /**
+   * x, y, z per instance in slot order (the order of add(); slots shift down on remove), written
+   * by the caller, e.g. each avatar's root position; used by the budget. Same view rules as
+   * instance.driverMatrices, and the view is also replaced by add() and remove().
+   */
+  get positions() {
+    if (this.#handle === 0) throw disposedError('scene');
+    if (this.#positions.buffer !== this.#m.HEAPF32.buffer) {
+      this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
+    }
+    return this.#positions;
+  }
+
+  /** Adds an instance (of this module) and returns its slot; adding it again returns the same slot. */
+  add(instance) {
+    const handle = this.#instanceHandle('add', instance);
+    const existing = this.#members.indexOf(instance);
+    if (existing >= 0) return existing;
+    const m = this.#m;
+    const slot = call(() => m.sceneAdd(this.#handle, handle));
+    if (slot === 0) throw takeError(m);
+    this.#members.push(instance);
+    instanceInternals.scenes(instance).add(this);
+    this.#refresh();
+    return slot - 1;
+  }
+
+  /** Takes an instance out (its later slots shift down). Not in the scene: nothing happens. */
+  remove(instance) {
+    const handle = this.#instanceHandle('remove', instance);
+    if (!this.#members.includes(instance)) return;
+    this.#m.sceneRemove(this.#handle, handle);
+    instanceInternals.scenes(instance).delete(this);
+    this.#forget(instance);
+  }
+
+  /** The slot of an instance in positions, or -1 when it is not in the scene. */
+  slotOf(instance) {
+    if (this.#handle === 0) throw disposedError('scene');
+    return this.#members.indexOf(instance);
+  }
+
+  /**
+   * Simulate only the maxActive instances nearest to the viewer (the others hold their last pose
+   * and restart from rest when they come back). maxActive null or Infinity: no budget.
+   */
+  setBudget(maxActive, viewerX = 0, viewerY = 0, viewerZ = 0) {
+    if (this.#handle === 0) throw disposedError('scene');
+    let max = -1;
+    if (maxActive !== null && maxActive !== Infinity) {
+      max = checkInteger('setBudget: maxActive', maxActive, 0, 0x7fffffff);
+    }
+    for (const [name, v] of [['viewerX', viewerX], ['viewerY', viewerY], ['viewerZ', viewerZ]]) {
+      if (typeof v !== 'number') throw new TypeError(`setBudget: ${name} must be a number`);
+      if (!Number.isFinite(v)) throw new RangeError(`setBudget: ${name} must be finite, got ${v}`);
+    }
+    this.#m.sceneSetBudget(this.#handle, max, viewerX, viewerY, viewerZ);
+  }
+
+  /** Steps every instance (or the budget's nearest) by dt seconds, in one call into WebAssembly. */
+  step(dt) {
+    if (this.#handle === 0) throw disposedError('scene');
+    checkDt(dt);
+    this.#m.sceneStep(this.#handle, dt);
+  }
+
+  /** Whether the instance was simulated by the last step (false when it is not in the scene). */
+  isActive(instance) {
+    if (this.#handle === 0) throw disposedError('scene');
+    const slot = this.#members.indexOf(instance);
+    return slot >= 0 && this.#m.sceneIsActive(this.#handle, slot);
+  }
+
+  /** Frees the scene; its instances are not disposed of. Calling it again does nothing. */
+  dispose() {
+    if (this.#handle === 0) return;
+    for (const instance of this.#members) instanceInternals.scenes(instance).delete(this);
+    this.#members = [];
+    this.#m.disposeScene(this.#handle);
+    this.#handle = 0;
+  }
+
+  #instanceHandle(where, instance) {
+    if (this.#handle === 0) throw disposedError('scene');
+    if (!(instance instanceof Instance)) throw new TypeError(`${where}: expected an instance from rig.createInstance()`);
+    if (instanceInternals.module(instance) !== this.#m) {
+      throw new TypeError(`${where}: the instance belongs to another springbones module`);
+    }
+    const handle = instanceInternals.handle(instance);
+    if (handle === 0) throw disposedError('instance');
+    return handle;
+  }
+
+  // The core dropped the instance (remove, or its dispose): mirror the slot shift.
+  #forget(instance) {
+    const slot = this.#members.indexOf(instance);
+    if (slot >= 0) this.#members.splice(slot, 1);
+    this.#refresh();
+  }
+
+  #refresh() {
+    this.#positionsPtr = this.#m.scenePositionsPtr(this.#handle);
+    this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
   }
 }
 
@@ -301,6 +551,113 @@ function checkKeys(where, object, allowed) {
       throw new TypeError(`${where}: unknown option '${key}' (known: ${allowed.join(', ')})`);
     }
   }
+}
+
+function optionsObject(where, options, allowed) {
+  if (options === undefined || options === null) return {};
+  if (typeof options !== 'object' || Array.isArray(options)) throw new TypeError(`${where}: options must be an object`);
+  checkKeys(where, options, allowed);
+  return options;
+}
+
+// Which models key applies (DESIGN.md section 4): the caller's hash, then the entity's; '' lets
+// the core hash the GLB itself.
+function resolveHash(m, where, options) {
+  const { contentHash, entity, bodyShape } = options;
+  if (contentHash !== undefined) {
+    if (typeof contentHash !== 'string') throw new TypeError(`${where}: contentHash must be a string`);
+    if (contentHash.length === 0) throw new RangeError(`${where}: contentHash must not be empty`);
+  }
+  if (entity !== undefined || bodyShape !== undefined) {
+    if (entity === undefined) throw new TypeError(`${where}: bodyShape needs an entity`);
+    if (typeof bodyShape !== 'string') {
+      throw new TypeError(`${where}: with an entity, bodyShape must be a string (a body shape URN)`);
+    }
+    if (bodyShape.length === 0) throw new RangeError(`${where}: bodyShape must not be empty`);
+  }
+  const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
+  if (contentHash !== undefined) return contentHash;
+  if (entityText === undefined) return '';
+  const hash = call(() => m.mainFileHash(entityText, bodyShape));
+  if (hash === '') throw takeError(m);
+  return hash;
+}
+
+// The colliders and hitRadius of loadRig's options, checked, as the JSON the bindings read.
+function rigOptionsJson(options) {
+  const { colliders, hitRadius } = options;
+  if (colliders === undefined && hitRadius === undefined) return '';
+  const out = {};
+  if (hitRadius !== undefined) out.hitRadius = checkNonNegative('loadRig: hitRadius', hitRadius);
+  if (colliders !== undefined) {
+    if (!Array.isArray(colliders)) throw new TypeError('loadRig: colliders must be an array');
+    out.colliders = colliders.map((c, i) => {
+      const where = `loadRig: colliders[${i}]`;
+      if (c === null || typeof c !== 'object' || Array.isArray(c)) throw new TypeError(`${where} must be an object`);
+      checkKeys(where, c, ['node', 'offset', 'radius', 'tail']);
+      if (typeof c.node !== 'string') throw new TypeError(`${where}.node must be a string (a node name)`);
+      if (c.node.length === 0) throw new RangeError(`${where}.node must not be empty`);
+      const collider = {
+        node: c.node,
+        offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset),
+        radius: checkNonNegative(`${where}.radius`, c.radius),
+      };
+      if (c.tail !== undefined) collider.tail = checkVec3(`${where}.tail`, c.tail);
+      return collider;
+    });
+  }
+  return JSON.stringify(out);
+}
+
+function checkVec3(what, value) {
+  if (!(Array.isArray(value) || ArrayBuffer.isView(value)) || value.length !== 3) {
+    throw new TypeError(`${what} must be an array of 3 numbers`);
+  }
+  const out = Array.from(value);
+  for (const v of out) {
+    if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);
+    if (!Number.isFinite(v)) throw new RangeError(`${what} must be finite, got ${v}`);
+  }
+  return out;
+}
+
+function checkNonNegative(what, value) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!(Number.isFinite(value) && value >= 0)) throw new RangeError(`${what} must be finite and >= 0, got ${value}`);
+  return value;
+}
+
+function checkInteger(what, value, min, max) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!Number.isInteger(value) || value < min || value > max) {
+    throw new RangeError(`${what} must be an integer in [${min}, ${max}], got ${value}`);
+  }
+  return value;
+}
+
+function checkDt(dt) {
+  if (typeof dt !== 'number') throw new TypeError('step: dt must be a number of seconds');
+  if (!Number.isFinite(dt)) throw new RangeError(`step: dt must be finite, got ${dt}`);
+}
+
+// JSON would turn NaN or Infinity into null, which means something else in springBones
+// (center: null is world space): refuse them instead.
+function checkFiniteParams(params) {
+  for (const [key, value] of Object.entries(params)) {
+    const values = Array.isArray(value) ? value : [value];
+    for (const v of values) {
+      if (typeof v === 'number' && !Number.isFinite(v)) {
+        throw new RangeError(`setSpringBoneParams: params.${key} must be finite, got ${v}`);
+      }
+    }
+  }
+}
+
+// A prefix no real string in the entity will start with: drawn at random for each call.
+function nonFiniteMarker() {
+  let random = '';
+  for (let i = 0; i < 4; ++i) random += Math.floor(Math.random() * 0x100000000).toString(36);
+  return `\u0000springbones-non-finite-${random}:`;
 }
 
 function toBytes(what, value) {

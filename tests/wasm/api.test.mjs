@@ -17,10 +17,12 @@ const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
 const kBaseFemale = 'urn:decentraland:off-chain:base-avatars:BaseFemale';
 
 describe('createSpringBones', () => {
-  test('resolves to an object with loadRig, contentHash and stats', () => {
-    assert.equal(typeof sb.loadRig, 'function');
-    assert.equal(typeof sb.contentHash, 'function');
-    assert.deepEqual(Object.keys(sb.stats()).sort(), ['heapBytes', 'heapInUse', 'instances', 'rigs']);
+  test('resolves to an object with every entry point and stats', () => {
+    for (const name of ['loadRig', 'loadVrm', 'contentHash', 'validateSpringBones', 'detectSpringBones',
+                        'setSpringBoneParams', 'createScene', 'stats']) {
+      assert.equal(typeof sb[name], 'function', name);
+    }
+    assert.deepEqual(Object.keys(sb.stats()).sort(), ['heapBytes', 'heapInUse', 'instances', 'rigs', 'scenes']);
   });
 
   test('accepts the .wasm bytes from the caller', async () => {

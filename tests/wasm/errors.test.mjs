@@ -155,11 +155,15 @@ describe('wrong argument types and values: TypeError / RangeError before crossin
       ['60', TypeError], [{ stepHz: '60' }, TypeError], [{ stepHz: 0 }, RangeError], [{ stepHz: 1001 }, RangeError],
       [{ stepHz: NaN }, RangeError], [{ stepHz: Infinity }, RangeError], [{ maxSubsteps: 0 }, RangeError],
       [{ maxSubsteps: 65 }, RangeError], [{ maxSubsteps: 2.5 }, RangeError], [{ maxSubsteps: '4' }, TypeError],
-      [{ integrator: 'xpbd' }, RangeError], [{ integrator: 1 }, TypeError], [{ stepHZ: 30 }, TypeError],
+      [{ integrator: 'pbd' }, RangeError], [{ integrator: 1 }, TypeError], [{ stepHZ: 30 }, TypeError],
+      [{ xpbdIterations: 4 }, RangeError], [{ integrator: 'xpbd', xpbdIterations: 0 }, RangeError],
+      [{ integrator: 'xpbd', xpbdIterations: 65 }, RangeError], [{ integrator: 'xpbd', xpbdIterations: 1.5 }, RangeError],
+      [{ integrator: 'xpbd', xpbdIterations: '4' }, TypeError],
     ]) {
       expectThrowsBeforeCrossing(() => rig.createInstance(options), type);
     }
-    for (const ok of [undefined, null, {}, { stepHz: 1 }, { stepHz: 1000, maxSubsteps: 64 }, { maxSubsteps: 1 }]) {
+    for (const ok of [undefined, null, {}, { stepHz: 1 }, { stepHz: 1000, maxSubsteps: 64 }, { maxSubsteps: 1 },
+                      { integrator: 'vrm' }, { integrator: 'xpbd' }, { integrator: 'xpbd', xpbdIterations: 64, stepHz: 240 }]) {
       rig.createInstance(ok).dispose();
     }
     rig.dispose();
