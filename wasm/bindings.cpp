@@ -332,6 +332,7 @@ std::uintptr_t rotationsPtr(int instance) {
   Instance* i = findInstance(instance);
   return i ? reinterpret_cast<std::uintptr_t>(i->rotations()) : 0;
 }
+/// Also fills the buffer: the core computes the joint world matrices only when asked.
 std::uintptr_t worldMatricesPtr(int instance) {
   Instance* i = findInstance(instance);
   return i ? reinterpret_cast<std::uintptr_t>(i->worldMatrices()) : 0;

@@ -166,7 +166,15 @@ class SpringBones {
     const hash = resolveHash(m, 'detectSpringBones', opts);
     const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
     if (result === '') throw takeError(m);
-    return JSON.parse(result).candidates;
+    return JSON.parse(result).candidates.map((c) => {
+      const { stiffness, gravityPower, gravityDir, drag } = c.params;
+      const candidate = {
+        name: c.name, node: c.node, parent: c.parent, hasEntry: c.hasEntry, isRoot: c.isRoot,
+        params: { stiffness, gravityPower, gravityDir, drag },
+      };
+      if ('center' in c) candidate.center = c.center;
+      return candidate;
+    });
   }
 
   /**
@@ -368,9 +376,13 @@ class Instance {
     return this.#rotations;
   }
 
-  /** Joint world matrices (column-major 4x4, 16 floats per rig.joints entry) after the last step. */
+  /**
+   * Joint world matrices (column-major 4x4, 16 floats per rig.joints entry) after the last step.
+   * The core writes them on request, so each read of this property is one call into WebAssembly.
+   */
   get worldMatrices() {
     if (this.#handle === 0) throw disposedError('instance');
+    this.#m.worldMatricesPtr(this.#handle);  // fills the buffer; its address never changes
     if (this.#world.buffer !== this.#m.HEAPF32.buffer) {
       this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
     }

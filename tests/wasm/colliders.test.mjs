@@ -1,0 +1,152 @@
+// Colliders through loadRig's options: spheres and capsules on named nodes (GLB nodes or avatar
+// bones the GLB does not have, which become drivers the caller moves), the joint hit radius, and
+// the argument checks.
+import assert from 'node:assert/strict';
+import { before, describe, test } from 'node:test';
+
+import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
+import { springRig } from './helpers.mjs';
+
+let sb;
+before(async () => {
+  sb = await createSpringBones();
+});
+
+// One chain of three 5 cm bones hanging from Avatar_Head (at y 1.6) at z 0.05: the tails rest at
+// y 1.55, 1.50 and 1.45.
+const chain = springRig({ chains: 1, joints: 3 });
+const kRadius = 0.03;
+const kHit = 0.01;
+
+function load(options) {
+  return sb.loadRig(chain.glb, chain.springBones, { contentHash: chain.hash, ...options });
+}
+
+/** World position of every joint's tail: its world matrix applied to its tail offset. */
+function tails(rig, instance) {
+  const w = instance.worldMatrices;
+  return rig.joints.map((joint, i) => {
+    const m = w.subarray(16 * i, 16 * i + 16);
+    const [x, y, z] = joint.tailOffset;
+    return [m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13], m[2] * x + m[6] * y + m[10] * z + m[14]];
+  });
+}
+
+const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+function distanceToSegment(p, a, b) {
+  const ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+  const t = Math.max(0, Math.min(1, ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1] + (p[2] - a[2]) * ab[2]) / (ab[0] ** 2 + ab[1] ** 2 + ab[2] ** 2)));
+  return distance(p, [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]]);
+}
+
+function settle(instance, frames = 120) {
+  for (let k = 0; k < frames; ++k) instance.step(1 / 60);
+}
+
+describe('pushing a chain out', () => {
+  // Centred 1 cm beside the middle tail: without the collider that tail sits inside the sphere.
+  const head = [0, 1.6, 0];
+  const offset = [0.01, -0.1, 0.05];
+  const center = [head[0] + offset[0], head[1] + offset[1], head[2] + offset[2]];
+
+  test('a head sphere: every tail ends outside radius + hitRadius (the length constraint may give back a little)', () => {
+    const plain = load();
+    const free = plain.createInstance();
+    settle(free);
+    assert.ok(distance(tails(plain, free)[1], center) < 0.011, 'without colliders the tail stays inside');
+
+    const rig = load({ colliders: [{ node: 'Avatar_Head', offset, radius: kRadius }], hitRadius: kHit });
+    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', shape: 'sphere', offset, radius: kRadius }]);
+    assert.ok(rig.joints.every((j) => j.hitRadius === kHit));
+    const pushed = rig.createInstance();
+    settle(pushed);
+    const after = tails(rig, pushed);
+    for (const [i, tail] of after.entries()) {
+      assert.ok(distance(tail, center) > 0.95 * (kRadius + kHit), `tail ${i} at ${distance(tail, center)}`);
+    }
+    assert.ok(after[1][0] < -0.02, 'pushed away from the side the centre is on');
+    assert.ok(pushed.rotations.every(Number.isFinite));
+    for (const x of [free, pushed, plain, rig]) x.dispose();
+  });
+
+  test('a capsule across the chain, 1 cm in front of it, pushes the tails back', () => {
+    const start = [-0.1, -0.1, 0.06];
+    const end = [0.1, -0.1, 0.06];
+    const rig = load({ colliders: [{ node: 'Avatar_Head', offset: start, tail: end, radius: kRadius }], hitRadius: kHit });
+    assert.equal(rig.colliders[0].shape, 'capsule');
+    assert.deepEqual(rig.colliders[0].tail, end);
+    const instance = rig.createInstance();
+    settle(instance);
+    const world = (p) => [head[0] + p[0], head[1] + p[1], head[2] + p[2]];
+    for (const [i, tail] of tails(rig, instance).entries()) {
+      assert.ok(distanceToSegment(tail, world(start), world(end)) > 0.95 * (kRadius + kHit), `tail ${i}`);
+    }
+    assert.ok(tails(rig, instance)[1][2] < 0.03, 'pushed towards -z');
+    instance.dispose();
+    rig.dispose();
+  });
+
+  test('a collider on an avatar bone the GLB lacks becomes a driver the caller moves', () => {
+    const rig = load({ colliders: [{ node: 'Avatar_Chest', radius: kRadius }], hitRadius: kHit });
+    assert.deepEqual(rig.drivers, [{ name: 'Avatar_Head', node: 0 }, { name: 'Avatar_Chest', node: -1 }]);
+    assert.deepEqual(rig.colliders, [{ driver: 1, node: 'Avatar_Chest', shape: 'sphere', offset: [0, 0, 0], radius: kRadius }]);
+    assert.equal(rig.warnings.length, 0);
+    const instance = rig.createInstance();
+    const chest = instance.driverMatrices.subarray(16, 32);
+    const rest = tails(rig, instance);
+    // Far away: the chain hangs as at rest.
+    chest.set([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1]);
+    settle(instance, 30);
+    tails(rig, instance).forEach((t, i) => assert.ok(distance(t, rest[i]) < 1e-5, `tail ${i}`));
+    // Moved next to the middle tail: it pushes.
+    chest.set([0.01, 1.5, 0.05], 12);
+    settle(instance);
+    assert.ok(distance(tails(rig, instance)[1], [0.01, 1.5, 0.05]) > 0.95 * (kRadius + kHit));
+    instance.dispose();
+    rig.dispose();
+  });
+
+  test('the XPBD integrator honours the same colliders', () => {
+    const rig = load({ colliders: [{ node: 'Avatar_Head', offset, radius: kRadius }], hitRadius: kHit });
+    const instance = rig.createInstance({ integrator: 'xpbd' });
+    settle(instance);
+    for (const tail of tails(rig, instance)) assert.ok(distance(tail, center) > 0.95 * (kRadius + kHit));
+    instance.dispose();
+    rig.dispose();
+  });
+});
+
+describe('argument checks', () => {
+  function expectBeforeCrossing(type, options) {
+    const before = sb.stats();
+    assert.throws(() => load(options), (e) => e instanceof type && !(e instanceof SpringBonesError), JSON.stringify(options));
+    assert.deepEqual(sb.stats(), before);
+  }
+
+  test('bad colliders and hit radii are TypeError / RangeError before crossing; the module keeps working', () => {
+    const ok = { node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.1 };
+    for (const [type, options] of [
+      [TypeError, { colliders: ok }], [TypeError, { colliders: 'head' }], [TypeError, { colliders: [null] }],
+      [TypeError, { colliders: [{ ...ok, node: undefined }] }], [TypeError, { colliders: [{ ...ok, node: 3 }] }],
+      [RangeError, { colliders: [{ ...ok, node: '' }] }], [TypeError, { colliders: [{ ...ok, offset: [0, 0] }] }],
+      [TypeError, { colliders: [{ ...ok, offset: [0, '0', 0] }] }], [RangeError, { colliders: [{ ...ok, offset: [0, NaN, 0] }] }],
+      [TypeError, { colliders: [{ ...ok, radius: undefined }] }], [RangeError, { colliders: [{ ...ok, radius: -0.1 }] }],
+      [RangeError, { colliders: [{ ...ok, radius: Infinity }] }], [TypeError, { colliders: [{ ...ok, tail: 1 }] }],
+      [RangeError, { colliders: [{ ...ok, tail: [0, 0, -Infinity] }] }], [TypeError, { colliders: [{ ...ok, shape: 'box' }] }],
+      [TypeError, { hitRadius: '0.1' }], [RangeError, { hitRadius: -1 }], [RangeError, { hitRadius: NaN }],
+    ]) {
+      expectBeforeCrossing(type, options);
+    }
+    const rig = load({ colliders: [ok, { ...ok, tail: new Float32Array([0, 1, 0]) }], hitRadius: 0 });
+    assert.equal(rig.colliders.length, 2);
+    assert.ok(Object.isFrozen(rig.colliders) && Object.isFrozen(rig.colliders[0].offset));
+    rig.dispose();
+  });
+
+  test('a collider on a spring bone is ignored with a warning', () => {
+    const rig = load({ colliders: [{ node: 'SpringBone_0_1', radius: 0.1 }] });
+    assert.equal(rig.colliders.length, 0);
+    assert.ok(rig.warnings.some((w) => w.code === 'collider-on-spring-bone'));
+    rig.dispose();
+  });
+});
