@@ -1,14 +1,18 @@
 #!/usr/bin/env node
 // springbones command line: look at a wearable's spring bones and simulate them headless, through
 // the same WebAssembly module and JS API as the browser (web/springbones.js; build it first with
-// scripts/build wasm).
+// scripts/build wasm); check an entity before deploying it and compute content hashes.
 //
 //   node scripts/springbones.mjs inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]
 //   node scripts/springbones.mjs simulate <glb> --metadata f.json [--hash H | --body-shape S]
 //                                [--frames N] [--fps F] [--drive rest|sway] [--step-hz H] [--max-substeps N]
+//                                [--integrator vrm|xpbd]
+//   node scripts/springbones.mjs validate <entity.json> [--json]
+//   node scripts/springbones.mjs hash <file>
 //
-// Exit codes: 0 success, 1 the input could not be loaded (file missing, bad GLB or metadata),
-// 2 usage error. Commands live in one table below; adding one is adding an entry.
+// Exit codes: 0 success (validate: the entity is valid), 1 the input could not be loaded (file
+// missing, bad GLB or metadata) or, for validate, the entity would be rejected, 2 usage error.
+// Commands live in one table below; adding one is adding an entry.
 import { realpathSync } from 'node:fs';
 import { readFile } from 'node:fs/promises';
 import { basename } from 'node:path';
@@ -37,7 +41,7 @@ const commands = {
   },
   simulate: {
     synopsis: 'simulate <glb> --metadata f.json [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
-              '           [--drive rest|sway] [--step-hz H] [--max-substeps N]',
+              '           [--drive rest|sway] [--step-hz H] [--max-substeps N] [--integrator vrm|xpbd]',
     summary: 'step a wearable and print each frame\'s joint rotations as JSON lines',
     options: {
       ...kMetadataOptions,
@@ -46,10 +50,25 @@ const commands = {
       drive: { type: 'string', default: 'rest' },
       'step-hz': { type: 'string' },
       'max-substeps': { type: 'string' },
+      integrator: { type: 'string' },
     },
     positionals: ['glb'],
     required: ['metadata'],
     run: simulate,
+  },
+  validate: {
+    synopsis: 'validate <entity.json> [--json]',
+    summary: 'list the errors a catalyst would answer for the entity\'s springBones (exit 1 if any)',
+    options: { json: { type: 'boolean' } },
+    positionals: ['entity'],
+    run: validate,
+  },
+  hash: {
+    synopsis: 'hash <file>',
+    summary: 'print the Decentraland content hash (CIDv1) of a file',
+    options: {},
+    positionals: ['file'],
+    run: hash,
   },
 };
 
@@ -71,10 +90,14 @@ ${Object.values(commands).map((c) => `  ${c.synopsis}`).join('\n')}
   --fps F            simulate: frame rate; each frame steps by 1/F seconds (default 60)
   --drive rest|sway  simulate: keep the drivers at rest (default), or sway the whole avatar so the
                      chains move (scripts/lib/sway.mjs)
-  --step-hz H        simulate: fixed simulation rate, 1..1000 (default 60)
-  --max-substeps N   simulate: steps per frame at most, 1..64 (default 4)
+  --step-hz H        simulate: fixed simulation rate, 1..1000 (default 60; 120 with xpbd)
+  --max-substeps N   simulate: steps per frame at most, 1..64 (default 4; 8 with xpbd)
+  --integrator I     simulate: vrm (default) or xpbd (default rate 120 Hz)
+  <entity.json>      validate: a catalyst entity {content, metadata: {data}} or a Builder item
+                     {contents, data}, with data.representations and data.springBones
+  --json             validate: print {valid, errors: [{path, message}]} as JSON
 
-exit codes: 0 ok, 1 input could not be loaded, 2 usage error
+exit codes: 0 ok (validate: valid), 1 input could not be loaded (validate: invalid), 2 usage error
 `;
 
 // ---------------------------------------------------------------------------------------------
@@ -126,6 +149,12 @@ async function simulate({ glb, values }, out) {
   if (values['max-substeps'] !== undefined) {
     instanceOptions.maxSubsteps = parseNumber('--max-substeps', values['max-substeps'], { integer: true, min: 1, max: 64 });
   }
+  if (values.integrator !== undefined) {
+    if (values.integrator !== 'vrm' && values.integrator !== 'xpbd') {
+      throw new UsageError(`--integrator must be vrm or xpbd, not '${values.integrator}'`);
+    }
+    instanceOptions.integrator = values.integrator;
+  }
   const sb = await createSpringBones();
   const { rig } = await loadWearable(sb, glb, values);
   const instance = rig.createInstance(instanceOptions);
@@ -144,6 +173,39 @@ async function simulate({ glb, values }, out) {
     }
   }
   await write(out, chunk);
+}
+
+// Exit code 1 when the catalyst would reject the entity: the errors are the command's answer.
+async function validate({ entity: path, values }, out) {
+  const text = (await readInput(path)).toString('utf8');
+  let entity;
+  try {
+    entity = JSON.parse(text);
+  } catch (error) {
+    throw new LoadError(`${path}: not JSON (${error.message})`);
+  }
+  if (entity === null || typeof entity !== 'object' || Array.isArray(entity) || !('metadata' in entity || 'data' in entity)) {
+    throw new LoadError(`${path}: not an entity or item (expected metadata.data or data with representations ` +
+                        'and springBones; the models keys are checked against the representations\' main files)');
+  }
+  const sb = await createSpringBones();
+  const errors = sb.validateSpringBones(entity);
+  if (values.json) {
+    out.write(JSON.stringify({ file: path, valid: errors.length === 0, errors }, null, 2) + '\n');
+  } else if (errors.length === 0) {
+    out.write(`${path}: valid\n`);
+  } else {
+    const lines = [`${path}: ${errors.length} error${errors.length === 1 ? '' : 's'}`];
+    for (const e of errors) lines.push(`  ${e.path || '(springBones)'}: ${e.message}`);
+    out.write(lines.join('\n') + '\n');
+  }
+  return errors.length === 0 ? 0 : 1;
+}
+
+async function hash({ file }, out) {
+  const bytes = await readInput(file);
+  const sb = await createSpringBones();
+  out.write(`${sb.contentHash(bytes)}\n`);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -259,8 +321,8 @@ export async function main(argv, out = process.stdout, err = process.stderr) {
     for (const option of command.required ?? []) {
       if (values[option] === undefined) throw new UsageError(`${name} needs --${option}`);
     }
-    await command.run({ glb: positionals[0], values }, out);
-    return 0;
+    const named = Object.fromEntries(command.positionals.map((p, i) => [p, positionals[i]]));
+    return (await command.run({ ...named, values }, out)) ?? 0;
   } catch (error) {
     if (error instanceof UsageError) {
       err.write(`springbones: ${error.message}\n\n${kUsage}`);

@@ -18,9 +18,10 @@ export type SpringBonesErrorCode =
   | 'metadata-invalid'            // springBones (or models, or models[hash]) is not an object
   | 'limit-exceeded'              // more nodes / bytes than the documented limits
   | 'entity-bad-json'             // entity JSON text does not parse
+  | 'params-bad-json'             // setSpringBoneParams: params JSON does not parse (not reachable from objects)
   | 'out-of-memory'               // WebAssembly memory could not grow
   | 'internal-error'              // a bug: please report it with the input
-  | 'disposed'                    // the rig or instance was used after dispose()
+  | 'disposed'                    // the rig, instance or scene was used after dispose()
   | 'module-not-found'            // web/dist/springbones_wasm.js is missing (not built)
   | 'module-load-failed';         // the .wasm could not be fetched, compiled or instantiated
 
@@ -62,16 +63,74 @@ export interface SpringBoneEntry {
  * content hash of the main file of the representation worn by bodyShape in the entity; else
  * (neither given) the GLB's own content hash, computed from its bytes.
  */
-export type LoadOptions =
-  | { contentHash: string }
+export type HashOptions =
+  | { contentHash?: string }
   | {
       /** A catalyst entity {content: [{file, hash}], metadata: {data: {representations}}} or a
        *  Builder item {contents: {file: hash}, data: {representations}}, as an object or JSON text. */
       entity: object | string;
       /** Body shape URN ("urn:decentraland:off-chain:base-avatars:BaseMale") or its last segment. */
       bodyShape: string;
-    }
-  | Record<string, never>;
+    };
+
+/**
+ * A collision shape on a node, in that node's space: a sphere, or a capsule when `tail` is given
+ * (offset to tail, swept by radius). `node` is a GLB node, or an avatar bone the GLB does not have
+ * (e.g. 'Avatar_Head'), which then becomes a driver (node -1) whose world matrix the caller writes.
+ */
+export interface ColliderOptions {
+  node: string;
+  /** Sphere centre / capsule start, finite. Default [0, 0, 0]. */
+  offset?: readonly [number, number, number] | Float32Array | Float64Array;
+  /** Finite, >= 0, in the node's space (scaled with it). */
+  radius: number;
+  /** Capsule end, finite. */
+  tail?: readonly [number, number, number] | Float32Array | Float64Array;
+}
+
+export type LoadOptions = HashOptions & {
+  /** Colliders every joint collides with (none by default). The GLB is not touched. */
+  colliders?: readonly ColliderOptions[];
+  /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0. */
+  hitRadius?: number;
+};
+
+/** A spring-bone candidate of a GLB for the Builder, with the values to prefill. */
+export interface SpringBoneCandidate {
+  /** Node name; it contains "springbone" (ASCII case-insensitive). */
+  name: string;
+  /** glTF node index. */
+  node: number;
+  /** Index in the returned list of the nearest candidate ancestor, -1 for none. */
+  parent: number;
+  /** springBones already has an entry for this node (under the GLB's models key). */
+  hasEntry: boolean;
+  /** The entry's isRoot; without an entry, true for the top-most candidates. */
+  isRoot: boolean;
+  /** The entry's values as the runtime reads them (clamped, gravityDir normalised), else the defaults. */
+  params: { stiffness: number; gravityPower: number; gravityDir: [number, number, number]; drag: number };
+  /** Present when the entry has a center: a node name, or null for world space. */
+  center?: string | null;
+}
+
+/** What setSpringBoneParams writes for one node; other keys are kept as given. */
+export interface SpringBoneParamsInput {
+  stiffness?: number;
+  gravityPower?: number;
+  gravityDir?: [number, number, number];
+  drag?: number;
+  center?: string | null;
+  isRoot?: boolean | null;
+  [key: string]: unknown;
+}
+
+/** One reason a catalyst would reject the deployment. */
+export interface ValidationError {
+  /** JSON pointer into springBones ('' for springBones itself), or into the entity for entity-structure errors. */
+  path: string;
+  /** The catalyst's message, e.g. "springBones/models/<hash>/<bone>/drag must be <= 1". */
+  message: string;
+}
 
 export interface SpringBones {
   /**
@@ -81,11 +140,45 @@ export interface SpringBones {
    * @throws TypeError, RangeError for bad arguments; SpringBonesError for unreadable input
    */
   loadRig(glbBytes: Uint8Array | ArrayBuffer, springBones?: SpringBonesData | object | string | null,
-          options?: LoadOptions): Rig;
-  /** The Decentraland content hash (CIDv1, "bafk...") of the bytes, as the catalyst computes it. */
+          options?: LoadOptions | null): Rig;
+  /**
+   * Loads the spring bones of a VRM avatar: VRMC_springBone 1.0 (preferred when both are present)
+   * or VRM 0.x secondaryAnimation, with their colliders. Same Rig interface; contentHash is ''.
+   * A file with neither gives an empty rig with a 'vrm-no-springs' warning.
+   */
+  loadVrm(vrmBytes: Uint8Array | ArrayBuffer): Rig;
+  /** The Decentraland content hash (CIDv1, "bafk..."/"bafy...") of the bytes, as the catalyst computes it. */
   contentHash(bytes: Uint8Array | ArrayBuffer): string;
+  /**
+   * The errors a catalyst would answer for the entity's data.springBones ([] when accepted):
+   * the SpringBonesData schema of @dcl/schemas first (NaN and Infinity are "must be number"), then
+   * every models key must be the main file hash of a current representation and every bone name
+   * must contain "springbone". Absent or null springBones is valid. Members whose value is
+   * undefined are dropped, as in JSON.
+   * @param entity a catalyst entity or a Builder item (see HashOptions), as an object or JSON text
+   * @throws SpringBonesError 'entity-bad-json' for JSON text that does not parse
+   */
+  validateSpringBones(entity: object | string): ValidationError[];
+  /**
+   * The nodes of a GLB whose name contains "springbone", parents first, with prefill values from
+   * springBones' entry for the GLB (chosen as in loadRig). Reads the bytes; changes nothing.
+   */
+  detectSpringBones(glbBytes: Uint8Array | ArrayBuffer, springBones?: SpringBonesData | object | string | null,
+                    options?: HashOptions | null): SpringBoneCandidate[];
+  /**
+   * A new springBones with models[hash][nodeName] = params (null removes the entry), hash being the
+   * main file hash of bodyShape's representation: one entry for a GLB both body shapes share.
+   * Entries under hashes no representation uses are dropped; version becomes 1. The inputs and
+   * the GLB are not modified.
+   * @throws RangeError for non-finite numbers in params; SpringBonesError 'invalid-argument' for a
+   * node name without "springbone" or an unknown body shape
+   */
+  setSpringBoneParams(springBones: SpringBonesData | object | string | null | undefined, entity: object | string,
+                      bodyShape: string, nodeName: string, params: SpringBoneParamsInput | null): SpringBonesData;
+  /** A scene for stepping many instances in one call. */
+  createScene(): Scene;
   /** Diagnostics: live handles, the WebAssembly memory size and the bytes malloc has handed out. */
-  stats(): { rigs: number; instances: number; heapBytes: number; heapInUse: number };
+  stats(): { rigs: number; instances: number; scenes: number; heapBytes: number; heapInUse: number };
 }
 
 export interface BoneParams {
@@ -101,9 +194,16 @@ export interface Joint {
   readonly name: string;
   /** glTF node index. */
   readonly node: number;
-  /** Name and node index of its tail (first child): where the bone ends. */
-  readonly tail: string;
+  /**
+   * Name and node index of its tail (first child): where the bone ends. null and -1 when the tail
+   * is no node (a VRM 0.x leaf's virtual tail); tailOffset is always right.
+   */
+  readonly tail: string | null;
   readonly tailNode: number;
+  /** The tail in the joint's local space. */
+  readonly tailOffset: readonly [number, number, number];
+  /** Radius of the tail against the colliders, world units. */
+  readonly hitRadius: number;
   /** Index in rig.joints of the joint of the glTF parent, -1 for a chain root. */
   readonly parent: number;
   /** For a chain root: index in rig.drivers of its parent node (-1: a scene root). Else -1. */
@@ -119,9 +219,23 @@ export interface Joint {
 }
 
 export interface Driver {
-  /** glTF node name: the parent of a chain root or a center node. */
+  /** Node name: the parent of a chain root, a center node or a collider's node. */
   readonly name: string;
+  /** glTF node index; -1 for a node the GLB does not have (a collider on an avatar bone). */
   readonly node: number;
+}
+
+export interface Collider {
+  /** Index in rig.drivers of the node carrying it. */
+  readonly driver: number;
+  /** That driver's name. */
+  readonly node: string;
+  readonly shape: 'sphere' | 'capsule';
+  /** Sphere centre / capsule start in the node's space. */
+  readonly offset: readonly [number, number, number];
+  /** Capsule end in the node's space (capsules only). */
+  readonly tail?: readonly [number, number, number];
+  readonly radius: number;
 }
 
 export interface Warning {
@@ -133,18 +247,25 @@ export interface Warning {
 }
 
 export interface InstanceOptions {
-  /** Fixed simulation rate in Hz, [1, 1000]. Default 60. */
+  /** Fixed simulation rate in Hz, [1, 1000]. Default 60; 120 with integrator 'xpbd'. */
   stepHz?: number;
-  /** Steps per frame at most, integer in [1, 64]; surplus time of a long frame is dropped. Default 4. */
+  /** Steps per frame at most, integer in [1, 64]; surplus time of a long frame is dropped. Default 4; 8 with 'xpbd'. */
   maxSubsteps?: number;
-  /** Only 'vrm' (the default) is available in this build. */
-  integrator?: 'vrm';
+  /**
+   * 'vrm' (default): the VRM spring-bone update. 'xpbd': the XPBD integrator (exact bone lengths,
+   * compliant constraints, collisions as constraints) driven by the same parameters.
+   */
+  integrator?: 'vrm' | 'xpbd';
+  /** 'xpbd' only: constraint passes per substep, integer in [1, 64]. Default 4. RangeError with 'vrm'. */
+  xpbdIterations?: number;
 }
 
 /** An immutable, shareable wearable rig. Everything on it is frozen plain data. */
 export interface Rig {
-  /** The springBones models key the rig was built from. */
+  /** The springBones models key the rig was built from ('' for loadVrm). */
   readonly contentHash: string;
+  /** Where the springs came from: data.springBones ('dcl'), VRMC_springBone 1.0, VRM 0.x, or nothing. */
+  readonly format: 'dcl' | 'vrmc-springbone' | 'vrm0' | 'none';
   /** Number of nodes in the GLB. */
   readonly nodeCount: number;
   /** Simulated joints, parents before children. rotations[4*i..4*i+3] belongs to joints[i]. */
@@ -153,6 +274,8 @@ export interface Rig {
   readonly chains: readonly number[];
   /** Nodes whose world matrices the caller provides; driverMatrices[16*i..16*i+15] is drivers[i]. */
   readonly drivers: readonly Driver[];
+  /** Collision shapes (loadRig's colliders option, or the VRM's own). Every joint collides with the ones it lists. */
+  readonly colliders: readonly Collider[];
   /** Everything that was clamped, replaced or ignored while loading. */
   readonly warnings: readonly Warning[];
   readonly disposed: boolean;
@@ -176,6 +299,11 @@ export interface Instance {
    * entry; the rest rotations until the first step. Same view rules as driverMatrices.
    */
   readonly rotations: Float32Array;
+  /**
+   * Joint world matrices after the last step, column-major 4x4, 16 floats per rig.joints entry
+   * (for drawing chains or writing bone.matrixWorld). Computed on read: one call into WebAssembly.
+   */
+  readonly worldMatrices: Float32Array;
   readonly disposed: boolean;
   /**
    * Advances by a frame of dt seconds: fixed steps of 1/stepHz, at most maxSubsteps per frame.
@@ -185,6 +313,40 @@ export interface Instance {
   step(dt: number): void;
   /** Forgets the motion (teleport, avatar swap): the next step starts at rest under the drivers. */
   reset(): void;
-  /** Frees the instance. Idempotent; any other use afterwards throws SpringBonesError 'disposed'. */
+  /**
+   * Frees the instance, first removing it from every scene it is in. Idempotent; any other use
+   * afterwards throws SpringBonesError 'disposed'.
+   */
+  dispose(): void;
+}
+
+/** Many instances stepped in one call, optionally only the ones nearest to the viewer. */
+export interface Scene {
+  /** Number of instances in it. */
+  readonly size: number;
+  /**
+   * x, y, z per instance in slot order, written by the caller (e.g. each avatar's position) for
+   * the budget. A view into WebAssembly memory, replaced after memory growth and by add()/remove():
+   * read the property rather than keeping the array.
+   */
+  readonly positions: Float32Array;
+  readonly disposed: boolean;
+  /** Adds an instance of the same module; returns its slot. Adding it again returns the same slot. */
+  add(instance: Instance): number;
+  /** Removes it (later slots shift down); nothing happens if it is not in the scene. */
+  remove(instance: Instance): void;
+  /** The instance's slot in positions, -1 if it is not in the scene. */
+  slotOf(instance: Instance): number;
+  /**
+   * Simulate only the maxActive instances nearest to the viewer; the others hold their last pose
+   * and restart from rest when they come back. maxActive null or Infinity: no budget (the default).
+   * @throws RangeError for a negative or fractional maxActive or non-finite coordinates
+   */
+  setBudget(maxActive: number | null, viewerX?: number, viewerY?: number, viewerZ?: number): void;
+  /** Steps every (budgeted) instance by dt seconds, as instance.step does, in one call. Allocates nothing. */
+  step(dt: number): void;
+  /** Whether the instance was simulated by the last step. */
+  isActive(instance: Instance): boolean;
+  /** Frees the scene (not its instances). Idempotent; other use afterwards throws 'disposed'. */
   dispose(): void;
 }

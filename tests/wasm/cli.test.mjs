@@ -105,6 +105,108 @@ describe('simulate', () => {
   });
 });
 
+describe('simulate --integrator', () => {
+  test('xpbd runs another integrator than the default; a bad name is a usage error', () => {
+    const args = ['simulate', hairGlb, '--metadata', hairMetadata, '--frames', '10', '--drive', 'sway'];
+    const vrm = run(...args);
+    const xpbd = run(...args, '--integrator', 'xpbd');
+    assert.equal(xpbd.code, 0, xpbd.stderr);
+    assert.equal(run(...args, '--integrator', 'vrm').stdout, vrm.stdout);
+    assert.notEqual(xpbd.stdout, vrm.stdout);
+    assert.equal(xpbd.stdout.trim().split('\n').length, 10);
+    assert.equal(run(...args, '--integrator', 'pbd').code, 2);
+  });
+});
+
+describe('hash', () => {
+  test('prints the content hash @dcl/hashing gives each fixture', () => {
+    for (const name of ['avatar_hair.glb', 'adr_example.gltf', 'adr_example_posed.glb']) {
+      const { code, stdout, stderr } = run('hash', join(fixturesDir, name));
+      assert.equal(code, 0, stderr);
+      assert.equal(stdout, `${contentHashOf(name)}\n`);
+    }
+    const empty = join(scratch, 'empty.bin');
+    writeFileSync(empty, '');
+    assert.equal(run('hash', empty).stdout, 'bafkreihdwdcefgh4dqkjv67uzcmw7ojee6xedzdetojuzjevtenxquvyku\n');
+  });
+
+  test('exit codes: 1 for a missing file, 2 without exactly one file', () => {
+    const missing = run('hash', join(scratch, 'missing.bin'));
+    assert.equal(missing.code, 1);
+    assert.match(missing.stderr, /cannot read .*missing\.bin: ENOENT/);
+    assert.equal(run('hash').code, 2);
+    assert.equal(run('hash', hairGlb, hairGlb).code, 2);
+    assert.equal(run('hash', hairGlb, '--json').code, 2);
+  });
+});
+
+describe('validate', () => {
+  const springBones = JSON.parse(fixture('avatar_hair.metadata.json'));
+  const hash = Object.keys(springBones.models)[0];
+  // The fixture also exercises the runtime's tolerance of a bone without the naming token, which a
+  // catalyst rejects: leave it out here.
+  for (const bone of Object.keys(springBones.models[hash])) {
+    if (!/springbone/i.test(bone)) delete springBones.models[hash][bone];
+  }
+  const entityWith = (bones) => ({
+    type: 'wearable',
+    content: [{ file: 'hair.glb', hash }],
+    metadata: { data: { representations: [{ bodyShapes: ['urn:decentraland:off-chain:base-avatars:BaseMale'], mainFile: 'hair.glb', contents: ['hair.glb'] }], springBones: bones } },
+  });
+  const write = (name, value) => {
+    const path = join(scratch, name);
+    writeFileSync(path, typeof value === 'string' ? value : JSON.stringify(value));
+    return path;
+  };
+
+  test('0 and "valid" for an entity the catalyst accepts (also a Builder item, and no springBones)', () => {
+    for (const [name, entity] of [
+      ['valid.json', entityWith(springBones)],
+      ['no_bones.json', entityWith(null)],
+      ['item.json', { contents: { 'hair.glb': hash }, data: { representations: [{ bodyShapes: ['BaseMale'], mainFile: 'hair.glb' }], springBones } }],
+    ]) {
+      const { code, stdout, stderr } = run('validate', write(name, entity));
+      assert.equal(code, 0, stderr + stdout);
+      assert.match(stdout, /: valid\n$/);
+    }
+  });
+
+  test('1 with every error listed with its JSON path', () => {
+    const bad = structuredClone(springBones);
+    bad.models[hash].SpringBone_hair_left.drag = 1.5;
+    bad.models[hash].SpringBone_hair_left.stiffness = -1;
+    const path = write('invalid.json', entityWith(bad));
+    const { code, stdout } = run('validate', path);
+    assert.equal(code, 1);
+    assert.match(stdout, /: 2 errors\n/);
+    assert.ok(stdout.includes(`  /models/${hash}/SpringBone_hair_left/drag: springBones/models/${hash}/SpringBone_hair_left/drag must be <= 1\n`), stdout);
+    assert.ok(stdout.includes(`/models/${hash}/SpringBone_hair_left/stiffness: `));
+    const stale = structuredClone(springBones);
+    stale.models.QmStale = { Hair_001: springBones.models[hash].SpringBone_hair_left };
+    const json = run('validate', write('stale.json', entityWith(stale)), '--json');
+    assert.equal(json.code, 1);
+    const report = JSON.parse(json.stdout);
+    assert.equal(report.valid, false);
+    assert.deepEqual(report.errors.map((e) => e.path), ['/models/QmStale', '/models/QmStale/Hair_001']);
+  });
+
+  test('exit codes: 1 for unreadable input, 2 for usage errors', () => {
+    for (const [args, message] of [
+      [['validate', join(scratch, 'missing.json')], /cannot read/],
+      [['validate', write('broken.json', '{"content": [')], /not JSON/],
+      [['validate', write('bones_only.json', springBones)], /not an entity or item/],
+      [['validate', write('array.json', '[]')], /not an entity or item/],
+    ]) {
+      const { code, stderr } = run(...args);
+      assert.equal(code, 1, `${args.join(' ')}: ${stderr}`);
+      assert.match(stderr, message);
+    }
+    assert.equal(run('validate').code, 2);
+    assert.equal(run('validate', 'a.json', 'b.json').code, 2);
+    assert.equal(run('validate', 'a.json', '--metadata', 'x').code, 2);
+  });
+});
+
 describe('exit codes', () => {
   const usage = (...args) => {
     const { code, stderr } = run(...args);
@@ -134,6 +236,8 @@ describe('exit codes', () => {
     assert.equal(code, 0);
     assert.match(stdout, /inspect <glb>/);
     assert.match(stdout, /simulate <glb>/);
+    assert.match(stdout, /validate <entity\.json>/);
+    assert.match(stdout, /hash <file>/);
   });
 
   test('1 for inputs that cannot be loaded, with the error code', () => {
