@@ -1,11 +1,12 @@
 // embind bindings of the core: a handful of functions over integers, pointers and strings.
 //
 // Contract with web/springbones.js (the only caller; nothing here is public API):
-//  - Rigs and instances live in handle tables. A handle is a positive integer, never reused, so
+//  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
 //    then read once with takeError() as JSON {code, message, path}.
 //  - Bulk data crosses as pointers into WASM memory (GLB bytes in, driver matrices in, rotations
-//    out); structured data that is read once (rig description, errors) crosses as one JSON string.
+//    out); structured data that is read once (rig description, rig options, entities, validation
+//    errors, Builder edits, errors) crosses as one JSON string.
 //  - Nothing throws across the boundary: every entry point catches every C++ exception and turns
 //    it into an error, so bad input never aborts the module and the next call works.
 // The logic lives in src/; this file only moves data and catches.

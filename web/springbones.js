@@ -6,7 +6,9 @@
 // for out-of-range values), one error type (SpringBonesError) for everything the core rejects,
 // frozen plain data for the rig description, and typed-array views over the instance buffers
 // that are rebuilt when WASM memory grows. Per frame exactly one call crosses the boundary
-// (instance.step) and nothing is allocated on either side.
+// (instance.step, or scene.step for a whole page) and nothing is allocated on either side.
+// Deploy-time validation and the Builder edits run in the core too; structured inputs cross as
+// JSON text, once per call.
 //
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file. In Node the .wasm is read with fs and handed to the glue as
