@@ -7,6 +7,7 @@
 //   node scripts/springbones.mjs simulate <glb> --metadata f.json [--hash H | --body-shape S]
 //                                [--frames N] [--fps F] [--drive rest|sway] [--step-hz H] [--max-substeps N]
 //                                [--integrator vrm|xpbd]
+//   (a .vrm avatar instead of <glb> brings its own spring bones: no --metadata, --hash, --body-shape)
 //   node scripts/springbones.mjs validate <entity.json> [--json]
 //   node scripts/springbones.mjs hash <file>
 //
@@ -40,7 +41,7 @@ const commands = {
     run: inspect,
   },
   simulate: {
-    synopsis: 'simulate <glb> --metadata f.json [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
+    synopsis: 'simulate <glb> --metadata f.json (none for a .vrm) [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
               '           [--drive rest|sway] [--step-hz H] [--max-substeps N] [--integrator vrm|xpbd]',
     summary: 'step a wearable and print each frame\'s joint rotations as JSON lines',
     options: {
@@ -53,7 +54,6 @@ const commands = {
       integrator: { type: 'string' },
     },
     positionals: ['glb'],
-    required: ['metadata'],
     run: simulate,
   },
   validate: {
@@ -79,7 +79,8 @@ ${Object.entries(commands).map(([name, c]) => `  ${name.padEnd(9)} ${c.summary}`
 
 ${Object.values(commands).map((c) => `  ${c.synopsis}`).join('\n')}
 
-  <glb>              a .glb file (or .gltf JSON text)
+  <glb>              a .glb file (or .gltf JSON text), or a .vrm avatar (its own spring bones;
+                     no --metadata, --hash or --body-shape)
   --metadata f.json  data.springBones, either the object itself or a wearable / entity / Builder
                      item JSON that contains it (metadata.data.springBones or data.springBones)
   --hash H           the springBones.models key to use (default: the GLB's content hash)
@@ -108,15 +109,15 @@ async function inspect({ glb, values }, out) {
   const { rig, source } = await loadWearable(sb, glb, values);
   if (values.json) {
     const data = {
-      file: glb, contentHash: rig.contentHash, hashSource: source, nodeCount: rig.nodeCount,
-      chains: rig.chains, joints: rig.joints, drivers: rig.drivers, warnings: rig.warnings,
+      file: glb, format: rig.format, contentHash: rig.contentHash, hashSource: source, nodeCount: rig.nodeCount,
+      chains: rig.chains, joints: rig.joints, drivers: rig.drivers, colliders: rig.colliders, warnings: rig.warnings,
     };
     out.write(JSON.stringify(data, null, 2) + '\n');
     return;
   }
   const lines = [];
   lines.push(`${basename(glb)}: ${rig.nodeCount} nodes, ${rig.joints.length} simulated joints`);
-  lines.push(`models key: ${rig.contentHash} (${source})`);
+  lines.push(rig.format === 'dcl' ? `models key: ${rig.contentHash} (${source})` : `springs: ${source}`);
   lines.push(`chains (${rig.chains.length}):`);
   for (const root of rig.chains) {
     const members = rig.joints.filter((j) => j.chain === root);
@@ -126,17 +127,26 @@ async function inspect({ glb, values }, out) {
       const depth = depthOf(rig.joints, j);
       const p = j.params;
       const center = j.centerDriver >= 0 ? `, center ${rig.drivers[j.centerDriver].name}` : '';
-      lines.push(`    ${'  '.repeat(depth)}${j.name} -> ${j.tail}  stiffness ${p.stiffness}, gravityPower ` +
+      lines.push(`    ${'  '.repeat(depth)}${j.name} -> ${j.tail ?? '(virtual tail)'}  stiffness ${p.stiffness}, gravityPower ` +
                  `${p.gravityPower}, gravityDir [${p.gravityDir.join(', ')}], drag ${p.drag}${center}`);
     }
   }
   lines.push(`drivers (${rig.drivers.length}): ${rig.drivers.map((d) => d.name).join(', ') || '-'}`);
+  if (rig.colliders.length > 0) {
+    lines.push(`colliders (${rig.colliders.length}):`);
+    for (const c of rig.colliders) {
+      lines.push(`  ${c.shape} on ${c.node}: offset [${c.offset.join(', ')}]` +
+                 `${c.tail ? `, tail [${c.tail.join(', ')}]` : ''}, radius ${c.radius}`);
+    }
+  }
   lines.push(`warnings (${rig.warnings.length}):`);
   for (const w of rig.warnings) lines.push(`  ${w.code}${w.path ? ` at ${w.path}` : ''}: ${w.message}`);
   out.write(lines.join('\n') + '\n');
 }
 
 async function simulate({ glb, values }, out) {
+  // A .vrm carries its spring bones; anything else needs them from a metadata file.
+  if (values.metadata === undefined && !/\.vrm$/i.test(glb)) throw new UsageError('simulate needs --metadata');
   const frames = parseNumber('--frames', values.frames, { integer: true, min: 0 });
   const fps = parseNumber('--fps', values.fps, { positive: true });
   if (values.drive !== 'rest' && values.drive !== 'sway') {
@@ -215,6 +225,7 @@ async function loadWearable(sb, glbPath, values) {
   if (values.hash !== undefined && values['body-shape'] !== undefined) {
     throw new UsageError('give --hash or --body-shape, not both');
   }
+  if (/\.vrm$/i.test(glbPath)) return loadVrmFile(sb, glbPath, values);
   const glb = await readInput(glbPath);
   let springBones = null;
   let entity;
@@ -245,6 +256,23 @@ async function loadWearable(sb, glbPath, values) {
   } catch (error) {
     if (error instanceof SpringBonesError) {
       throw new LoadError(`${glbPath}: ${error.code}: ${error.message}${error.path ? ` (at ${error.path})` : ''}`);
+    }
+    throw error;
+  }
+}
+
+// A .vrm avatar carries its own spring bones (VRMC_springBone or VRM 0.x): no metadata to give.
+async function loadVrmFile(sb, path, values) {
+  for (const option of ['metadata', 'hash', 'body-shape']) {
+    if (values[option] !== undefined) throw new UsageError(`--${option} does not apply to a .vrm (it carries its own spring bones)`);
+  }
+  const bytes = await readInput(path);
+  try {
+    const rig = sb.loadVrm(bytes);
+    return { rig, source: `VRM, ${rig.format}` };
+  } catch (error) {
+    if (error instanceof SpringBonesError) {
+      throw new LoadError(`${path}: ${error.code}: ${error.message}${error.path ? ` (at ${error.path})` : ''}`);
     }
     throw error;
   }

@@ -105,6 +105,35 @@ describe('simulate', () => {
   });
 });
 
+describe('.vrm avatars', () => {
+  const vrm0 = join(fixturesDir, 'vrm0_springs.vrm');
+  const vrm1 = join(fixturesDir, 'vrm10_springs.vrm');
+
+  test('inspect reads the VRM\'s own springs and lists its colliders; virtual tails are named so', () => {
+    const { code, stdout, stderr } = run('inspect', vrm0);
+    assert.equal(code, 0, stderr);
+    assert.match(stdout, /springs: VRM, vrm0/);
+    assert.match(stdout, /-> \(virtual tail\)/);
+    assert.match(stdout, /colliders \(\d+\):\n {2}sphere on J_Head: offset \[/);
+    const json = JSON.parse(run('inspect', vrm1, '--json').stdout);
+    assert.equal(json.format, 'vrmc-springbone');
+    assert.ok(json.colliders.some((c) => c.shape === 'capsule'));
+  });
+
+  test('simulate needs no metadata for a .vrm; metadata options are usage errors', () => {
+    const { code, stdout, stderr } = run('simulate', vrm1, '--frames', '3', '--drive', 'sway');
+    assert.equal(code, 0, stderr);
+    const lines = stdout.trim().split('\n').map((l) => JSON.parse(l));
+    assert.equal(lines.length, 3);
+    assert.ok(lines[2].rotations.every(Number.isFinite));
+    for (const option of ['--metadata', '--hash', '--body-shape']) {
+      const usage = run('simulate', vrm1, option, 'x');
+      assert.equal(usage.code, 2, option);
+      assert.match(usage.stderr, /does not apply to a \.vrm/);
+    }
+  });
+});
+
 describe('simulate --integrator', () => {
   test('xpbd runs another integrator than the default; a bad name is a usage error', () => {
     const args = ['simulate', hairGlb, '--metadata', hairMetadata, '--frames', '10', '--drive', 'sway'];
