@@ -131,15 +131,18 @@ describe('memory and lifetime', () => {
   test('10,000 scene steps allocate nothing: heap, handles and the positions view are stable', () => {
     const [hair, small] = rigs();
     const scene = sb.createScene();
-    const members = [hair, small, hair, small].map((rig) => rig.createInstance());
+    // Both integrators, and the world matrices read every frame (computed on request).
+    const members = [hair, small, hair, small].map((rig, i) => rig.createInstance({ integrator: i % 2 ? 'xpbd' : 'vrm' }));
     const rests = members.map((m) => Float32Array.from(m.driverMatrices));
     members.forEach((m) => scene.add(m));
     scene.setBudget(3, 0, 0, 0);
     const positions = scene.positions;
+    let checksum = 0;
     const frame = (k) => {
       members.forEach((m, i) => drive(m, rests[i], k, 0.1 * i));
       scene.positions[3 * (k % 4)] = (k % 13) - 6;  // the set of nearest changes now and then
       scene.step(k % 97 === 0 ? 0.5 : 1 / 60);
+      checksum += members[k % 4].worldMatrices[12];
     };
     for (let k = 1; k <= 100; ++k) frame(k);
     const before = sb.stats();
@@ -147,6 +150,7 @@ describe('memory and lifetime', () => {
     assert.deepEqual(sb.stats(), before);
     assert.equal(scene.positions, positions, 'the same view object while memory does not grow');
     assert.ok(members.every((m) => m.rotations.every(Number.isFinite)));
+    assert.ok(Number.isFinite(checksum));
     scene.dispose();
     for (const x of [...members, hair, small]) x.dispose();
   });
@@ -198,11 +202,14 @@ describe('memory and lifetime', () => {
     const a = hair.createInstance();
     scene.add(a);
     scene.positions.set([7, 8, 9]);
+    a.step(1 / 60);
+    const world = Float32Array.from(a.worldMatrices);
     const old = scene.positions;
     const bytes = new Uint8Array(sb.stats().heapBytes + (8 << 20));
     sb.contentHash(bytes);  // copies the bytes into WASM memory, which grows it
     assert.equal(old.byteLength, 0, 'the old view is detached');
     assert.deepEqual(Array.from(scene.positions), [7, 8, 9]);
+    assert.deepEqual(a.worldMatrices, world, 'the world matrices view is rebuilt too');
     scene.dispose();
     a.dispose();
     hair.dispose();
