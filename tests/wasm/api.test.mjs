@@ -61,6 +61,12 @@ describe('loadRig', () => {
     const hair = rig.joints.find((j) => j.name === 'SpringBone_hair_left');
     assert.deepEqual(hair.params, { stiffness: 1.5, gravityPower: 0.5, gravityDir: [0, -1, 0], drag: 0.4 });
     assert.equal(hair.tail, 'SpringBone_hair_left_1');
+    assert.equal(rig.joints.find((j) => j.name === 'SpringBone_hair_left_1').node, hair.tailNode);
+    const tailTranslation = gltfOf(fixture('avatar_hair.glb')).nodes[hair.tailNode].translation;
+    hair.tailOffset.forEach((v, k) => assert.ok(Math.abs(v - tailTranslation[k]) < 1e-6, 'the tail child\'s translation'));
+    assert.equal(hair.hitRadius, 0);
+    assert.equal(rig.format, 'dcl');
+    assert.deepEqual(rig.colliders, []);
     assert.equal(hair.parent, -1);
     assert.equal(rig.drivers[hair.parentDriver].name, 'Avatar_Head');
     assert.equal(rig.joints[hair.chain], hair);
