@@ -1,0 +1,237 @@
+// The benchmark of issue 7: springbones against @pixiv/three-vrm-springbone on the same synthetic
+// rigs. Run through scripts/bench (which sets up and builds first). Prints a table, writes
+// build/bench/<timestamp>.json and build/bench/latest.json; the last line is
+//   speedup at 5000 joints: solver <X>x, three.js adapter <Y>x
+//
+// Rigs: A avatars x C chains x J joints; each chain hangs under its own parent bone, which moves
+// with a sinusoidal translation and rotation every frame. Parameters: stiffness 1, gravityPower
+// 0.5, drag 0.4. Each measurement: one warm-up run, then the median of 5 runs of 600 frames, one
+// step per frame (dt = 1/60).
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { gzipSync } from 'node:zlib';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { performance } from 'node:perf_hooks';
+import * as THREE from 'three';
+import { VRMSpringBoneJoint, VRMSpringBoneManager } from '@pixiv/three-vrm-springbone';
+import { createSpringBones } from '../web/springbones.js';
+import { attachWearable } from '../web/three/springBonesThree.js';
+
+const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const RIGS = [[1, 10, 5], [10, 10, 5], [100, 10, 5], [100, 20, 10]];
+const FRAMES = Number(process.env.BENCH_FRAMES ?? 600), RUNS = 5, DT = 1 / 60;
+const PARAMS = { stiffness: 1, gravityPower: 0.5, gravityDir: [0, -1, 0], drag: 0.4 };
+const BONE = 0.05;
+
+const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
+
+/** Warm-up, then the median ms per frame of RUNS runs of FRAMES frames. */
+function measure(frame) {
+  for (let f = 0; f < FRAMES; f++) frame(f);
+  const runs = [];
+  for (let r = 0; r < RUNS; r++) {
+    const t0 = performance.now();
+    for (let f = 0; f < FRAMES; f++) frame(f);
+    runs.push((performance.now() - t0) / FRAMES);
+  }
+  return median(runs);
+}
+
+/** The parent bone motion of chain c on frame f: position and rotation about z. */
+function motion(c, f) {
+  const t = f * DT;
+  return { x: c * 0.1 + 0.05 * Math.sin(6 * t + c), y: 1 + 0.03 * Math.sin(4 * t), z: 0, angle: 0.5 * Math.sin(5 * t + c) };
+}
+
+// ---------------------------------------------------------------------------------------------
+// The wearable: glTF JSON. Node 0 the root; per chain a parent "chain_c", J joints
+// "springbone_c_j" each BONE below the previous, and an end node (the last joint's tail).
+function wearableGltf(C, J) {
+  const nodes = [{ name: 'root', children: [] }];
+  const entries = {};
+  for (let c = 0; c < C; c++) {
+    const parent = nodes.length;
+    nodes[0].children.push(parent);
+    nodes.push({ name: `chain_${c}`, translation: [c * 0.1, 1, 0], children: [] });
+    let prev = parent;
+    for (let j = 0; j <= J; j++) {
+      const index = nodes.length;
+      nodes[prev].children.push(index);
+      const name = j < J ? `springbone_${c}_${j}` : `end_${c}`;
+      nodes.push({ name, translation: j === 0 ? [0, 0, 0] : [0, -BONE, 0], children: [] });
+      if (j < J) entries[name] = j === 0 ? { ...PARAMS, isRoot: true } : { ...PARAMS };
+      prev = index;
+    }
+  }
+  for (const n of nodes) if (n.children.length === 0) delete n.children;
+  const doc = { asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: [0] }], nodes };
+  return { bytes: new TextEncoder().encode(JSON.stringify(doc)), doc, springBones: { version: 1, models: { bench: entries } } };
+}
+
+/** three.js objects for the glTF nodes, and a GLTFLoader-like result for wearableNodes. */
+function threeWearable(doc) {
+  const objects = doc.nodes.map((n) => {
+    const o = new THREE.Object3D();
+    o.name = n.name;
+    if (n.translation) o.position.fromArray(n.translation);
+    return o;
+  });
+  const associations = new Map();
+  doc.nodes.forEach((n, i) => {
+    associations.set(objects[i], { nodes: i });
+    for (const c of n.children ?? []) objects[i].add(objects[c]);
+  });
+  const scene = new THREE.Group();
+  scene.add(objects[0]);
+  return { gltf: { scene, scenes: [scene], parser: { associations } }, objects };
+}
+
+// ---------------------------------------------------------------------------------------------
+function benchThreeVrm(A, C, J, doc) {
+  const t0 = performance.now();
+  const manager = new VRMSpringBoneManager();
+  const avatars = [];
+  for (let a = 0; a < A; a++) {
+    const { gltf, objects } = threeWearable(doc);
+    const parents = [];
+    let i = 1;
+    for (let c = 0; c < C; c++) {
+      parents.push(objects[i]);
+      for (let j = 0; j < J; j++) {
+        const bone = objects[i + 1 + j], child = objects[i + 2 + j];
+        manager.addJoint(new VRMSpringBoneJoint(bone, child, {
+          stiffness: PARAMS.stiffness, gravityPower: PARAMS.gravityPower,
+          gravityDir: new THREE.Vector3(0, -1, 0), dragForce: PARAMS.drag, hitRadius: 0,
+        }));
+      }
+      i += J + 2;
+    }
+    gltf.scene.updateMatrixWorld(true);
+    avatars.push({ scene: gltf.scene, parents });
+  }
+  manager.setInitState();
+  const loadMs = performance.now() - t0;
+  const ms = measure((f) => {
+    for (const av of avatars) {
+      av.parents.forEach((p, c) => { const m = motion(c, f); p.position.set(m.x, m.y, m.z); p.rotation.z = m.angle; });
+      av.scene.updateMatrixWorld(true);
+    }
+    manager.update(DT);
+  });
+  return { ms, loadMs };
+}
+
+function benchSolver(sb, A, C, J, wearable) {
+  const t0 = performance.now();
+  const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
+  const loadMs = performance.now() - t0;
+  const scene = sb.createScene();
+  const instances = [];
+  for (let a = 0; a < A; a++) { const inst = rig.createInstance(); scene.add(inst); instances.push(inst); }
+  // Driver index of each chain's parent.
+  const drivers = C && rig.drivers.map((d) => Number(d.name.slice('chain_'.length)));
+  const m4 = new THREE.Matrix4(), q = new THREE.Quaternion(), pos = new THREE.Vector3(), one = new THREE.Vector3(1, 1, 1), z = new THREE.Vector3(0, 0, 1);
+  let sink = 0;
+  const ms = measure((f) => {
+    for (const inst of instances) {
+      const dm = inst.driverMatrices;
+      for (let d = 0; d < drivers.length; d++) {
+        const m = motion(drivers[d], f);
+        m4.compose(pos.set(m.x, m.y, m.z), q.setFromAxisAngle(z, m.angle), one);
+        dm.set(m4.elements, 16 * d);
+      }
+    }
+    scene.step(DT);
+    for (const inst of instances) { const r = inst.rotations; sink += r[0]; }
+  });
+  const out = { ms, loadMs, sink };
+  scene.dispose();
+  for (const inst of instances) inst.dispose();
+  rig.dispose();
+  return out;
+}
+
+function benchAdapter(sb, A, C, J, wearable) {
+  const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
+  const avatars = [];
+  for (let a = 0; a < A; a++) {
+    const { gltf, objects } = threeWearable(wearable.doc);
+    const avatarRoot = new THREE.Group();
+    const attachment = attachWearable(avatarRoot, gltf, rig);
+    const parents = [];
+    for (let c = 0, i = 1; c < C; c++, i += J + 2) parents.push(attachment.nodes[i] ?? objects[i]);
+    avatars.push({ avatarRoot, attachment, parents });
+  }
+  const ms = measure((f) => {
+    for (const av of avatars) {
+      av.parents.forEach((p, c) => { const m = motion(c, f); p.position.set(m.x, m.y, m.z); p.rotation.z = m.angle; });
+      av.avatarRoot.updateMatrixWorld(true);
+      av.attachment.update(DT);
+    }
+  });
+  for (const av of avatars) av.attachment.dispose?.();
+  rig.dispose();
+  return { ms };
+}
+
+// ---------------------------------------------------------------------------------------------
+const wasmPath = join(root, 'web', 'dist', 'springbones_wasm.wasm');
+const jsPath = join(root, 'web', 'dist', 'springbones_wasm.js');
+const wasmBytes = readFileSync(wasmPath), jsBytes = readFileSync(jsPath);
+const compileRuns = [];
+for (let r = 0; r < 5; r++) {
+  const t0 = performance.now();
+  await WebAssembly.compile(wasmBytes);
+  compileRuns.push(performance.now() - t0);
+}
+const t0 = performance.now();
+const sb = await createSpringBones();
+const createMs = performance.now() - t0;
+const moduleInfo = {
+  wasmBytes: wasmBytes.length, jsBytes: jsBytes.length,
+  wasmGzip: gzipSync(wasmBytes, { level: 9 }).length, jsGzip: gzipSync(jsBytes, { level: 9 }).length,
+  compileMs: median(compileRuns), createSpringBonesMs: createMs,
+};
+
+const results = [];
+for (const [A, C, J] of RIGS) {
+  const joints = A * C * J;
+  const wearable = wearableGltf(C, J);
+  const vrm = benchThreeVrm(A, C, J, wearable.doc);
+  const solver = benchSolver(sb, A, C, J, wearable);
+  // Warm load: the median of 5 loads of the A avatars' rig after the one above.
+  const loads = [];
+  for (let r = 0; r < 5; r++) {
+    const big = wearableGltf(C * A, J);
+    const s = performance.now();
+    sb.loadRig(big.bytes, big.springBones, { contentHash: 'bench' }).dispose();
+    loads.push(performance.now() - s);
+  }
+  const adapter = benchAdapter(sb, A, C, J, wearable);
+  const ns = (ms) => (ms * 1e6) / joints;
+  results.push({
+    rig: `${A}x${C}x${J}`, joints,
+    threeVrm: { msPerFrame: vrm.ms, nsPerJointStep: ns(vrm.ms), loadMs: vrm.loadMs },
+    solver: { msPerFrame: solver.ms, nsPerJointStep: ns(solver.ms), loadMs: solver.loadMs, warmLoadAllJointsMs: median(loads) },
+    adapter: { msPerFrame: adapter.ms, nsPerJointStep: ns(adapter.ms) },
+  });
+}
+
+const f = (x, d = 3) => x.toFixed(d).padStart(9);
+console.log(`module: wasm ${moduleInfo.wasmBytes} B (${moduleInfo.wasmGzip} B gzip), js ${moduleInfo.jsBytes} B (${moduleInfo.jsGzip} B gzip), ` +
+  `total ${((moduleInfo.wasmGzip + moduleInfo.jsGzip) / 1024).toFixed(1)} KB gzip; compile ${moduleInfo.compileMs.toFixed(2)} ms, compile+instantiate (createSpringBones) ${createMs.toFixed(2)} ms`);
+console.log('rig          joints | three-vrm ms  ns/j | solver ms  ns/j | adapter ms  ns/j | load ms: three-vrm  springbones(1 avatar)  springbones(all joints, warm)');
+for (const r of results) {
+  console.log(`${r.rig.padEnd(12)} ${String(r.joints).padStart(6)} |${f(r.threeVrm.msPerFrame)}${f(r.threeVrm.nsPerJointStep, 0)} |${f(r.solver.msPerFrame)}${f(r.solver.nsPerJointStep, 0)} |` +
+    `${f(r.adapter.msPerFrame)}${f(r.adapter.nsPerJointStep, 0)} |${f(r.threeVrm.loadMs, 2)}${f(r.solver.loadMs, 2)}${f(r.solver.warmLoadAllJointsMs, 2)}`);
+}
+const at5000 = results.find((r) => r.joints === 5000);
+const solverX = at5000.threeVrm.msPerFrame / at5000.solver.msPerFrame;
+const adapterX = at5000.threeVrm.msPerFrame / at5000.adapter.msPerFrame;
+const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, results, speedupAt5000: { solver: solverX, adapter: adapterX } };
+const outDir = join(root, 'build', 'bench');
+mkdirSync(outDir, { recursive: true });
+const json = JSON.stringify(report, null, 2);
+writeFileSync(join(outDir, `${report.date.replace(/[:.]/g, '-')}.json`), json);
+writeFileSync(join(outDir, 'latest.json'), json);
+console.log(`speedup at 5000 joints: solver ${solverX.toFixed(1)}x, three.js adapter ${adapterX.toFixed(1)}x`);
