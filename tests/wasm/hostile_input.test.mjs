@@ -140,6 +140,23 @@ describe('the GLB container', () => {
     }
     expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(Uint8Array.from({ length: 256 }, (_, i) => i)), null));
   });
+
+  test('a glTF JSON chunk of 64 MiB loads, one byte more is limit-exceeded', () => {
+    const head = '{"asset":{"version":"2.0"},"nodes":[{"name":"a"}]}';
+    const atLimit = encoder.encode(head + ' '.repeat((64 << 20) - head.length));
+    const rig = sb.loadRig(atLimit, null);
+    assert.equal(rig.nodeCount, 1);
+    rig.dispose();
+    const over = new Uint8Array(atLimit.length + 1).fill(0x20);
+    over.set(atLimit);
+    assert.throws(() => sb.loadRig(over, null), (e) => {
+      assert.ok(e instanceof SpringBonesError, `${e}`);
+      assert.equal(e.code, 'limit-exceeded');
+      assert.match(e.message, /67108865 bytes.*67108864/);
+      return true;
+    });
+    assert.equal(sb.stats().rigs, 0);
+  });
 });
 
 describe('the hierarchy', () => {
@@ -147,6 +164,10 @@ describe('the hierarchy', () => {
     expectCode('hierarchy-cycle', () => sb.loadRig(fixture('cycle.gltf'), null));
     const self = { asset: { version: '2.0' }, nodes: [{ name: 'springbone_a', children: [0] }] };
     expectCode('hierarchy-cycle', () => sb.loadRig(gltfBytes(self), null));
+    // A three-node loop that no root leads to, next to a healthy root.
+    const loop = { asset: { version: '2.0' }, nodes: [{ name: 'root' }, { name: 'a', children: [2] }, { name: 'b', children: [3] }, { name: 'c', children: [1] }] };
+    expectCode('hierarchy-cycle', () => sb.loadRig(gltfBytes(loop), null));
+    assert.throws(() => sb.loadRig(gltfBytes(loop), null), /ancestor/);
   });
 
   test('a node with two parents is hierarchy-multiple-parents', () => {
@@ -242,36 +263,80 @@ describe('metadata', () => {
   });
 
   test('parameters as strings, null, arrays, booleans and ±1e308 are replaced or clamped with warnings', () => {
-    const cases = [['2', 'param-not-number'], [null, 'param-not-number'], [[1], 'param-not-number'],
-      [true, 'param-not-number'], [1e308, 'param-out-of-range'], [-1e308, 'param-out-of-range'],
-      [Number.MIN_VALUE, null]];
-    for (const [value, code] of cases) {
+    // [value, warning, expected stiffness / gravityPower / drag]: the ADR defaults (2, 0, 0.5)
+    // replace what is not a number; out-of-range values clamp to [0,4] / [0,2] / [0,1].
+    const defaults = [2, 0, 0.5];
+    const cases = [['2', 'param-not-number', defaults], [null, 'param-not-number', defaults],
+      [[1], 'param-not-number', defaults], [true, 'param-not-number', defaults],
+      [1e308, 'param-out-of-range', [4, 2, 1]], [-1e308, 'param-out-of-range', [0, 0, 0]],
+      [Number.MIN_VALUE, null, [0, 0, 0]]];
+    for (const [value, code, expected] of cases) {
       withRig(hairGlb, hairMetadata(entry(value, value, [0, -1, 0], value)), (rig, inst) => {
-        if (code) assert.equal(rig.warnings.filter((w) => w.code === code).length, 3, JSON.stringify(value));
+        const what = JSON.stringify(value);
+        if (code) {
+          const hits = rig.warnings.filter((w) => w.code === code);
+          assert.deepEqual(hits.map((w) => w.path).sort(), ['drag', 'gravityPower', 'stiffness']
+            .map((k) => `/models/${kHash}/SpringBone_hair/${k}`), what);
+          assert.ok(hits.every((w) => w.message.length > 0));
+        }
+        assert.equal(rig.warnings.length, code ? 3 : 0, what);
         const p = rig.joints[0].params;
-        assert.ok(p.stiffness >= 0 && p.stiffness <= 4);
-        assert.ok(p.gravityPower >= 0 && p.gravityPower <= 2);
-        assert.ok(p.drag >= 0 && p.drag <= 1);
+        assert.deepEqual([p.stiffness, p.gravityPower, p.drag], expected, what);
         stepAndCheck(inst, 20);
       });
     }
     // NaN and Infinity have no JSON form: JSON.stringify writes null, read as not a number.
     withRig(hairGlb, hairMetadata(entry(NaN, Infinity, [0, -1, 0], -Infinity)), (rig, inst) => {
       assert.equal(rig.warnings.filter((w) => w.code === 'param-not-number').length, 3);
+      const p = rig.joints[0].params;
+      assert.deepEqual([p.stiffness, p.gravityPower, p.drag], defaults);
       stepAndCheck(inst);
     });
     expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, JSON.stringify(hairMetadata(entry(1, 1, [0, -1, 0], 0.5))).replace('"stiffness":1', '"stiffness":1e309'), { contentHash: kHash }));
   });
 
   test('gravityDir of length 2 or 4 (or zero, huge, not an array) falls back with a warning', () => {
-    for (const dir of [[0, -1], [0, -1, 0, 0], [], [1e308, 1e308, 1e308], [0, 0, 0], 'down', null]) {
+    // [gravityDir, warning, expected direction]: what is not 3 finite numbers is the default
+    // [0,-1,0]; a huge vector keeps its direction (normalized, never overflowing).
+    const down = [0, -1, 0];
+    const diagonal = Math.fround(1 / Math.sqrt(3));
+    const cases = [[[0, -1], 'param-not-vector', down], [[0, -1, 0, 0], 'param-not-vector', down],
+      [[], 'param-not-vector', down], [[1e308, 1e308, 1e308], 'param-out-of-range', [diagonal, diagonal, diagonal]],
+      [[0, 0, 0], 'gravity-dir-zero', down], ['down', 'param-not-vector', down], [null, 'param-not-vector', down],
+      [[0, -1, '0'], 'param-not-vector', down]];
+    for (const [dir, code, expected] of cases) {
       withRig(hairGlb, hairMetadata(entry(1, 2, dir, 0.5)), (rig, inst) => {
+        const what = JSON.stringify(dir);
         const g = rig.joints[0].params.gravityDir;
-        assert.ok(Math.abs(Math.hypot(...g) - 1) < 1e-6, JSON.stringify(dir));
-        assert.ok(rig.warnings.some((w) => ['param-not-vector', 'gravity-dir-zero', 'param-out-of-range'].includes(w.code)), JSON.stringify(dir));
+        for (let k = 0; k < 3; ++k) assert.ok(Math.abs(g[k] - expected[k]) < 1e-6, `${what}: ${g}`);
+        assert.deepEqual(rig.warnings.map((w) => [w.code, w.path]), [[code, `/models/${kHash}/SpringBone_hair/gravityDir`]], what);
         stepAndCheck(inst, 20);
       });
     }
+  });
+});
+
+describe('Builder edits', () => {
+  const entity = {
+    content: [{ file: 'a.glb', hash: kHash }],
+    metadata: { data: { representations: [{ bodyShapes: ['urn:decentraland:off-chain:base-avatars:BaseMale'], mainFile: 'a.glb' }] } },
+  };
+  const nest = (levels) => JSON.parse('['.repeat(levels) + ']'.repeat(levels));
+
+  test('params or springBones nested deeper than 64 levels are errors, 64 levels are edited', () => {
+    // params (1 level) + 63 arrays = 64 levels: allowed; one more is invalid-argument.
+    const edited = sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(63) });
+    assert.deepEqual(edited.models[kHash].SpringBone_hair.custom, nest(63));
+    expectCode('invalid-argument', () => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(64) }));
+    // Existing metadata carried over by the edit: the same limit, metadata-invalid.
+    const deepText = `{"version":1,"models":{"${kHash}":{"SpringBone_hair":{"custom":${'['.repeat(200000)}${']'.repeat(200000)}}}}}`;
+    expectCode('metadata-invalid', () => sb.setSpringBoneParams(deepText, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
+    // A JavaScript object nested 200,000 deep cannot even be serialized: JSON.stringify throws
+    // a RangeError before anything reaches WebAssembly, and the module keeps working.
+    let value = 1;
+    for (let i = 0; i < 200000; ++i) value = [value];
+    assert.throws(() => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { custom: value }), RangeError);
+    assert.equal(sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 3 }).models[kHash].SpringBone_hair.stiffness, 3);
   });
 });
 
