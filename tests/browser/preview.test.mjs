@@ -3,68 +3,31 @@
 // opens web/demo/, and checks what a wearable creator would: the sample swings while the avatar
 // walks and comes to rest when it stops, the stiffness slider changes the motion, a broken GLB is
 // reported without breaking the page and a valid one then loads. Leaves a screenshot in
-// tests/artifacts/preview.png.
-//
-// Needs the WebAssembly module (scripts/build wasm) and /usr/bin/chromium (or CHROMIUM_PATH).
+// tests/artifacts/preview.png (head close-up: hair, earrings, chain lines and colliders) and
+// preview-body.png (the whole avatar). The page is opened by demoPage.mjs.
 import assert from 'node:assert/strict';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { dirname, join } from 'node:path';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { startServer } from '../../scripts/serve.mjs';
+import { artifacts, maxAbsDiff, openDemo, root, skip } from './demoPage.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
-const artifacts = join(root, 'tests', 'artifacts');
 const sampleManifest = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8'));
 const fixtures = JSON.parse(readFileSync(join(root, 'tests/fixtures/manifest.json'), 'utf8')).files;
 
-const skip = !existsSync(chromiumPath) ? `no Chromium at ${chromiumPath}` : false;
-
-let server;
-let context;
 let page;
-let profileDir;
-const consoleErrors = [];
+let consoleErrors;
+let close;
 
 before(async () => {
   if (skip) return;
-  assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
-  ({ server } = await startServer({ port: 0 }));
-  const { port } = server.address();
-  profileDir = mkdtempSync(join(tmpdir(), 'springbones-chromium-'));
-  context = await chromium.launchPersistentContext(profileDir, {
-    executablePath: chromiumPath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    args: [
-      '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
-      '--disable-sync', '--no-first-run',
-      // software WebGL without a GPU (SwiftShader through ANGLE); newer Chromium wants the opt-in
-      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    ],
-  });
-  page = context.pages()[0] ?? await context.newPage();
-  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
-  page.setDefaultTimeout(30000);
-  await page.goto(`http://127.0.0.1:${port}/web/demo/`);
-  await page.waitForFunction(() => window.springbonesDemo?.ready === true);
+  ({ page, consoleErrors, close } = await openDemo());
 });
 
 after(async () => {
-  await context?.close();
-  server?.close();
-  if (profileDir) rmSync(profileDir, { recursive: true, force: true });
+  await close?.();
 });
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
-const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
-// Angle of joint j's local rotation away from its rest rotation (the sample's spring nodes have
-// identity rest rotations), in degrees.
-const angleOf = (rotations, j) => (2 * Math.acos(Math.min(1, Math.abs(rotations[j * 4 + 3]))) * 180) / Math.PI;
 
 test('opens on the sample wearable with WebGL and no console errors', { skip }, async () => {
   const renderer = await demo(() => {
@@ -212,7 +175,7 @@ test('several avatars; per-frame cost; screenshot', { skip }, async (t) => {
   await demo(() => window.springbonesDemo.setAvatarCount(25));
   assert.equal((await demo(() => window.springbonesDemo.state())).joints, 25 * 15);
   const many = await demo(() => window.springbonesDemo.benchmark(300));
-  t.diagnostic(`adapter update (drivers in, step, rotations out), Chromium headless: ` +
+  t.diagnostic(`springs (drivers in, one scene.step, rotations out), Chromium headless: ` +
     `${one.joints} joints ${(one.msPerFrame * 1000).toFixed(1)} us/frame; ` +
     `${many.avatars} avatars x 15 = ${many.joints} joints ${(many.msPerFrame * 1000).toFixed(1)} us/frame ` +
     `(${many.nsPerJoint.toFixed(0)} ns/joint)`);
@@ -221,9 +184,14 @@ test('several avatars; per-frame cost; screenshot', { skip }, async (t) => {
   await page.locator('#load-sample').click();  // a clean panel for the picture
   await page.waitForFunction(() => window.springbonesDemo.state().messages.length === 0);
   await page.locator('#show-chains').check();
-  await demo(() => { window.springbonesDemo.setPaused(false); window.springbonesDemo.setYaw(-80); });
+  await demo(() => { window.springbonesDemo.setPaused(false); window.springbonesDemo.setYaw(-30); });
   await page.waitForTimeout(1500);
   mkdirSync(artifacts, { recursive: true });
+  await page.screenshot({ path: join(artifacts, 'preview-body.png') });
+  // The close-up: the earrings (3 cm) and the colliders are visible at this distance.
+  await page.locator('#view-preset').selectOption('head');
+  await page.locator('#show-colliders').check();
+  await page.waitForTimeout(1500);
   await page.screenshot({ path: join(artifacts, 'preview.png') });
   assert.deepEqual(consoleErrors, []);
 });

@@ -1,7 +1,7 @@
-// The demo's sample assets and the creator panel's metadata logic (web/demo/js/springBonesData.js),
-// in Node: the assets are what scripts/make_sample_avatar.mjs writes, the metadata is keyed by the
-// wearable's content hash, and the panel's validator makes the catalyst's accept/reject decisions
-// on the shared validation cases.
+// The demo's sample assets and the creator panel's entity handling (web/demo/js/entity.js), in
+// Node: the assets are what scripts/make_sample_avatar.mjs writes, the metadata is keyed by the
+// wearable's content hash, and the entity the panel builds for the API's validator and Builder
+// edit judges the edited GLB the way a catalyst would.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, readdirSync, rmSync } from 'node:fs';
@@ -11,10 +11,7 @@ import { describe, test } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';
 import { createSpringBones } from '../../web/springbones.js';
-import {
-  activeHashes, classifyJson, editorWarnings, effectiveParams, exportSpringBones, isSpringBoneName,
-  prefillEntries, representationsOf, springBoneTree, validateForDeploy, validateSchema,
-} from '../../web/demo/js/springBonesData.js';
+import { classifyJson, entityWearing, representationsOf, springBonesOf } from '../../web/demo/js/entity.js';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const assets = join(root, 'web', 'demo', 'assets');
@@ -61,90 +58,73 @@ describe('sample assets', () => {
     assert.equal(rig.contentHash, hash);
     assert.equal(rig.joints.length, 15);
     assert.deepEqual(rig.warnings, []);
-    assert.deepEqual(validateForDeploy(metadata, [hash]), []);
-    // the entity carries the same data and points its representations at the GLB
+    // the entity carries the same data, points its representations at the GLB and would deploy
     const entity = readJson(join(assets, 'hair_wearable.entity.json'));
     assert.deepEqual(entity.metadata.data.springBones, metadata);
+    assert.deepEqual(sb.validateSpringBones(entity), []);
     assert.deepEqual(representationsOf(entity).map((r) => r.mainFileHash), [hash]);
     const fromEntity = sb.loadRig(glb, entity.metadata.data.springBones, { entity, bodyShape: 'BaseFemale' });
     assert.equal(fromEntity.joints.length, 15);
   });
 
-  test('every spring node of the wearable hangs under its own Avatar_Head copy', () => {
-    const doc = gltfJson(readFileSync(join(assets, 'hair_wearable.glb')));
-    const tree = springBoneTree(doc);
-    assert.equal(tree.candidates.length, 20);
-    const rootNames = tree.candidates.filter((c) => c.parent === -1).map((c) => c.name);
+  test('every spring node of the wearable hangs under its own Avatar_Head copy', async () => {
+    const bytes = readFileSync(join(assets, 'hair_wearable.glb'));
+    const doc = gltfJson(bytes);
+    const sb = await createSpringBones();
+    const candidates = sb.detectSpringBones(bytes);
+    assert.equal(candidates.length, 20);
+    const rootNames = candidates.filter((c) => c.parent === -1).map((c) => c.name);
     assert.deepEqual(rootNames, ['SpringBone_ponytail', 'hair_springbone_l', 'hair_springbone_r', 'springbone_earring_l', 'springbone_earring_r']);
     const head = doc.nodes.findIndex((n) => n.name === 'Avatar_Head');
     for (const name of rootNames) assert.ok(doc.nodes[head].children.includes(doc.nodes.findIndex((n) => n.name === name)));
-    assert.ok(tree.otherNodes.includes('Avatar_Hips'));
   });
 });
 
-describe('creator panel metadata', () => {
-  test('makes the catalyst\'s decisions on every shared validation case', () => {
-    const cases = readJson(join(root, 'tests', 'fixtures', 'validation_cases.json'));
-    assert.ok(cases.length > 900);
-    for (const c of cases) {
-      assert.equal(validateSchema(c.input).length === 0, c.valid, `schema: ${c.name}`);
-      const entity = { content: c.content, metadata: { data: { representations: c.representations, springBones: c.input } } };
-      const active = [...new Set(representationsOf(entity).map((r) => r.mainFileHash).filter((h) => h !== null))];
-      assert.equal(validateForDeploy(c.input, active).length === 0, c.catalystErrors.length === 0, `catalyst: ${c.name}`);
-    }
+describe('creator panel entity handling', () => {
+  const male = 'urn:decentraland:off-chain:base-avatars:BaseMale';
+  const female = 'urn:decentraland:off-chain:base-avatars:BaseFemale';
+  const entry = { stiffness: 1, gravityPower: 0, gravityDir: [0, -1, 0], drag: 0.4, isRoot: true };
+
+  test('tells springBones from entities', () => {
+    assert.equal(classifyJson({ version: 1, models: {} }), 'springBones');
+    assert.equal(classifyJson({ metadata: { data: { representations: [] } } }), 'entity');
+    assert.equal(classifyJson({ data: { springBones: null } }), 'entity');
+    assert.equal(classifyJson([1]), 'unknown');
+    assert.equal(classifyJson({ hello: 1 }), 'unknown');
+    assert.deepEqual(springBonesOf({ data: { springBones: { version: 1, models: {} } } }), { version: 1, models: {} });
+    assert.equal(springBonesOf({ metadata: { data: {} } }), null);
   });
 
-  test('the discovery rule is ASCII case-insensitive', () => {
-    for (const name of ['SpringBone_hair_left', 'hair_springbone_l', 'ponytail_SPRINGBONE', 'xSpRiNgBoNex']) assert.ok(isSpringBoneName(name), name);
-    for (const name of ['skirt_1', 'spring_bone', 'ſpringbone', '', null]) assert.ok(!isSpringBoneName(name), String(name));
+  test('without an entity: the GLB is the only model, other keys are stale', async () => {
+    const sb = await createSpringBones();
+    const springBones = { version: 1, models: { glbHash: { SpringBone_a: entry }, oldHash: { SpringBone_a: entry } } };
+    const entity = entityWearing({ file: 'item.glb', hash: 'glbHash', springBones });
+    assert.deepEqual(representationsOf(entity).map((r) => [r.bodyShapes.length, r.mainFileHash]), [[2, 'glbHash']]);
+    const errors = sb.validateSpringBones(entity);
+    assert.equal(errors.length, 1);
+    assert.match(errors[0].message, /oldHash/);
+    const exported = sb.setSpringBoneParams(springBones, entity, 'BaseMale', 'SpringBone_a', entry);
+    assert.deepEqual(Object.keys(exported.models), ['glbHash']);
+    assert.deepEqual(sb.validateSpringBones(entityWearing({ file: 'item.glb', hash: 'glbHash', springBones: exported })), []);
   });
 
-  test('inherits parameters from the nearest entry up the chain, else the defaults', () => {
-    const doc = gltfJson(readFileSync(join(assets, 'hair_wearable.glb')));
-    const tree = springBoneTree(doc);
-    const { models } = readJson(join(assets, 'hair_wearable.metadata.json'));
-    const entries = Object.values(models)[0];
-    const slot = (name) => tree.candidates.findIndex((c) => c.name === name);
-    assert.equal(effectiveParams(tree, slot('SpringBone_ponytail_2'), entries).from, 'SpringBone_ponytail');
-    assert.equal(effectiveParams(tree, slot('SpringBone_ponytail_4'), entries).from, 'SpringBone_ponytail_3');
-    assert.equal(effectiveParams(tree, slot('SpringBone_ponytail_4'), entries).params.stiffness, 0.7);
-    assert.deepEqual(effectiveParams(tree, slot('SpringBone_ponytail_4'), {}), {
-      params: { stiffness: 2, gravityPower: 0, gravityDir: [0, -1, 0], drag: 0.5 }, from: null,
-    });
-    assert.deepEqual(Object.keys(prefillEntries(tree)), ['SpringBone_ponytail', 'hair_springbone_l', 'hair_springbone_r', 'springbone_earring_l', 'springbone_earring_r']);
-  });
-
-  test('export keys the entries by the GLB hash and drops stale hashes', () => {
-    const entries = { SpringBone_a: { isRoot: true, drag: 0.4, stiffness: 1, gravityPower: 0, gravityDir: [0, -1, 0] } };
-    const original = { version: 1, models: { old: { SpringBone_a: {} }, other: { SpringBone_b: { stiffness: 1 } }, new: { stale: true } } };
-    const { data, dropped } = exportSpringBones({ glbHash: 'new', entries, original, active: ['new', 'other'] });
-    assert.deepEqual(Object.keys(data.models), ['new', 'other']);
-    assert.deepEqual(dropped, ['old']);
-    assert.deepEqual(Object.keys(data.models.new.SpringBone_a), ['stiffness', 'gravityPower', 'gravityDir', 'drag', 'isRoot'], 'ADR field order');
-    assert.deepEqual(exportSpringBones({ glbHash: 'h', entries: {} }).data, { version: 1, models: {} });
-  });
-
-  test('keeps the other body shape\'s model when the entity has two', () => {
+  test('with an entity of two GLBs: the edited one gets the new hash, the other body shape\'s is kept', async () => {
+    const sb = await createSpringBones();
     const entity = {
       content: [{ file: 'm.glb', hash: 'hm' }, { file: 'f.glb', hash: 'hf' }],
       metadata: { data: { representations: [
-        { bodyShapes: ['urn:decentraland:off-chain:base-avatars:BaseMale'], mainFile: 'm.glb' },
-        { bodyShapes: ['urn:decentraland:off-chain:base-avatars:BaseFemale'], mainFile: 'f.glb' },
+        { bodyShapes: [male], mainFile: 'm.glb' },
+        { bodyShapes: [female], mainFile: 'f.glb' },
       ] } },
     };
-    assert.deepEqual(activeHashes('new', entity, 'urn:decentraland:off-chain:base-avatars:BaseMale'), ['new', 'hf']);
-    assert.equal(classifyJson(entity), 'entity');
-    assert.equal(classifyJson({ version: 1, models: {} }), 'springBones');
-    assert.equal(classifyJson([1]), 'unknown');
-  });
-
-  test('warns about entries for missing nodes, bad centers, the Builder cap and no root', () => {
-    const tree = springBoneTree({ nodes: [{ name: 'Avatar_Head', children: [1] }, { name: 'SpringBone_a', children: [2] }, { name: 'SpringBone_a_tip' }] });
-    const messages = (entries) => editorWarnings(tree, entries).map((w) => w.message).join('\n');
-    assert.match(messages({ SpringBone_x: { isRoot: true } }), /not a spring-bone node/);
-    assert.match(messages({ SpringBone_a: { isRoot: true, center: 'SpringBone_a_tip' } }), /is a spring bone/);
-    assert.match(messages({ SpringBone_a: { isRoot: true, center: 'Nowhere' } }), /not a node of this GLB/);
-    assert.match(messages({ SpringBone_a: { isRoot: false } }), /no entry has isRoot: true/);
-    assert.equal(messages({ SpringBone_a: { isRoot: true, center: 'Avatar_Head' } }), '');
+    const springBones = { version: 1, models: { hm: { SpringBone_a: entry }, hf: { SpringBone_b: entry }, newHash: { SpringBone_a: entry } } };
+    const wearing = entityWearing({ entity, bodyShape: male, file: 'edited.glb', hash: 'newHash', springBones });
+    assert.deepEqual(representationsOf(wearing).map((r) => r.mainFileHash), ['newHash', 'hf']);
+    assert.deepEqual(representationsOf(entity).map((r) => r.mainFileHash), ['hm', 'hf'], 'the input is not modified');
+    const exported = sb.setSpringBoneParams(springBones, wearing, male, 'SpringBone_a', entry);
+    assert.deepEqual(Object.keys(exported.models).sort(), ['hf', 'newHash'], 'the old male hash is stale');
+    // a Builder item ({contents, data}) is patched the same way
+    const item = { contents: { 'm.glb': 'hm' }, data: { representations: [{ bodyShapes: [male, female], mainFile: 'm.glb' }] } };
+    assert.deepEqual(entityWearing({ entity: item, bodyShape: female, file: 'x.glb', hash: 'h2', springBones }).contents, { 'm.glb': 'h2' });
   });
 });

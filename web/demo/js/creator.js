@@ -9,10 +9,7 @@ import { Group } from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
 import { wearableNodes } from '../../three/springBonesThree.js';
-import {
-  RANGES, activeHashes, classifyJson, completeEntry, editorWarnings, effectiveParams, exportSpringBones,
-  prefillEntries, representationsOf, springBoneTree, springBonesOf, validateForDeploy, validateSchema,
-} from './springBonesData.js';
+import { classifyJson, entityWearing, representationsOf, springBonesOf } from './entity.js';
 
 const $ = (id) => document.getElementById(id);
 const ASSETS = new URL('../assets/', import.meta.url);
@@ -21,8 +18,10 @@ const SAMPLE = { glb: 'hair_wearable.glb', json: 'hair_wearable.metadata.json' }
 const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
 const isGlb = (bytes) => bytes.length >= 4 && bytes[0] === 0x67 && bytes[1] === 0x6c && bytes[2] === 0x54 && bytes[3] === 0x46;
 const round = (v) => Math.round(v * 1000) / 1000;
+const isNumber = (v) => typeof v === 'number' && Number.isFinite(v);
+/** The Builder's cap on configured spring bones (a warning there, not a deploy rule). */
+const BUILDER_MAX_BONES = 12;
 const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
-const unescapePointer = (segment) => segment.replace(/~1/g, '/').replace(/~0/g, '~');
 const shortHash = (h) => (h && h.length > 16 ? `${h.slice(0, 10)}…${h.slice(-6)}` : h);
 
 function element(tag, props = {}, ...children) {
@@ -57,7 +56,7 @@ export class Creator {
     this.bytes = null;      // the GLB being edited
     this.name = '';
     this.hash = null;       // its content hash (the models key)
-    this.tree = null;       // springBoneTree of its glTF JSON
+    this.tree = null;       // { candidates (sb.detectSpringBones, with children), otherNodes }
     this.entries = {};      // the edited models[hash]
     this.original = null;   // the springBones value that was loaded (other hashes survive export)
     this.entity = null;     // the entity, when one was loaded
@@ -162,10 +161,11 @@ export class Creator {
       this.original = springBonesOf(value);
     }
     this.setupBodyShapes();
-    const schemaErrors = this.original ? validateSchema(this.original) : [];
-    const shown = (path) => path.split(this.hash).join('<GLB hash>');
-    for (const e of schemaErrors.slice(0, 8)) messages.push({ level: 'warning', text: `loaded springBones${shown(e.path)}: ${e.message}` });
-    if (schemaErrors.length > 8) messages.push({ level: 'warning', text: `… and ${schemaErrors.length - 8} more schema errors` });
+    // What a catalyst would say about the file as loaded (the panel then shows the edited state).
+    const loadedErrors = this.original ? this.validate(this.original) : [];
+    const shown = (text) => text.split(this.hash).join('<GLB hash>');
+    for (const e of loadedErrors.slice(0, 8)) messages.push({ level: 'warning', text: `loaded: ${shown(e.message)}` });
+    if (loadedErrors.length > 8) messages.push({ level: 'warning', text: `… and ${loadedErrors.length - 8} more errors in the loaded springBones` });
     const picked = this.pickEntries();
     this.entries = picked.entries;
     if (picked.note) messages.push({ level: picked.level ?? 'info', text: picked.note });
@@ -196,8 +196,21 @@ export class Creator {
     const gltf = await this.loader.parseAsync(copy, ASSETS.href);
     if (!gltf.scene) await addDefaultScene(gltf);
     wearableNodes(gltf, SkeletonUtils.clone(gltf.scene));  // what the preview will do: fail here, not there
-    const tree = springBoneTree(gltf.parser.json);
-    return { bytes, name, hash, gltf, tree };
+    return { bytes, name, hash, gltf, tree: this.springBoneTree(bytes, hash, gltf.parser.json) };
+  }
+
+  /**
+   * The GLB's spring-bone candidates (sb.detectSpringBones: parents first, defaults as params,
+   * top-most ones marked isRoot as the Builder prefills them), each with its children's slots,
+   * and the names of the other nodes (the choices for `center`).
+   */
+  springBoneTree(bytes, hash, gltfJson) {
+    const candidates = this.sb.detectSpringBones(bytes, null, { contentHash: hash }).map((c) => ({ ...c, children: [] }));
+    candidates.forEach((c, slot) => { if (c.parent >= 0) candidates[c.parent].children.push(slot); });
+    const spring = new Set(candidates.map((c) => c.node));
+    const nodes = Array.isArray(gltfJson?.nodes) ? gltfJson.nodes : [];
+    const otherNodes = [...new Set(nodes.filter((n, i) => !spring.has(i) && typeof n?.name === 'string' && n.name !== '').map((n) => n.name))];
+    return { candidates, otherNodes };
   }
 
   pickEntries() {
@@ -222,12 +235,20 @@ export class Creator {
     const note = keys.length
       ? `None of the metadata's ${keys.length} entries is for this GLB's hash; top-most spring bones prefilled with the defaults as roots.`
       : 'No parameters for this GLB yet: top-most spring bones prefilled with the defaults as roots.';
-    return { entries: prefillEntries(this.tree), note };
+    // The Builder's prefill: every top-most candidate a root with the defaults.
+    const entries = {};
+    for (const c of this.tree.candidates) if (c.isRoot) entries[c.name] = { ...structuredClone(c.params), isRoot: true };
+    return { entries, note };
   }
 
   buildRig() {
     const metadata = { version: 1, models: { [this.hash]: this.entries } };
-    return this.sb.loadRig(this.bytes, metadata, { contentHash: this.hash });
+    return this.sb.loadRig(this.bytes, metadata, { contentHash: this.hash, ...this.preview.rigOptions() });
+  }
+
+  /** Rebuilds the rig with the same entries (the preview's colliders changed). */
+  rebuild() {
+    if (this.bytes) this.apply();
   }
 
   fail(text) {
@@ -272,8 +293,18 @@ export class Creator {
     this.renderMessages();
   }
 
-  activeHashes() {
-    return activeHashes(this.hash, this.entity, this.bodyShape);
+  /** The entity the API judges: the loaded one (or a minimal one) wearing this GLB. */
+  entityFor(springBones) {
+    return entityWearing({ entity: this.entity, bodyShape: this.bodyShape, file: this.name, hash: this.hash, springBones });
+  }
+
+  /** sb.validateSpringBones on `springBones` as part of entityFor: [{path, message}]. */
+  validate(springBones) {
+    try {
+      return this.sb.validateSpringBones(this.entityFor(springBones));
+    } catch (e) {
+      return [{ path: e.path ?? '', message: e.message }];
+    }
   }
 
   // ---- rendering
@@ -364,30 +395,60 @@ export class Creator {
     return this.tree?.candidates[this.selected]?.name ?? null;
   }
 
-  /** The selected node's own entry, created from the values it currently inherits if needed. */
+  /**
+   * The parameters the selected node runs with, as the core read them: its rig joint's (own entry,
+   * else inherited; clamped, gravityDir normalised), else the defaults sb.detectSpringBones gave
+   * (a tip, or a node in no chain).
+   */
+  runtimeParams(slot) {
+    const c = this.tree.candidates[slot];
+    const joint = this.preview.wearable?.rig.joints.find((j) => j.name === c.name);
+    const p = joint ? joint.params : c.params;
+    return { stiffness: p.stiffness, gravityPower: p.gravityPower, gravityDir: [...p.gravityDir], drag: p.drag };
+  }
+
+  /** Name of the nearest node at or above `slot` that has an entry, or null. */
+  entryFrom(slot) {
+    for (let s = slot; s >= 0; s = this.tree.candidates[s].parent) {
+      if (isObject(this.entries[this.tree.candidates[s].name])) return this.tree.candidates[s].name;
+    }
+    return null;
+  }
+
+  /** What the editor shows: the entry's own finite values over what the node runs with. */
+  shownParams(slot) {
+    const params = this.runtimeParams(slot);
+    const entry = this.entries[this.tree.candidates[slot].name];
+    if (isObject(entry)) {
+      for (const k of ['stiffness', 'gravityPower', 'drag']) if (isNumber(entry[k])) params[k] = entry[k];
+      if (Array.isArray(entry.gravityDir) && entry.gravityDir.length === 3 && entry.gravityDir.every(isNumber)) params.gravityDir = [...entry.gravityDir];
+    }
+    return params;
+  }
+
+  /** The selected node's own entry, created from the values it currently runs with if needed;
+   *  the schema's four required fields are always present. */
   ensureEntry() {
     const name = this.selectedName();
-    if (!isObject(this.entries[name])) {
-      const { params } = effectiveParams(this.tree, this.selected, this.entries);
-      this.entries[name] = { ...params, isRoot: false };
-    } else {
-      this.entries[name] = completeEntry(this.entries[name]);  // schema-required fields present
-    }
+    const params = this.shownParams(this.selected);
+    const entry = isObject(this.entries[name]) ? this.entries[name] : { isRoot: false };
+    this.entries[name] = { ...entry, ...params };
     return this.entries[name];
   }
 
   setField(field, value) {
     if (!this.selectedName()) return;
-    const [lo, hi] = RANGES[field];
-    this.ensureEntry()[field] = round(clamp(value, lo, hi));
+    const box = $(`param-${field}-num`);
+    this.ensureEntry()[field] = round(clamp(value, Number(box.min), Number(box.max)));
     this.apply();
   }
 
   setDir(k, value) {
     if (!this.selectedName()) return;
     const entry = this.ensureEntry();
+    const box = $(`param-${['gx', 'gy', 'gz'][k]}-num`);
     entry.gravityDir = [...entry.gravityDir];
-    entry.gravityDir[k] = round(clamp(value, RANGES.gravityDir[0], RANGES.gravityDir[1]));
+    entry.gravityDir[k] = round(clamp(value, Number(box.min), Number(box.max)));
     this.apply();
   }
 
@@ -409,7 +470,8 @@ export class Creator {
     $('editor').hidden = !name;
     if (!name) return;
     const entry = isObject(this.entries[name]) ? this.entries[name] : null;
-    const { params, from } = effectiveParams(this.tree, this.selected, this.entries);
+    const params = this.shownParams(this.selected);
+    const from = this.entryFrom(this.selected);
     $('editor-title').textContent = name;
     $('editor-source').textContent = entry
       ? (entry.isRoot === true ? 'Chain root: its entry applies to the chain below it.' : 'Member with its own entry (overrides what it inherits).')
@@ -435,8 +497,28 @@ export class Creator {
 
   // ---- validation and export
 
+  /**
+   * data.springBones to publish, through the Builder edit of the API (sb.setSpringBoneParams): the
+   * edited entries under this GLB's hash, the other representations' entries kept, every models
+   * key no representation uses (stale) dropped. Returns { data, dropped }.
+   */
   exportResult() {
-    return exportSpringBones({ glbHash: this.hash, entries: this.entries, original: this.original, active: this.activeHashes() });
+    const models = isObject(this.original?.models) ? { ...this.original.models } : {};
+    delete models[this.hash];
+    models[this.hash] = this.entries;
+    const draft = { version: 1, models };
+    // Re-setting one entry (or removing a node that has none) makes the API drop the stale keys.
+    const name = Object.keys(this.entries).find((n) => /springbone/i.test(n)) ?? 'springbone';
+    let data;
+    try {
+      data = this.sb.setSpringBoneParams(draft, this.entityFor(draft), this.bodyShape ?? 'BaseMale', name, this.entries[name] ?? null);
+    } catch (e) {
+      this.fail(`Export: ${e.message}`);
+      data = draft;
+    }
+    if (isObject(data.models?.[this.hash]) && Object.keys(data.models[this.hash]).length === 0) delete data.models[this.hash];  // as the Builder
+    const dropped = Object.keys(isObject(this.original?.models) ? this.original.models : {}).filter((h) => !(h in data.models));
+    return { data: { version: data.version, models: data.models }, dropped };
   }
 
   exportText() {
@@ -445,19 +527,18 @@ export class Creator {
 
   refreshValidation() {
     const { data } = this.exportResult();
-    const errors = validateForDeploy(data, this.activeHashes());
-    // The core's runtime warnings (clamps, missing nodes, nested roots...), then the editor's own
-    // for bones the core said nothing about.
-    const core = (this.preview.wearable?.rig.warnings ?? []).map((w) => ({ text: w.message, path: w.path, code: w.code }));
-    const coreBones = new Set(core.map((w) => w.path.split('/')[3]).filter(Boolean).map(unescapePointer));
-    const warnings = [
-      ...core,
-      ...editorWarnings(this.tree, this.entries).filter((w) => !coreBones.has(w.path)).map((w) => ({ text: w.message, path: '' })),
-    ];
+    const errors = this.validate(data);
+    // The core's runtime warnings (clamps, missing nodes and centers, nested roots...), then the
+    // Builder's two that are no rule of the core: its bone cap, and nothing marked as a root.
+    const warnings = (this.preview.wearable?.rig.warnings ?? []).map((w) => ({ text: w.message, path: w.path, code: w.code }));
+    const names = new Set(this.tree.candidates.map((c) => c.name));
+    const configured = Object.keys(this.entries).filter((n) => names.has(n)).length;
+    if (configured > BUILDER_MAX_BONES) warnings.push({ text: `${configured} configured bones: the Builder allows at most ${BUILDER_MAX_BONES}`, path: '' });
+    if (names.size && !Object.values(this.entries).some((e) => e?.isRoot === true)) warnings.push({ text: 'no entry has isRoot: true, so nothing is simulated', path: '' });
     const shown = (path) => path.split(this.hash).join('<GLB hash>');  // the hash is 59 characters
     const items = [];
     for (const e of errors) {
-      items.push(element('li', { class: 'error' }, e.message, ' ', element('span', { class: 'path' }, shown(`springBones${e.path}`))));
+      items.push(element('li', { class: 'error' }, shown(e.message)));
     }
     for (const w of warnings) {
       items.push(element('li', { class: 'warning' }, w.text, w.path ? ' ' : '', w.path ? element('span', { class: 'path' }, shown(w.path)) : null));

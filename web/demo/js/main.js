@@ -1,15 +1,18 @@
 // The preview: a three.js scene with the sample avatar (or a crowd of them), each wearing the
 // current wearable through the springbones three.js adapter, animated with the avatar's clips.
-// The creator panel (creator.js) decides which wearable and which parameters; this file owns the
-// scene, the frame loop, the playback controls and the read-only debug hook
-// (window.springbonesDemo) the browser test drives.
+// Every avatar's instance is in one springbones scene, stepped with one call per frame. The
+// creator panel (creator.js) decides which wearable and which parameters; this file owns the
+// scene, the frame loop, the playback controls (animation, turn, shake, pause, reset, integrator,
+// colliders, debug lines) and the read-only debug hook (window.springbonesDemo) the browser test
+// drives.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { createSpringBones } from '../../springbones.js';
-import { attachWearable, wearableNodes, SpringBonesHelper } from '../../three/springBonesThree.js';
+import { attachWearable, avatarArmature, wearableNodes, SpringBonesHelper } from '../../three/springBonesThree.js';
+import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
 
 const $ = (id) => document.getElementById(id);
@@ -21,6 +24,11 @@ const kShakeSeconds = 1.4;
 const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
+// Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
+const kViews = {
+  body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
+  head: { position: [0.42, 1.62, 0.98], target: [0, 1.52, 0] },
+};
 
 class Preview {
   constructor() {
@@ -35,8 +43,14 @@ class Preview {
     this.shakeTime = -1;       // seconds since the shake started, -1 when not shaking
     this.showChains = false;
     this.showBody = true;
-    this.springTimes = new Float64Array(120);  // ms per frame spent in the adapter, a ring
+    this.integrator = 'vrm';
+    this.colliders = true;     // the avatar's head and torso colliders go into the rig
+    this.showColliders = false;
+    this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
+    this.springTimes = new Float64Array(120);  // ms per frame in drivers + scene.step + rotations, a ring
     this.springTimeCount = 0;
+    this.solverTimes = new Float64Array(120);  // ms per frame in scene.step alone
+    this.solverTimeCount = 0;
     this.frameTimes = new Float64Array(120);
     this.frameCount = 0;
     this.lastReadout = 0;
@@ -50,11 +64,9 @@ class Preview {
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x23262e);
     this.camera = new THREE.PerspectiveCamera(35, 1, 0.05, 100);
-    this.camera.position.set(2.3, 1.55, 3.2);
     this.controls = new OrbitControls(this.camera, canvas);
-    this.controls.target.set(0, 1.0, 0);
     this.controls.enableDamping = true;
-    this.controls.update();
+    this.setView('body');
 
     // Image-based light for the metals, plus a key light.
     const pmrem = new THREE.PMREMGenerator(this.renderer);
@@ -77,6 +89,7 @@ class Preview {
 
     this.loader = new GLTFLoader();
     this.sb = await createSpringBones();
+    this.simulation = this.sb.createScene();  // every avatar's instance, stepped in one call
     const avatarBytes = await fetchBytes(new URL('avatar.glb', ASSETS));
     this.avatarGltf = await this.loader.parseAsync(avatarBytes.buffer, ASSETS.href);
     this.timer = new THREE.Timer();
@@ -121,7 +134,10 @@ class Preview {
     const mixer = new THREE.AnimationMixer(root);
     const actions = {};
     for (const clip of this.avatarGltf.animations) actions[clip.name] = mixer.clipAction(clip);
-    const avatar = { holder, root, body, mixer, actions, base: new THREE.Vector3(), attachment: null, helper: null, wearableRoot: null };
+    const avatar = {
+      holder, root, body, mixer, actions, base: new THREE.Vector3(),
+      attachment: null, helper: null, colliderHelper: null, wearableRoot: null, extraDrivers: [],
+    };
     // a crowd does not march in step
     const action = actions[this.animation];
     if (action) {
@@ -181,31 +197,67 @@ class Preview {
     this.wearable.rig = rig;
     for (const a of this.avatars) {
       if (!a.attachment) continue;
-      a.attachment.setRig(rig);
+      a.attachment.setRig(rig);  // disposes of the old instance, which leaves the scene with it
+      this.linkAttachment(a);
       a.helper.rebuild();
     }
     old.dispose();
   }
 
+  /** loadRig options the preview adds to the wearable's metadata: the avatar's colliders. */
+  rigOptions() {
+    return this.colliders ? { colliders: AVATAR_COLLIDERS, hitRadius: AVATAR_HIT_RADIUS } : {};
+  }
+
   wear(avatar) {
     const { gltf, rig } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
-    avatar.attachment = attachWearable(avatar.root, clone, rig, { nodes: wearableNodes(gltf, clone) });
+    avatar.attachment = attachWearable(avatar.root, clone, rig, {
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
+    });
     avatar.wearableRoot = clone;
     avatar.helper = new SpringBonesHelper(avatar.attachment);
     avatar.helper.visible = this.showChains;
     this.scene.add(avatar.helper);
-    for (const w of avatar.attachment.warnings) console.warn(`springbones demo: ${w.message}`);
+    this.linkAttachment(avatar);
+  }
+
+  /**
+   * After attaching or a new rig: the instance joins the page's scene; drivers the wearable GLB
+   * does not have (a collider on an avatar bone, node -1) are found by name in the avatar's
+   * armature and written by the frame loop; the colliders are drawn on their bones.
+   */
+  linkAttachment(avatar) {
+    const { attachment } = avatar;
+    this.simulation.add(attachment.instance);
+    const armature = avatarArmature(avatar.root);
+    avatar.extraDrivers = [];
+    attachment.rig.drivers.forEach((d, index) => {
+      if (attachment.driverObjects[index]) return;
+      const object = armature.get(d.name);
+      if (object) avatar.extraDrivers.push({ index, elements: object.matrixWorld.elements });
+    });
+    const handled = new Set(avatar.extraDrivers.map((d) => attachment.rig.drivers[d.index].name));
+    for (const w of attachment.warnings) {
+      if (!handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
+    }
+    avatar.colliderHelper?.dispose();
+    const objectOf = (driver) => attachment.driverObjects[driver] ?? armature.get(attachment.rig.drivers[driver].name) ?? null;
+    avatar.colliderHelper = new ColliderHelper(attachment.rig.colliders, objectOf);
+    avatar.colliderHelper.setVisible(this.showColliders);
   }
 
   unwear(avatar) {
     if (!avatar.attachment) return;
-    avatar.attachment.dispose();
+    avatar.attachment.dispose();  // takes its instance out of the scene
     avatar.helper.removeFromParent();
     avatar.helper.dispose();
+    avatar.colliderHelper?.dispose();
     avatar.attachment = null;
     avatar.helper = null;
+    avatar.colliderHelper = null;
     avatar.wearableRoot = null;
+    avatar.extraDrivers = [];
   }
 
   get jointCount() {
@@ -223,6 +275,16 @@ class Preview {
       }
       if (next) next.reset().fadeIn(kFade).play();
     }
+  }
+
+  /** A camera preset of kViews ('body' or 'head'); the orbit controls start from it. */
+  setView(name) {
+    const view = kViews[name];
+    if (!view) throw new RangeError(`unknown view ${name}`);
+    this.camera.position.fromArray(view.position);
+    this.controls.target.fromArray(view.target);
+    this.controls.update();
+    $('view-preset').value = name;
   }
 
   setPaused(paused) {
@@ -268,6 +330,31 @@ class Preview {
     for (const a of this.avatars) if (a.body) a.body.visible = show;
   }
 
+  /** 'vrm' or 'xpbd': every avatar gets a new instance of that integrator, starting from rest. */
+  setIntegrator(name) {
+    if (name !== 'vrm' && name !== 'xpbd') throw new RangeError(`unknown integrator ${name}`);
+    this.integrator = name;
+    $('integrator').value = name;
+    if (!this.wearable) return;
+    for (const a of this.avatars) {
+      this.unwear(a);
+      this.wear(a);
+    }
+  }
+
+  /** Colliders on or off: the creator rebuilds the rig with or without them. */
+  setColliders(on) {
+    this.colliders = on;
+    $('colliders').checked = on;
+    this.onRigOptionsChange?.();
+  }
+
+  setShowColliders(show) {
+    this.showColliders = show;
+    $('show-colliders').checked = show;
+    for (const a of this.avatars) a.colliderHelper?.setVisible(show);
+  }
+
   // ---- the frame
 
   frame(timestamp) {
@@ -297,19 +384,37 @@ class Preview {
     }
     // The drivers' matrixWorld must be current before the springs read them.
     this.scene.updateMatrixWorld();
-    if (dt > 0) {
-      const t0 = performance.now();
-      for (const a of this.avatars) a.attachment?.update(dt);
-      this.springTimes[this.springTimeCount++ % this.springTimes.length] = performance.now() - t0;
+    if (dt > 0) this.simulate(dt);
+  }
+
+  /** Drivers of every avatar in, one scene.step for all of them, rotations out. */
+  simulate(dt) {
+    const t0 = performance.now();
+    for (const a of this.avatars) {
+      if (!a.attachment) continue;
+      a.attachment.readDrivers();
+      if (a.extraDrivers.length) {
+        const matrices = a.attachment.instance.driverMatrices;
+        for (const { index, elements } of a.extraDrivers) {
+          for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
+        }
+      }
     }
+    const t1 = performance.now();
+    this.simulation.step(dt);
+    const t2 = performance.now();
+    for (const a of this.avatars) a.attachment?.writeRotations();
+    const t3 = performance.now();
+    this.springTimes[this.springTimeCount++ % this.springTimes.length] = t3 - t0;
+    this.solverTimes[this.solverTimeCount++ % this.solverTimes.length] = t2 - t1;
   }
 
   springMsAverage() {
-    const n = Math.min(this.springTimeCount, this.springTimes.length);
-    if (n === 0) return NaN;
-    let sum = 0;
-    for (let i = 0; i < n; i++) sum += this.springTimes[i];
-    return sum / n;
+    return ringAverage(this.springTimes, this.springTimeCount);
+  }
+
+  solverMsAverage() {
+    return ringAverage(this.solverTimes, this.solverTimeCount);
   }
 
   fps() {
@@ -322,28 +427,37 @@ class Preview {
   updateReadout() {
     const joints = this.jointCount;
     const ms = this.springMsAverage();
+    const solver = this.solverMsAverage();
     $('readout-joints').textContent = String(joints);
+    $('readout-integrator').textContent = this.integrator.toUpperCase();
+    $('readout-solver').textContent = Number.isFinite(solver) ? solver.toFixed(3) : '–';
     $('readout-springs').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
-    $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
+    $('readout-per-joint').textContent = Number.isFinite(solver) && joints ? `(${((solver * 1e6) / joints).toFixed(0)} ns/joint)` : '';
     const fps = this.fps();
     $('readout-fps').textContent = Number.isFinite(fps) ? fps.toFixed(0) : '–';
   }
 
   /**
-   * Times the adapter alone: `frames` back-to-back updates of every attachment (drivers in, step,
-   * rotations out) at 60 Hz, the avatars frozen. More precise than the readout, whose per-frame
-   * samples are near the browser's timer resolution.
+   * Times the springs alone: `frames` back-to-back frames of drivers in, one scene.step, rotations
+   * out, at 60 Hz, the avatars frozen. More precise than the readout, whose per-frame samples are
+   * near the browser's timer resolution.
    */
   benchmark(frames = 300) {
     this.scene.updateMatrixWorld();
     const t0 = performance.now();
-    for (let f = 0; f < frames; f++) {
-      for (const a of this.avatars) a.attachment?.update(1 / 60);
-    }
+    for (let f = 0; f < frames; f++) this.simulate(1 / 60);
     const ms = (performance.now() - t0) / frames;
     const joints = this.jointCount;
     return { msPerFrame: ms, joints, avatars: this.avatars.length, nsPerJoint: joints ? (ms * 1e6) / joints : NaN };
   }
+}
+
+function ringAverage(ring, count) {
+  const n = Math.min(count, ring.length);
+  if (n === 0) return NaN;
+  let sum = 0;
+  for (let i = 0; i < n; i++) sum += ring[i];
+  return sum / n;
 }
 
 async function fetchBytes(url) {
@@ -373,6 +487,10 @@ function wireControls(preview) {
   $('reset').addEventListener('click', () => preview.reset());
   $('show-chains').addEventListener('change', (e) => preview.setShowChains(e.target.checked));
   $('show-body').addEventListener('change', (e) => preview.setShowBody(e.target.checked));
+  $('integrator').addEventListener('change', (e) => preview.setIntegrator(e.target.value));
+  $('view-preset').addEventListener('change', (e) => preview.setView(e.target.value));
+  $('colliders').addEventListener('change', (e) => preview.setColliders(e.target.checked));
+  $('show-colliders').addEventListener('change', (e) => preview.setShowColliders(e.target.checked));
   $('avatars').addEventListener('change', (e) => {
     preview.setAvatarCount(Number(e.target.value));
     e.target.value = String(preview.avatars.length);
@@ -395,6 +513,8 @@ function debugHook(preview, creator) {
     },
     state: () => ({
       animation: preview.animation,
+      shaking: preview.shakeTime >= 0,
+      spin: preview.spin,
       paused: preview.paused,
       yaw: preview.yaw,
       avatars: preview.avatars.length,
@@ -402,6 +522,14 @@ function debugHook(preview, creator) {
       wearable: preview.wearable?.label ?? null,
       contentHash: creator.hash,
       springMsPerFrame: preview.springMsAverage(),
+      solverMsPerFrame: preview.solverMsAverage(),
+      integrator: preview.integrator,
+      colliders: preview.colliders,
+      rigColliders: first()?.rig.colliders.length ?? 0,
+      collidersShown: preview.avatars.reduce((n, a) => n + (a.colliderHelper?.lines.filter((l) => l.visible && l.parent).length ?? 0), 0),
+      chainsShown: preview.avatars.filter((a) => a.helper?.visible && a.helper.parent).length,
+      sceneSize: preview.simulation.size,
+      instances: preview.avatars.filter((a) => a.attachment && preview.simulation.slotOf(a.attachment.instance) >= 0).length,
       fps: preview.fps(),
       messages: creator.messageList(),
       validation: creator.validationList(),
@@ -418,6 +546,40 @@ function debugHook(preview, creator) {
       for (let t = 0; t < seconds - 1e-9; t += dt) preview.advance(dt);
     },
     benchmark: (frames) => preview.benchmark(frames),
+    setIntegrator: (name) => preview.setIntegrator(name),
+    setView: (name) => preview.setView(name),
+    /** The parameters and center the first avatar's rig gives a joint (null if not simulated). */
+    joint: (name) => {
+      const rig = first()?.rig;
+      const j = rig?.joints.find((x) => x.name === name);
+      return j ? { params: structuredClone(j.params), center: j.centerDriver >= 0 ? rig.drivers[j.centerDriver].name : null } : null;
+    },
+    setColliders: (on) => preview.setColliders(Boolean(on)),
+    setShowColliders: (show) => preview.setShowColliders(Boolean(show)),
+    /**
+     * How far the first avatar's joint tails are outside its head sphere (AVATAR_COLLIDERS[0],
+     * whether or not the rig has colliders), from the instance's world matrices after the last
+     * step: { clearance (metres, negative inside), joint, radius }.
+     */
+    headClearance: () => {
+      const a = preview.avatars[0];
+      const head = a && avatarArmature(a.root).get(AVATAR_COLLIDERS[0].node);
+      if (!a?.attachment || !head) return null;
+      const { rig, instance } = a.attachment;
+      const centre = new THREE.Vector3().fromArray(AVATAR_COLLIDERS[0].offset).applyMatrix4(head.matrixWorld);
+      const radius = AVATAR_COLLIDERS[0].radius * head.matrixWorld.getMaxScaleOnAxis();
+      const world = instance.worldMatrices;
+      const m = new THREE.Matrix4();
+      const tail = new THREE.Vector3();
+      let best = { clearance: Infinity, joint: null, radius };
+      rig.joints.forEach((j, i) => {
+        m.fromArray(world, i * 16);
+        tail.fromArray(j.tailOffset).applyMatrix4(m);
+        const clearance = tail.distanceTo(centre) - radius;
+        if (clearance < best.clearance) best = { clearance, joint: j.name, radius };
+      });
+      return best;
+    },
     exportText: () => creator.exportText(),
   });
 }
@@ -428,6 +590,7 @@ async function main() {
   try {
     await preview.init();
     const creator = new Creator(preview);
+    preview.onRigOptionsChange = () => creator.rebuild();
     await creator.loadSample();
     window.springbonesDemo = debugHook(preview, creator);
     $('boot').textContent = '';

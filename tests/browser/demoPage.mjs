@@ -1,0 +1,57 @@
+// Opens the demo page for a browser test: serves the repository in-process on a free port and
+// drives Debian's Chromium (headless, no sandbox, background networking off, software WebGL
+// through SwiftShader) with playwright-core. Collects console errors and page errors.
+//
+// Needs the WebAssembly module (scripts/build wasm) and /usr/bin/chromium (or CHROMIUM_PATH).
+import assert from 'node:assert/strict';
+import { existsSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../scripts/serve.mjs';
+
+export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const artifacts = join(root, 'tests', 'artifacts');
+const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
+
+/** A reason to skip (no Chromium), or false. */
+export const skip = !existsSync(chromiumPath) ? `no Chromium at ${chromiumPath}` : false;
+
+/**
+ * Serves the repository, opens web/demo/ and waits until the sample wearable is loaded.
+ * @returns {Promise<{ page, consoleErrors: string[], close: () => Promise<void> }>}
+ */
+export async function openDemo() {
+  assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
+  const { server } = await startServer({ port: 0 });
+  const { port } = server.address();
+  const profileDir = mkdtempSync(join(tmpdir(), 'springbones-chromium-'));
+  const context = await chromium.launchPersistentContext(profileDir, {
+    executablePath: chromiumPath,
+    headless: true,
+    viewport: { width: 1280, height: 800 },
+    args: [
+      '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+      '--disable-sync', '--no-first-run',
+      // software WebGL without a GPU (SwiftShader through ANGLE); newer Chromium wants the opt-in
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    ],
+  });
+  const page = context.pages()[0] ?? await context.newPage();
+  const consoleErrors = [];
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
+  page.setDefaultTimeout(30000);
+  await page.goto(`http://127.0.0.1:${port}/web/demo/`);
+  await page.waitForFunction(() => window.springbonesDemo?.ready === true);
+  const close = async () => {
+    await context.close();
+    server.close();
+    rmSync(profileDir, { recursive: true, force: true });
+  };
+  return { page, consoleErrors, close };
+}
+
+/** Largest absolute difference between two equally long arrays. */
+export const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
