@@ -5,17 +5,21 @@
 //   const attachment = attachWearable(avatar.scene, wearableGltf, rig);
 //   // every frame, after the animation mixer and avatar.scene.updateMatrixWorld():
 //   attachment.update(dt);
+//   // or, for many avatars, one call into WebAssembly for all of them:
+//   const group = new SpringBonesGroup(springBones);  group.add(attachment);  ...  group.update(dt);
 //
 // Per frame: each driver's `matrixWorld` goes into the instance's driver matrices, the instance
 // steps, and each joint's local rotation is written into its Object3D's quaternion. No allocation
 // per frame. The rotations are written into the quaternion's fields (_x, _y, _z, _w) rather than
 // with Quaternion.set(), which would fire the onChange callback that recomputes Object3D.rotation
-// (an Euler, with trigonometry) for every joint every frame; a joint's `.rotation` is therefore
-// stale — read `.quaternion`. Measured on this machine: see web/three/README.md.
+// (an Euler, with trigonometry) for every joint every frame. Instead a joint's `.rotation` becomes
+// a getter that converts the quaternion when it is read, so it is never stale and costs nothing
+// per frame (restored to a plain property when the joint is released). The joints' matrix and
+// matrixWorld are left to three.js's updateMatrixWorld (see README.md for why and the numbers).
 //
 // `three` is a peer dependency (imported as 'three'); this module only uses springbones' public
-// JavaScript API (rig.joints, rig.drivers, rig.createInstance, instance.driverMatrices / step /
-// rotations / reset / dispose), never the WebAssembly glue.
+// JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
+// / step / rotations / reset / dispose), never the WebAssembly glue.
 import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Quaternion, Skeleton } from 'three';
 
 /** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
@@ -71,6 +75,39 @@ export function wearableNodes(gltf, root = gltf.scene) {
   return nodes;
 }
 
+// Joints whose `.rotation` is a getter (object -> { descriptor it replaced, holders }). Writing
+// quaternion fields skips Object3D's quaternion -> Euler sync; the getter does that conversion
+// when `.rotation` is read instead of for every joint every frame. Writes through `.rotation`
+// still work: the getter returns the object's own Euler, whose onChange updates the quaternion.
+const lazyEulers = new WeakMap();
+
+function holdEuler(object) {
+  const held = lazyEulers.get(object);
+  if (held) {
+    held.holders += 1;  // a joint simulated by two attachments (an avatar bone both name)
+    return;
+  }
+  const descriptor = Object.getOwnPropertyDescriptor(object, 'rotation');
+  // Anything but three.js's own data property is left alone (its Euler would then be stale).
+  if (!descriptor?.configurable || !descriptor.value?.isEuler) return;
+  const euler = descriptor.value;
+  const quaternion = object.quaternion;
+  Object.defineProperty(object, 'rotation', {
+    configurable: true,
+    enumerable: descriptor.enumerable,
+    get: () => euler.setFromQuaternion(quaternion, undefined, false),  // false: no onChange loop
+  });
+  lazyEulers.set(object, { descriptor, holders: 1 });
+}
+
+function releaseEuler(object) {
+  const held = lazyEulers.get(object);
+  if (!held || --held.holders > 0) return;
+  lazyEulers.delete(object);
+  held.descriptor.value.setFromQuaternion(object.quaternion, undefined, false);
+  Object.defineProperty(object, 'rotation', held.descriptor);
+}
+
 /**
  * A wearable worn by an avatar and simulated by one springbones instance. Made by attachWearable.
  */
@@ -89,6 +126,7 @@ export class SpringBonesAttachment {
     this._moved = moved;  // [object, previous parent], for detach
     this._restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
     this._instanceOptions = options.instance;
+    this._group = null;  // the SpringBonesGroup stepping this attachment, if any
     this.rig = null;
     this.instance = null;
     /** Object3D per rig joint (its rotation is written) and per driver (its matrixWorld is read). */
@@ -108,8 +146,17 @@ export class SpringBonesAttachment {
       throw new TypeError('setRig: expected a springbones rig (with joints and drivers)');
     }
     const instance = rig.createInstance(this._instanceOptions);  // throws before anything changes
+    if (this._group) {
+      try {
+        this._group.scene.add(instance);  // e.g. a rig of another springbones module throws
+      } catch (error) {
+        instance.dispose();
+        throw error;
+      }
+    }
     const previous = this.jointObjects;
-    if (this.instance) this.instance.dispose();
+    if (this.instance) this.instance.dispose();  // also takes it out of the group's scene
+    if (this._group) this._group._moveToEnd(this);  // the new instance took the last slot
     this.instance = instance;
     this.rig = rig;
     this.warnings = [];
@@ -128,8 +175,12 @@ export class SpringBonesAttachment {
       }
     }
     const current = new Set(this.jointObjects);
-    for (const object of previous) {
-      if (object && !current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
+    current.delete(null);
+    for (const object of current) holdEuler(object);  // before releasing: shared joints stay held
+    for (const object of new Set(previous)) {
+      if (!object) continue;
+      releaseEuler(object);
+      if (!current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
     }
     // The per-frame loops touch only these arrays: the joints' Quaternion objects (a joint without
     // an object writes into a spare one, so the array stays of one type) and the drivers'
@@ -146,7 +197,8 @@ export class SpringBonesAttachment {
    * One frame: reads the drivers' matrixWorld (call avatarRoot.updateMatrixWorld() — or the
    * scene's — after animating and before this), steps by dt seconds and writes the joints'
    * quaternions. The joints' matrixWorld is refreshed by the next updateMatrixWorld (the renderer
-   * does it). Allocation-free.
+   * does it). Allocation-free. An attachment in a SpringBonesGroup is stepped by group.update():
+   * calling this too would step it twice.
    */
   update(dt) {
     this.readDrivers();
@@ -191,6 +243,10 @@ export class SpringBonesAttachment {
    * are the caller's to dispose of.
    */
   dispose({ detach = true } = {}) {
+    if (this._group) this._group.remove(this);
+    if (!this.instance.disposed) {
+      for (const object of new Set(this.jointObjects)) if (object) releaseEuler(object);
+    }
     this.instance.dispose();
     if (detach) {
       for (const [object, rest] of this._restQuaternions) object.quaternion.fromArray(rest);
@@ -201,6 +257,83 @@ export class SpringBonesAttachment {
       this._moved.length = 0;
       for (const mesh of this.meshes) mesh.skeleton.dispose();
     }
+  }
+}
+
+/**
+ * Steps many attachments with one call into WebAssembly: update(dt) reads every attachment's
+ * drivers, runs one springbones scene.step for all their instances and writes every attachment's
+ * rotations. Per-instance step() calls cost a JS -> WebAssembly transition and a scheduling pass
+ * each; the scene also gives the whole crowd one distance budget (scene.setBudget).
+ */
+export class SpringBonesGroup {
+  /**
+   * springBones: the module from createSpringBones(). The group owns the springbones scene it
+   * creates (`this.scene`, for setBudget / isActive), not the attachments.
+   */
+  constructor(springBones) {
+    if (typeof springBones?.createScene !== 'function') {
+      throw new TypeError('SpringBonesGroup: expected the springbones module (the result of createSpringBones())');
+    }
+    this.scene = springBones.createScene();
+    /** The attachments, in the scene's slot order (scene.positions[3 * i] is attachments[i]'s). */
+    this.attachments = [];
+  }
+
+  /** Adds an attachment (adding it again does nothing); an attachment belongs to one group. */
+  add(attachment) {
+    if (!(attachment instanceof SpringBonesAttachment)) {
+      throw new TypeError('SpringBonesGroup.add: expected an attachment from attachWearable()');
+    }
+    if (attachment._group === this) return;
+    if (attachment._group) throw new Error('SpringBonesGroup.add: the attachment is in another group');
+    this.scene.add(attachment.instance);  // throws for a disposed instance or another module's
+    this.attachments.push(attachment);
+    attachment._group = this;
+  }
+
+  /** Takes an attachment out (it can then update() on its own); not in the group: nothing happens. */
+  remove(attachment) {
+    const index = this.attachments.indexOf(attachment);
+    if (index < 0) return;
+    if (!attachment.instance.disposed) this.scene.remove(attachment.instance);
+    this.attachments.splice(index, 1);
+    attachment._group = null;
+  }
+
+  /**
+   * One frame for every attachment: call after updating world matrices, as for
+   * attachment.update(). Each avatar root's world position goes into scene.positions for the
+   * budget. Allocation-free.
+   */
+  update(dt) {
+    const attachments = this.attachments;
+    const positions = this.scene.positions;  // a getter: the view survives memory growth
+    for (let i = 0, p = 0; i < attachments.length; i++, p += 3) {
+      const attachment = attachments[i];
+      attachment.readDrivers();
+      const e = attachment.avatarRoot.matrixWorld.elements;
+      positions[p] = e[12];
+      positions[p + 1] = e[13];
+      positions[p + 2] = e[14];
+    }
+    this.scene.step(dt);
+    for (let i = 0; i < attachments.length; i++) attachments[i].writeRotations();
+  }
+
+  /** Frees the scene; the attachments stay usable on their own (their update()). */
+  dispose() {
+    for (const attachment of this.attachments) attachment._group = null;
+    this.attachments = [];
+    this.scene.dispose();
+  }
+
+  // setRig replaced the attachment's instance: the scene dropped the old one's slot (later slots
+  // shift down) and appended the new one, so the attachment moves to the end here too.
+  _moveToEnd(attachment) {
+    const index = this.attachments.indexOf(attachment);
+    if (index >= 0) this.attachments.splice(index, 1);
+    this.attachments.push(attachment);
   }
 }
 
