@@ -1,0 +1,267 @@
+// What the three.js adapter leaves in the bones each frame, and SpringBonesGroup (one scene.step
+// for many attachments): quaternions equal to the instance's rotations, world matrices (after
+// three.js's updateMatrixWorld) equal to the instance's, `.rotation` consistent although the
+// adapter bypasses Quaternion.set(), and a group stepping exactly like separate updates.
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { before, describe, test } from 'node:test';
+import { fileURLToPath } from 'node:url';
+import { AnimationMixer, Euler, Quaternion, Scene } from 'three';
+import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
+import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
+import { createSpringBones } from '../../web/springbones.js';
+import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
+
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const assets = join(root, 'web', 'demo', 'assets');
+const read = (name) => new Uint8Array(readFileSync(join(assets, name)));
+const loader = new GLTFLoader();
+const parse = (bytes) => loader.parseAsync(bytes.slice().buffer, '');
+const DT = 1 / 60;
+// One solver step per frame, landing at the frame's end: the instance's world matrices are then
+// those of this frame's drivers, the ones three.js composes the bones under.
+const ONE_STEP = { stepHz: 60 };
+
+let sb;
+let avatarGltf;
+let wearableGltf;
+let wearableBytes;
+let metadata;
+let rig;
+
+before(async () => {
+  sb = await createSpringBones();
+  avatarGltf = await parse(read('avatar.glb'));
+  wearableBytes = read('hair_wearable.glb');
+  wearableGltf = await parse(wearableBytes);
+  metadata = JSON.parse(readFileSync(join(assets, 'hair_wearable.metadata.json'), 'utf8'));
+  rig = sb.loadRig(wearableBytes, metadata);
+});
+
+/** A fresh avatar in `scene` wearing a fresh clone of the sample wearable, walking. */
+function walker(scene, { instance = ONE_STEP, x = 0, speed = 1 } = {}) {
+  const avatarRoot = SkeletonUtils.clone(avatarGltf.scene);
+  avatarRoot.position.x = x;
+  scene.add(avatarRoot);
+  const wearable = SkeletonUtils.clone(wearableGltf.scene);
+  const attachment = attachWearable(avatarRoot, wearable, rig, { nodes: wearableNodes(wearableGltf, wearable), instance });
+  const mixer = new AnimationMixer(avatarRoot);
+  mixer.clipAction(avatarGltf.animations.find((c) => c.name === 'walk')).play();
+  scene.updateMatrixWorld();
+  return { avatarRoot, attachment, mixer, speed };
+}
+
+/** Animation and a turn for each walker, then world matrices: what a page does before update. */
+function animate(scene, walkers, f) {
+  for (const w of walkers) {
+    w.mixer.update(DT * w.speed);
+    w.avatarRoot.rotation.y = 0.8 * Math.sin(f * DT * 3 * w.speed);
+  }
+  scene.updateMatrixWorld();
+}
+
+const maxAbsDiff = (a, b) => {
+  let m = 0;
+  for (let i = 0; i < a.length; i++) m = Math.max(m, Math.abs(a[i] - b[i]));
+  return m;
+};
+
+describe('what the adapter writes', () => {
+  test('each joint quaternion is exactly the instance rotation, every frame', () => {
+    const scene = new Scene();
+    const w = walker(scene);
+    const { attachment } = w;
+    let bent = 0;
+    for (let f = 0; f < 90; f++) {
+      animate(scene, [w], f);
+      attachment.update(DT);
+      const r = attachment.instance.rotations;
+      attachment.jointObjects.forEach((o, j) => {
+        const q = o.quaternion;
+        assert.deepEqual([q.x, q.y, q.z, q.w], Array.from(r.subarray(4 * j, 4 * j + 4)), `frame ${f}, ${o.name}`);
+        if (Math.abs(q.w) < 0.999) bent += 1;
+      });
+    }
+    assert.ok(bent > 0, 'the walk bends some joints away from identity');
+    attachment.dispose();
+  });
+
+  test('after updateMatrixWorld, each joint matrixWorld equals the instance world matrix (1e-6)', () => {
+    const scene = new Scene();
+    const w = walker(scene);
+    const { attachment } = w;
+    let worst = 0;
+    let moved = 0;
+    const first = attachment.jointObjects.map((o) => o.matrixWorld.elements.slice(12, 15));
+    for (let f = 0; f < 120; f++) {
+      animate(scene, [w], f);
+      attachment.update(DT);
+      scene.updateMatrixWorld();  // the renderer's pass: joints composed from the new quaternions
+      const world = attachment.instance.worldMatrices;
+      attachment.jointObjects.forEach((o, j) => {
+        worst = Math.max(worst, maxAbsDiff(o.matrixWorld.elements, world.subarray(16 * j, 16 * j + 16)));
+        moved = Math.max(moved, maxAbsDiff(o.matrixWorld.elements.slice(12, 15), first[j]));
+      });
+    }
+    assert.ok(worst < 1e-6, `largest difference ${worst}`);
+    assert.ok(moved > 0.05, `the joints travel (${moved} m), so the comparison is not of rest poses`);
+    attachment.dispose();
+  });
+
+  test('.rotation stays consistent with the quaternion although the adapter bypasses onChange', () => {
+    const scene = new Scene();
+    const w = walker(scene);
+    const { attachment } = w;
+    const expected = new Euler();
+    for (let f = 0; f < 30; f++) {
+      animate(scene, [w], f);
+      attachment.update(DT);
+    }
+    for (const o of attachment.jointObjects) {
+      expected.setFromQuaternion(o.quaternion, o.rotation.order);
+      assert.ok(maxAbsDiff(o.rotation.toArray().slice(0, 3), expected.toArray().slice(0, 3)) < 1e-12, o.name);
+    }
+    // Writing through .rotation still drives the quaternion (three.js's own Euler onChange).
+    const joint = attachment.jointObjects[0];
+    const euler = joint.rotation;
+    assert.ok(euler.isEuler);
+    joint.rotation.set(0.3, -0.2, 0.1);
+    const q = new Quaternion().setFromEuler(new Euler(0.3, -0.2, 0.1));
+    assert.ok(maxAbsDiff(joint.quaternion.toArray(), q.toArray()) < 1e-12);
+    assert.equal(joint.rotation, euler, 'the same Euler object on every read');
+    // Released joints get their plain property back, in step with the quaternion.
+    attachment.dispose();
+    const descriptor = Object.getOwnPropertyDescriptor(joint, 'rotation');
+    assert.equal(descriptor.value, euler);
+    assert.equal(descriptor.get, undefined);
+    expected.setFromQuaternion(joint.quaternion, euler.order);
+    assert.ok(maxAbsDiff(euler.toArray().slice(0, 3), expected.toArray().slice(0, 3)) < 1e-12);
+  });
+
+  test('clones of a simulated avatar copy the current rotation', () => {
+    const scene = new Scene();
+    const w = walker(scene);
+    for (let f = 0; f < 20; f++) {
+      animate(scene, [w], f);
+      w.attachment.update(DT);
+    }
+    const joint = w.attachment.jointObjects[1];
+    const copy = joint.clone(false);
+    assert.ok(maxAbsDiff(copy.quaternion.toArray(), joint.quaternion.toArray()) < 1e-12);
+    assert.ok(maxAbsDiff(copy.rotation.toArray().slice(0, 3), joint.rotation.toArray().slice(0, 3)) < 1e-12);
+    assert.ok(Object.getOwnPropertyDescriptor(copy, 'rotation').value?.isEuler, 'the clone is a plain Object3D');
+    w.attachment.dispose();
+  });
+});
+
+describe('SpringBonesGroup', () => {
+  test('one group.update steps every attachment exactly as separate updates do', () => {
+    const sceneA = new Scene();
+    const sceneB = new Scene();
+    const speeds = [1, 0.5, 1.7];
+    const separate = speeds.map((speed, i) => walker(sceneA, { speed, x: i }));
+    const grouped = speeds.map((speed, i) => walker(sceneB, { speed, x: i }));
+    const group = new SpringBonesGroup(sb);
+    for (const w of grouped) group.add(w.attachment);
+    assert.equal(group.scene.size, 3);
+    for (let f = 0; f < 90; f++) {
+      animate(sceneA, separate, f);
+      for (const w of separate) w.attachment.update(DT);
+      animate(sceneB, grouped, f);
+      group.update(DT);
+    }
+    speeds.forEach((_, i) => {
+      assert.deepEqual(Array.from(grouped[i].attachment.instance.rotations), Array.from(separate[i].attachment.instance.rotations));
+      grouped[i].attachment.jointObjects.forEach((o, j) => {
+        assert.deepEqual(o.quaternion.toArray(), separate[i].attachment.jointObjects[j].quaternion.toArray());
+      });
+    });
+    assert.ok(maxAbsDiff(grouped[0].attachment.instance.rotations, grouped[1].attachment.instance.rotations) > 1e-3,
+      'the avatars move differently, so equal results are not trivially equal');
+    group.dispose();
+    for (const w of [...separate, ...grouped]) w.attachment.dispose();
+  });
+
+  test('avatar positions feed the scene budget: only the nearest avatars are simulated', () => {
+    const scene = new Scene();
+    const walkers = [0, 10, 3].map((x) => walker(scene, { x }));
+    const group = new SpringBonesGroup(sb);
+    for (const w of walkers) group.add(w.attachment);
+    group.scene.setBudget(2, 0, 0, 0);
+    animate(scene, walkers, 0);
+    group.update(DT);
+    const positions = group.scene.positions;
+    walkers.forEach((w, i) => {
+      assert.deepEqual(Array.from(positions.subarray(3 * i, 3 * i + 3)), w.avatarRoot.getWorldPosition(w.avatarRoot.position.clone()).toArray());
+    });
+    assert.deepEqual(walkers.map((w) => group.scene.isActive(w.attachment.instance)), [true, false, true]);
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+  });
+
+  test('setRig, remove and dispose keep the group and the scene in step', () => {
+    const scene = new Scene();
+    const walkers = [0, 1, 2].map((x) => walker(scene, { x }));
+    const group = new SpringBonesGroup(sb);
+    for (const w of walkers) group.add(w.attachment);
+    group.add(walkers[0].attachment);  // again: nothing happens
+    assert.equal(group.scene.size, 3);
+
+    // setRig: the new instance takes the last slot, in the scene and in group.attachments.
+    const [hash] = Object.keys(metadata.models);
+    const ponytail = sb.loadRig(wearableBytes, { version: 1, models: { [hash]: { SpringBone_ponytail: metadata.models[hash].SpringBone_ponytail } } });
+    walkers[0].attachment.setRig(ponytail);
+    assert.deepEqual(group.attachments, [walkers[1].attachment, walkers[2].attachment, walkers[0].attachment]);
+    assert.equal(group.scene.size, 3);
+    assert.equal(group.scene.slotOf(walkers[0].attachment.instance), 2);
+    assert.equal(group.scene.slotOf(walkers[1].attachment.instance), 0);
+    animate(scene, walkers, 0);
+    group.update(DT);
+    assert.ok(walkers.every((w) => group.scene.isActive(w.attachment.instance)), 'all stepped after setRig');
+
+    // remove: stepped on its own again; dispose: leaves the group.
+    group.remove(walkers[1].attachment);
+    assert.equal(group.scene.size, 2);
+    walkers[1].attachment.update(DT);
+    walkers[2].attachment.dispose();
+    assert.deepEqual(group.attachments, [walkers[0].attachment]);
+    assert.equal(group.scene.size, 1);
+    group.update(DT);
+
+    // one group per attachment; only attachments
+    const other = new SpringBonesGroup(sb);
+    assert.throws(() => other.add(walkers[0].attachment), /another group/);
+    assert.throws(() => other.add({}), TypeError);
+    assert.throws(() => other.add(walkers[2].attachment), { code: 'disposed' });
+    assert.throws(() => new SpringBonesGroup({}), TypeError);
+    other.add(walkers[1].attachment);
+    other.dispose();
+    walkers[1].attachment.update(DT);  // usable on its own after its group is gone
+
+    group.dispose();
+    assert.throws(() => group.update(DT), { code: 'disposed' });
+    walkers[0].attachment.dispose();
+    walkers[1].attachment.dispose();
+    ponytail.dispose();
+  });
+
+  test('a setRig the group cannot take (another module\'s rig) changes nothing', async () => {
+    const scene = new Scene();
+    const w = walker(scene);
+    const group = new SpringBonesGroup(sb);
+    group.add(w.attachment);
+    const instance = w.attachment.instance;
+    const otherModule = await createSpringBones();
+    const foreign = otherModule.loadRig(wearableBytes, metadata);
+    assert.throws(() => w.attachment.setRig(foreign), /another springbones module/);
+    assert.equal(w.attachment.instance, instance);
+    assert.equal(w.attachment.rig, rig);
+    assert.equal(group.scene.slotOf(instance), 0);
+    assert.equal(group.scene.size, 1);
+    group.update(DT);
+    group.dispose();
+    w.attachment.dispose();
+    foreign.dispose();
+  });
+});
