@@ -6,6 +6,7 @@
 // are replayed by fuzz_regressions_test.cpp and named here (RegressionFuzz*).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -439,31 +440,46 @@ TEST(HostileInput, TenMegabyteMetadataIsReadAndSixteenMegabytesPlusOneIsRejected
 }
 
 TEST(HostileInput, ParametersAsStringsNullNaNAndHugeNumbersAreReplacedOrClampedWithWarnings) {
+  // What is not a finite number takes the ADR default (stiffness 2, gravityPower 0, drag 0.5);
+  // out-of-range values clamp to [0,4] / [0,2] / [0,1]. One warning per field, at its path.
   struct Case {
     json value;
     const char* warning;
+    float stiffness, gravity_power, drag;
   };
   const Case cases[] = {
-      {"2", "param-not-number"},
-      {nullptr, "param-not-number"},
-      {json::array({1}), "param-not-number"},
-      {true, "param-not-number"},
-      {std::numeric_limits<double>::quiet_NaN(), "param-not-finite"},  // only a C++ json holds it
-      {std::numeric_limits<double>::infinity(), "param-not-finite"},
-      {1e308, "param-out-of-range"},
-      {-1e308, "param-out-of-range"},
-      {std::numeric_limits<double>::denorm_min(), ""},
+      {"2", "param-not-number", 2, 0, 0.5f},
+      {nullptr, "param-not-number", 2, 0, 0.5f},
+      {json::array({1}), "param-not-number", 2, 0, 0.5f},
+      {true, "param-not-number", 2, 0, 0.5f},
+      {std::numeric_limits<double>::quiet_NaN(), "param-not-finite", 2, 0, 0.5f},  // only a C++ json holds it
+      {std::numeric_limits<double>::infinity(), "param-not-finite", 2, 0, 0.5f},
+      {1e308, "param-out-of-range", 4, 2, 1},
+      {-1e308, "param-out-of-range", 0, 0, 0},
+      {std::numeric_limits<double>::denorm_min(), "", 0, 0, 0},
   };
+  const std::string prefix = std::string("/models/") + kHash + "/SpringBone_hair/";
   for (const Case& c : cases) {
     const Loaded l = loadWearableValue(hairGlb(), hairMetadata(entry(c.value, c.value, {0, -1, 0}, c.value)));
     ASSERT_FALSE(l.error) << c.value;
+    const std::vector<Warning>& w = l.rig->warnings;
     if (*c.warning) {
-      EXPECT_EQ(test::countWarnings(l.rig->warnings, c.warning), 3) << c.value << test::describeWarnings(l.rig->warnings);
+      ASSERT_EQ(w.size(), 3u) << c.value << test::describeWarnings(w);
+      std::vector<std::string> paths;
+      for (const Warning& warning : w) {
+        EXPECT_EQ(warning.code, c.warning) << c.value;
+        EXPECT_FALSE(warning.message.empty());
+        paths.push_back(warning.path);
+      }
+      std::sort(paths.begin(), paths.end());
+      EXPECT_EQ(paths, (std::vector<std::string>{prefix + "drag", prefix + "gravityPower", prefix + "stiffness"}));
+    } else {
+      EXPECT_TRUE(w.empty()) << c.value << test::describeWarnings(w);
     }
     const BoneParams& p = l.rig->joints[0].params;
-    EXPECT_TRUE(p.stiffness >= 0 && p.stiffness <= 4) << c.value;
-    EXPECT_TRUE(p.gravity_power >= 0 && p.gravity_power <= 2) << c.value;
-    EXPECT_TRUE(p.drag >= 0 && p.drag <= 1) << c.value;
+    EXPECT_EQ(p.stiffness, c.stiffness) << c.value;
+    EXPECT_EQ(p.gravity_power, c.gravity_power) << c.value;
+    EXPECT_EQ(p.drag, c.drag) << c.value;
     Instance instance(l.rig);
     stepAndCheck(instance, 20);
   }
@@ -478,17 +494,34 @@ TEST(HostileInput, ParametersAsStringsNullNaNAndHugeNumbersAreReplacedOrClampedW
 }
 
 TEST(HostileInput, GravityDirOfLengthTwoOrFourFallsBackToDownWithAWarning) {
-  const json dirs[] = {{0, -1}, {0, -1, 0, 0}, json::array(), {1e308, 1e308, 1e308},
-                       {std::numeric_limits<double>::quiet_NaN(), 0, 0}, {0, 0, 0}, "down", nullptr};
-  for (const json& dir : dirs) {
-    const Loaded l = loadWearableValue(hairGlb(), hairMetadata(entry(1, 2, dir, 0.5)));
-    ASSERT_FALSE(l.error) << dir;
+  // What is not 3 finite numbers is the default [0,-1,0]; a huge vector keeps its direction
+  // (normalized without overflowing); each case is exactly one warning at the field's path.
+  struct Case {
+    json dir;
+    const char* warning;
+    glm::vec3 expected;
+  };
+  const glm::vec3 down(0, -1, 0);
+  const float diagonal = float(1 / std::sqrt(3.0));
+  const Case cases[] = {
+      {{0, -1}, "param-not-vector", down},
+      {{0, -1, 0, 0}, "param-not-vector", down},
+      {json::array(), "param-not-vector", down},
+      {{1e308, 1e308, 1e308}, "param-out-of-range", glm::vec3(diagonal)},
+      {{std::numeric_limits<double>::quiet_NaN(), 0, 0}, "param-not-vector", down},
+      {{0, -1, "0"}, "param-not-vector", down},
+      {{0, 0, 0}, "gravity-dir-zero", down},
+      {"down", "param-not-vector", down},
+      {nullptr, "param-not-vector", down},
+  };
+  for (const Case& c : cases) {
+    const Loaded l = loadWearableValue(hairGlb(), hairMetadata(entry(1, 2, c.dir, 0.5)));
+    ASSERT_FALSE(l.error) << c.dir;
     const glm::vec3 g = l.rig->joints[0].params.gravity_dir;
-    EXPECT_NEAR(glm::length(g), 1.0f, 1e-6f) << dir;
-    EXPECT_TRUE(test::hasWarning(l.rig->warnings, "param-not-vector") ||
-                test::hasWarning(l.rig->warnings, "gravity-dir-zero") ||
-                test::hasWarning(l.rig->warnings, "param-out-of-range"))
-        << dir << test::describeWarnings(l.rig->warnings);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(g[k], c.expected[k], 1e-6f) << c.dir;
+    ASSERT_EQ(l.rig->warnings.size(), 1u) << c.dir << test::describeWarnings(l.rig->warnings);
+    EXPECT_EQ(l.rig->warnings[0].code, c.warning) << c.dir;
+    EXPECT_EQ(l.rig->warnings[0].path, std::string("/models/") + kHash + "/SpringBone_hair/gravityDir");
     Instance instance(l.rig);
     stepAndCheck(instance, 20);
   }
