@@ -12,10 +12,9 @@
 // steps, and each joint's local rotation is written into its Object3D's quaternion. No allocation
 // per frame. The rotations are written into the quaternion's fields (_x, _y, _z, _w) rather than
 // with Quaternion.set(), which would fire the onChange callback that recomputes Object3D.rotation
-// (an Euler, with trigonometry) for every joint every frame. Instead a joint's `.rotation` becomes
-// a getter that converts the quaternion when it is read, so it is never stale and costs nothing
-// per frame (restored to a plain property when the joint is released). The joints' matrix and
-// matrixWorld are left to three.js's updateMatrixWorld (see README.md for why and the numbers).
+// (an Euler, with trigonometry) for every joint every frame; a simulated joint's `.rotation` is
+// therefore stale until attachment.syncEulers() — read `.quaternion`. The joints' matrix and
+// matrixWorld are left to three.js's updateMatrixWorld (see README.md for why, with numbers).
 //
 // `three` is a peer dependency (imported as 'three'); this module only uses springbones' public
 // JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
@@ -73,39 +72,6 @@ export function wearableNodes(gltf, root = gltf.scene) {
   };
   walk(gltf.scene, root);
   return nodes;
-}
-
-// Joints whose `.rotation` is a getter (object -> { descriptor it replaced, holders }). Writing
-// quaternion fields skips Object3D's quaternion -> Euler sync; the getter does that conversion
-// when `.rotation` is read instead of for every joint every frame. Writes through `.rotation`
-// still work: the getter returns the object's own Euler, whose onChange updates the quaternion.
-const lazyEulers = new WeakMap();
-
-function holdEuler(object) {
-  const held = lazyEulers.get(object);
-  if (held) {
-    held.holders += 1;  // a joint simulated by two attachments (an avatar bone both name)
-    return;
-  }
-  const descriptor = Object.getOwnPropertyDescriptor(object, 'rotation');
-  // Anything but three.js's own data property is left alone (its Euler would then be stale).
-  if (!descriptor?.configurable || !descriptor.value?.isEuler) return;
-  const euler = descriptor.value;
-  const quaternion = object.quaternion;
-  Object.defineProperty(object, 'rotation', {
-    configurable: true,
-    enumerable: descriptor.enumerable,
-    get: () => euler.setFromQuaternion(quaternion, undefined, false),  // false: no onChange loop
-  });
-  lazyEulers.set(object, { descriptor, holders: 1 });
-}
-
-function releaseEuler(object) {
-  const held = lazyEulers.get(object);
-  if (!held || --held.holders > 0) return;
-  lazyEulers.delete(object);
-  held.descriptor.value.setFromQuaternion(object.quaternion, undefined, false);
-  Object.defineProperty(object, 'rotation', held.descriptor);
 }
 
 /**
@@ -175,12 +141,9 @@ export class SpringBonesAttachment {
       }
     }
     const current = new Set(this.jointObjects);
-    current.delete(null);
-    for (const object of current) holdEuler(object);  // before releasing: shared joints stay held
-    for (const object of new Set(previous)) {
-      if (!object) continue;
-      releaseEuler(object);
-      if (!current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
+    for (const object of previous) {
+      // fromArray fires onChange, so the released joint's .rotation is in step again
+      if (object && !current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
     }
     // The per-frame loops touch only these arrays: the joints' Quaternion objects (a joint without
     // an object writes into a spare one, so the array stays of one type) and the drivers'
@@ -218,7 +181,13 @@ export class SpringBonesAttachment {
     }
   }
 
-  /** Writes the instance's rotations into the joints' quaternions, fields only (no onChange). */
+  /**
+   * Writes the instance's rotations into the joints' quaternions, fields only: Quaternion.set()
+   * would fire onChange, which recomputes the joint's Euler `.rotation` with trigonometry for every
+   * joint every frame. `.rotation` is therefore stale until syncEulers(). (A getter converting on
+   * read was tried: redefining `rotation` on the joints turns them into dictionary-mode objects
+   * and made three.js's updateMatrixWorld 1.6x slower for the whole tree.)
+   */
   writeRotations() {
     const r = this.instance.rotations;
     const quaternions = this._quaternions;
@@ -228,6 +197,18 @@ export class SpringBonesAttachment {
       q._y = r[k + 1];
       q._z = r[k + 2];
       q._w = r[k + 3];
+    }
+  }
+
+  /**
+   * Brings the joints' `.rotation` (Euler) back in step with their quaternions: the per-frame
+   * writes leave it behind (see writeRotations). Only for code that reads `.rotation` of a
+   * simulated joint (an inspector, a serializer): three.js's rendering, skinning, clone() and
+   * glTF export use the quaternion. Allocation-free.
+   */
+  syncEulers() {
+    for (const object of this.jointObjects) {
+      if (object) object.rotation.setFromQuaternion(object.quaternion, undefined, false);  // no onChange
     }
   }
 
@@ -244,9 +225,7 @@ export class SpringBonesAttachment {
    */
   dispose({ detach = true } = {}) {
     if (this._group) this._group.remove(this);
-    if (!this.instance.disposed) {
-      for (const object of new Set(this.jointObjects)) if (object) releaseEuler(object);
-    }
+    this.syncEulers();  // the joints keep their pose (detach: false) with a current .rotation
     this.instance.dispose();
     if (detach) {
       for (const [object, rest] of this._restQuaternions) object.quaternion.fromArray(rest);
