@@ -396,6 +396,37 @@ describe('driver matrices and frame times', () => {
   });
 });
 
+describe('VRM avatars', () => {
+  // A chain of `jointCount` VRMC_springBone joints, every one colliding with `colliderCount`
+  // spheres, each listed `repeats` times (repeats count once).
+  function vrmDoc(jointCount, colliderCount, repeats) {
+    const nodes = [];
+    for (let i = 0; i <= jointCount; ++i) {
+      nodes.push({ name: `n${i}`, translation: [0, -0.01, 0], ...(i < jointCount ? { children: [i + 1] } : {}) });
+    }
+    const colliders = Array.from({ length: colliderCount }, () => ({ node: 0, shape: { sphere: { radius: 0.01 } } }));
+    const ids = [];
+    for (let r = 0; r < repeats; ++r) for (let c = 0; c < colliderCount; ++c) ids.push(c);
+    const springs = [{ joints: Array.from({ length: jointCount }, (_, i) => ({ node: i + 1 })), colliderGroups: Array(repeats).fill(0) }];
+    return gltfBytes({ asset: { version: '2.0' }, nodes,
+      extensions: { VRMC_springBone: { specVersion: '1.0', springs, colliders, colliderGroups: [{ colliders: ids }] } } });
+  }
+
+  test('joints x colliders beyond 4,194,304 references is limit-exceeded; repeated references count once', () => {
+    const side = Math.floor(Math.sqrt(4194304)) + 2;
+    expectCode('limit-exceeded', () => sb.loadVrm(vrmDoc(side + 1, side, 1)));
+    const rig = sb.loadVrm(vrmDoc(21, 50, 200));
+    try {
+      assert.equal(rig.joints.length, 20);
+      const inst = rig.createInstance();
+      stepAndCheck(inst, 10);
+      inst.dispose();
+    } finally {
+      rig.dispose();
+    }
+  });
+});
+
 describe('size and leaks', () => {
   test('a rig of 100,000 joints loads and steps', () => {
     // 1,000 chains of 100 joints (+ a tip each) under Avatar_Hips, as in the native test.
