@@ -43,8 +43,8 @@ test('opens on the sample wearable with WebGL and no console errors', { skip }, 
   assert.deepEqual(state.validation.errors, []);
   // every springbone node listed, the five roots marked
   assert.equal(await page.locator('#tree .node').count(), 20);
-  assert.equal(await page.locator('#tree .badge.root').count(), 5);
-  assert.equal(await page.locator('#tree .node[data-node="SpringBone_ponytail_3"] .badge.override').count(), 1);
+  assert.equal(await page.locator('#tree .badge.root:not([hidden])').count(), 5);
+  assert.equal(await page.locator('#tree .node[data-node="SpringBone_ponytail_3"] .badge.override:not([hidden])').count(), 1);
   assert.deepEqual(consoleErrors, []);
 });
 

@@ -84,6 +84,12 @@ export class Creator {
     });
     zone.addEventListener('keydown', (e) => { if (e.key === 'Enter') $('file-glb').click(); });
     $('body-shape').addEventListener('change', (e) => { this.bodyShape = e.target.value; this.refreshEntityNotes(); this.refreshValidation(); });
+    const rowOf = (e) => e.target.closest?.('#tree .node');
+    $('tree').addEventListener('click', (e) => { const row = rowOf(e); if (row) this.select(Number(row.dataset.slot)); });
+    $('tree').addEventListener('keydown', (e) => {
+      const row = rowOf(e);
+      if (row && (e.key === 'Enter' || e.key === ' ')) { e.preventDefault(); this.select(Number(row.dataset.slot)); }
+    });
     this.wireEditor();
     $('export').addEventListener('click', () => this.showExport());
     $('copy-export').addEventListener('click', () => this.copyExport());
@@ -322,30 +328,47 @@ export class Creator {
     $('messages').replaceChildren(...this.messages.map((m) => element('li', { class: m.level }, m.text)));
   }
 
+  /** Builds the tree's rows once per GLB; decorateTree() keeps them current after edits. */
   renderTree() {
     const { candidates } = this.tree;
-    const simulated = new Set(this.preview.wearable?.rig.joints.map((j) => j.name));
     const build = (slot) => {
       const c = candidates[slot];
-      const entry = isObject(this.entries[c.name]) ? this.entries[c.name] : null;
-      const badges = [];
-      if (entry?.isRoot === true) badges.push(element('span', { class: 'badge root' }, 'root'));
-      else if (entry) badges.push(element('span', { class: 'badge override' }, 'override'));
-      if (c.children.length === 0) badges.push(element('span', { class: 'badge' }, 'tip'));
       const row = element('div', {
-        class: `node${slot === this.selected ? ' selected' : ''}`,
-        role: 'treeitem', tabIndex: 0, dataset: { node: c.name, slot: String(slot) },
-        title: simulated.has(c.name) ? 'simulated joint' : 'not simulated',
-      }, element('span', { class: `dot${simulated.has(c.name) ? ' sim' : ''}` }, simulated.has(c.name) ? '●' : '○'),
-      element('span', {}, c.name), ...badges);
-      row.addEventListener('click', () => this.select(slot));
-      row.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); this.select(slot); } });
+        class: 'node', role: 'treeitem', tabIndex: 0, dataset: { node: c.name, slot: String(slot) },
+      }, element('span', { class: 'dot' }), element('span', {}, c.name),
+      element('span', { class: 'badge root', hidden: true }, 'root'),
+      element('span', { class: 'badge override', hidden: true }, 'override'),
+      c.children.length === 0 ? element('span', { class: 'badge' }, 'tip') : null);
       const li = element('li', {}, row);
       if (c.children.length) li.append(element('ul', { role: 'group' }, ...c.children.map(build)));
       return li;
     };
     const roots = candidates.map((c, slot) => (c.parent === -1 ? slot : -1)).filter((s) => s >= 0);
     $('tree').replaceChildren(...roots.map(build));
+    this.decorateTree();
+  }
+
+  /**
+   * Badges, simulated dots and the selection, updated in place (nothing in a row is replaced): an
+   * edit committed by leaving a number box (its change event fires on the mousedown of the next
+   * click) must not remove the element that click is landing on, or the click is lost.
+   */
+  decorateTree() {
+    const { candidates } = this.tree;
+    const simulated = new Set(this.preview.wearable?.rig.joints.map((j) => j.name));
+    for (const row of $('tree').querySelectorAll('.node')) {
+      const slot = Number(row.dataset.slot);
+      const c = candidates[slot];
+      const entry = isObject(this.entries[c.name]) ? this.entries[c.name] : null;
+      row.querySelector('.badge.root').hidden = entry?.isRoot !== true;
+      row.querySelector('.badge.override').hidden = !entry || entry.isRoot === true;
+      const sim = simulated.has(c.name);
+      const dot = row.querySelector('.dot');
+      dot.className = `dot${sim ? ' sim' : ''}`;
+      dot.textContent = sim ? '●' : '○';
+      row.title = sim ? 'simulated joint' : 'not simulated';
+      row.classList.toggle('selected', slot === this.selected);
+    }
   }
 
   select(slot) {
@@ -459,7 +482,7 @@ export class Creator {
     } catch (e) {
       this.fail(`Could not rebuild the rig: ${e.message}`);
     }
-    this.renderTree();
+    this.decorateTree();
     this.renderEditor();
     this.refreshValidation();
     this.hideExport();
