@@ -1,7 +1,7 @@
 // Types of the three.js adapter (springBonesThree.js). `three` is a peer dependency.
 import type { LineSegments, Object3D, SkinnedMesh } from 'three';
 import type { GLTF } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import type { Instance, InstanceOptions, Rig } from '../springbones.js';
+import type { Instance, InstanceOptions, Rig, Scene, SpringBones } from '../springbones.js';
 
 /**
  * The avatar's armature by glTF node name: every bone of its skinned meshes and their ancestors
@@ -54,14 +54,21 @@ export class SpringBonesAttachment {
    * One frame of dt seconds. Call after animating and updating world matrices
    * (avatarRoot.updateMatrixWorld() or the scene's); reads each driver's matrixWorld, steps, and
    * writes each joint's quaternion fields (_x, _y, _z, _w: no onChange, so `.rotation` is not
-   * kept in sync). The joints' matrixWorld is refreshed by the next updateMatrixWorld (the
-   * renderer's). Allocation-free.
+   * kept in sync; see syncEulers). The joints' matrix and matrixWorld are refreshed by the next
+   * updateMatrixWorld (the renderer's). Allocation-free. An attachment in a SpringBonesGroup is
+   * stepped by group.update(); calling this as well would step it twice.
    */
   update(dt: number): void;
-  /** The first half of update(): drivers' matrixWorld into the instance. */
+  /** The first part of update(): drivers' matrixWorld into the instance. */
   readDrivers(): void;
-  /** The last half of update(): the instance's rotations into the joints' quaternions. */
+  /** The last part of update(): the instance's rotations into the joints' quaternions (fields). */
   writeRotations(): void;
+  /**
+   * Brings the joints' `.rotation` (Euler) in step with their quaternions, for code that reads
+   * `.rotation` of a simulated joint; rendering, skinning, clone() and glTF export use the
+   * quaternion. dispose() does it too. Allocation-free.
+   */
+  syncEulers(): void;
   /** Forgets the motion (teleport, avatar swap). */
   reset(): void;
   /**
@@ -93,6 +100,38 @@ export function attachWearable(
   rig: Rig,
   options?: AttachOptions,
 ): SpringBonesAttachment;
+
+/**
+ * Many attachments stepped with one call into WebAssembly: update(dt) reads every attachment's
+ * drivers, runs one springbones scene.step for all of their instances (the scene's distance budget
+ * applies, with each avatar root's world position) and writes every attachment's rotations.
+ */
+export class SpringBonesGroup {
+  /**
+   * @param springBones the module from createSpringBones(); the group creates and owns a scene
+   * @throws TypeError for anything else
+   */
+  constructor(springBones: SpringBones);
+  /** The group's springbones scene: setBudget(), isActive(), positions. */
+  readonly scene: Scene;
+  /** The attachments in the scene's slot order (setRig moves an attachment to the end). */
+  readonly attachments: readonly SpringBonesAttachment[];
+  /**
+   * Adds an attachment; adding it again does nothing.
+   * @throws TypeError for a non-attachment or another module's; Error when it is in another
+   * group; SpringBonesError 'disposed' for a disposed attachment
+   */
+  add(attachment: SpringBonesAttachment): void;
+  /** Takes an attachment out (it can update() on its own again). Not in the group: nothing. */
+  remove(attachment: SpringBonesAttachment): void;
+  /**
+   * One frame of dt seconds for every attachment; call after updating world matrices, as for
+   * attachment.update(). Allocation-free.
+   */
+  update(dt: number): void;
+  /** Frees the scene; the attachments are not disposed of and can update() on their own. */
+  dispose(): void;
+}
 
 /** The simulated bones of an attachment as coloured line segments (one colour per chain). */
 export class SpringBonesHelper extends LineSegments {
