@@ -21,28 +21,43 @@ export const AVATAR_HIT_RADIUS = 0.01;
 
 const kSegments = 32;
 
-/** Line-segment points (pairs) of three great circles of a sphere of `radius` around `c`. */
-function spherePoints(c, radius, out) {
-  for (let axis = 0; axis < 3; axis++) {
-    for (let i = 0; i < kSegments; i++) {
-      for (const k of [i, i + 1]) {
-        const a = (k / kSegments) * Math.PI * 2;
-        const p = [c.x, c.y, c.z];
-        p[(axis + 1) % 3] += radius * Math.cos(a);
-        p[(axis + 2) % 3] += radius * Math.sin(a);
-        out.push(...p);
-      }
+/** Line-segment points (pairs) of an arc around `c` in the plane of unit vectors `u`, `v`,
+ *  from angle a0 to a1 (radians). */
+function arcPoints(c, u, v, radius, a0, a1, out) {
+  const n = Math.max(2, Math.round((kSegments * (a1 - a0)) / (2 * Math.PI)));
+  for (let i = 0; i < n; i++) {
+    for (const k of [i, i + 1]) {
+      const a = a0 + ((a1 - a0) * k) / n;
+      const cu = Math.cos(a) * radius;
+      const sv = Math.sin(a) * radius;
+      out.push(c.x + u.x * cu + v.x * sv, c.y + u.y * cu + v.y * sv, c.z + u.z * cu + v.z * sv);
     }
   }
 }
 
-/** A capsule as a sphere at each end joined by four lines along the axis. */
+const X = new THREE.Vector3(1, 0, 0);
+const Y = new THREE.Vector3(0, 1, 0);
+const Z = new THREE.Vector3(0, 0, 1);
+
+/** A sphere: three great circles. */
+function spherePoints(c, radius, out) {
+  arcPoints(c, X, Y, radius, 0, 2 * Math.PI, out);
+  arcPoints(c, Y, Z, radius, 0, 2 * Math.PI, out);
+  arcPoints(c, Z, X, radius, 0, 2 * Math.PI, out);
+}
+
+/** A capsule: a ring at each end of the axis, a half circle capping each end in two planes
+ *  through the axis, and four lines along it. */
 function capsulePoints(a, b, radius, out) {
-  spherePoints(a, radius, out);
-  spherePoints(b, radius, out);
   const axis = new THREE.Vector3().subVectors(b, a).normalize();
-  const u = new THREE.Vector3().crossVectors(axis, Math.abs(axis.y) < 0.9 ? new THREE.Vector3(0, 1, 0) : new THREE.Vector3(1, 0, 0)).normalize();
+  const u = new THREE.Vector3().crossVectors(axis, Math.abs(axis.y) < 0.9 ? Y : X).normalize();
   const v = new THREE.Vector3().crossVectors(axis, u);
+  const back = axis.clone().negate();
+  for (const [c, out_] of [[a, back], [b, axis]]) {
+    arcPoints(c, u, v, radius, 0, 2 * Math.PI, out);
+    arcPoints(c, u, out_, radius, 0, Math.PI, out);   // from +u over the cap to -u
+    arcPoints(c, v, out_, radius, 0, Math.PI, out);
+  }
   for (const d of [u, v, u.clone().negate(), v.clone().negate()]) {
     out.push(a.x + d.x * radius, a.y + d.y * radius, a.z + d.z * radius, b.x + d.x * radius, b.y + d.y * radius, b.z + d.z * radius);
   }

@@ -27,7 +27,7 @@ const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates noth
 // Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
 const kViews = {
   body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
-  head: { position: [0.42, 1.62, 0.98], target: [0, 1.52, 0] },
+  head: { position: [0.5, 1.63, 1.25], target: [0, 1.55, 0] },
 };
 
 class Preview {
