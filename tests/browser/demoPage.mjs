@@ -42,9 +42,11 @@ export async function openDemo() {
   const consoleErrors = [];
   page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
   page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
-  page.setDefaultTimeout(30000);
+  // Generous waits: software WebGL on a 2-core machine shared with builds can take a while; these
+  // are limits for a hung page, not timings.
+  page.setDefaultTimeout(90000);
   await page.goto(`http://127.0.0.1:${port}/web/demo/`);
-  await page.waitForFunction(() => window.springbonesDemo?.ready === true);
+  await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
   const close = async () => {
     await context.close();
     server.close();
