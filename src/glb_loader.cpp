@@ -2,114 +2,49 @@
 //
 // We only need node names, parents and rest transforms, and wearables arrive from anyone, so the
 // loader works in three stages:
-//  1. our own check of the GLB container (magic, version, chunk lengths), so a truncated or
-//     malformed file gets a precise error code instead of a generic parse failure;
-//  2. nlohmann-json parses the JSON chunk; we keep only `asset.version` and the TRS/matrix,
-//     name and children of each node. Buffers, images, meshes, accessors, extras and extensions
-//     are dropped before anything decodes them (base64 data URIs included), which keeps loading
-//     cheap and keeps hostile payloads (deeply nested extras) away from recursive code;
-//  3. tinygltf reads that reduced document into its node model (the glTF semantics, defaults,
-//     required `asset.version`), and we check the hierarchy ourselves: child indices in range, no
-//     node with two parents, no cycles, then rest world matrices computed iteratively.
-#include <fstream>  // tinygltf expects it even with TINYGLTF_NO_FS
-
+//  1. our own check of the GLB container (magic, version, chunk lengths; gltf_json.h), so a
+//     truncated or malformed file gets a precise error code instead of a generic parse failure;
+//  2. the JSON chunk is read for `asset.version` and the TRS/matrix, name and children of each
+//     node. Buffers, images, meshes, accessors, extras and extensions are skipped without being
+//     decoded (base64 data URIs included), and nothing recurses, so hostile payloads (deeply
+//     nested extras) cannot exhaust the stack. Two readers do this:
+//     - the fast one (json_scan.h) reads the text once, straight into the skeleton, and gives up
+//       on anything it does not handle exactly as nlohmann-json would, malformed input included;
+//     - then the checked one: nlohmann-json parses the whole document, the fields we use are
+//       type-checked node by node (reduceDocument) and `asset.version` required (the glTF rule
+//       tinygltf applied for us until the fast reader replaced it). It yields the same skeleton,
+//       and the precise error for a bad document;
+//  3. we check the hierarchy ourselves: child indices in range, no node with two parents, no
+//     cycles, then rest world matrices computed iteratively.
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
-#define TINYGLTF_IMPLEMENTATION
-#define TINYGLTF_NO_FS
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#include <tiny_gltf.h>
-
+#include "gltf_json.h"
+#include "json_scan.h"
 #include "springbones.h"
 #include "transform_math.h"
+
+// Keeps a function out of its caller. In WebAssembly with JavaScript-based exceptions, a call
+// made from a frame that has destructors to run goes through a JS trampoline; the fast reader
+// has none, and must not be inlined into a caller that does.
+#if defined(__GNUC__) || defined(__clang__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
 
 namespace springbones {
 namespace {
 
 using nlohmann::json;
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
-constexpr std::size_t kGlbHeaderBytes = 12;
-constexpr std::size_t kChunkHeaderBytes = 8;
-
-std::uint32_t readU32(const std::uint8_t* p) {
-  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
-         (std::uint32_t(p[3]) << 24);
-}
-
 Error fail(ErrorCode code, std::string message) { return Error{code, std::move(message), {}}; }
-
-bool looksLikeJsonText(const std::uint8_t* data, std::size_t size) {
-  for (std::size_t i = 0; i < size; ++i) {
-    const char c = static_cast<char>(data[i]);
-    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') continue;
-    // A UTF-8 byte order mark is tolerated in front of glTF JSON text.
-    if (i == 0 && size >= 3 && data[0] == 0xEF && data[1] == 0xBB && data[2] == 0xBF) {
-      i += 2;
-      continue;
-    }
-    return c == '{';
-  }
-  return false;
-}
-
-// Finds the JSON text inside the input: the JSON chunk of a GLB, or the whole input.
-Error extractJsonText(const std::uint8_t* data, std::size_t size, const char*& json_begin,
-                      std::size_t& json_size) {
-  if (size >= 4 && readU32(data) == kGlbMagic) {
-    if (size < kGlbHeaderBytes + kChunkHeaderBytes) {
-      return fail(ErrorCode::kGlbTruncated, "GLB is " + std::to_string(size) +
-                                                " bytes, shorter than its 20-byte header");
-    }
-    const std::uint32_t version = readU32(data + 4);
-    if (version != 2) {
-      return fail(ErrorCode::kGlbBadChunk,
-                  "GLB container version " + std::to_string(version) + " is not supported (2 is)");
-    }
-    const std::uint32_t declared = readU32(data + 8);
-    if (declared > size) {
-      return fail(ErrorCode::kGlbTruncated, "GLB header declares " + std::to_string(declared) +
-                                                " bytes but only " + std::to_string(size) +
-                                                " are present");
-    }
-    if (declared < kGlbHeaderBytes + kChunkHeaderBytes) {
-      return fail(ErrorCode::kGlbBadChunk,
-                  "GLB header declares a length of " + std::to_string(declared) + " bytes");
-    }
-    const std::uint32_t chunk_length = readU32(data + 12);
-    const std::uint32_t chunk_type = readU32(data + 16);
-    if (chunk_type != kChunkJson) {
-      return fail(ErrorCode::kGlbBadChunk, "the first GLB chunk is not a JSON chunk");
-    }
-    if (std::size_t(chunk_length) > declared - kGlbHeaderBytes - kChunkHeaderBytes) {
-      return fail(ErrorCode::kGlbTruncated, "GLB JSON chunk declares " +
-                                                std::to_string(chunk_length) +
-                                                " bytes, more than the file holds");
-    }
-    json_begin = reinterpret_cast<const char*>(data + kGlbHeaderBytes + kChunkHeaderBytes);
-    json_size = chunk_length;
-    return {};
-  }
-  if (looksLikeJsonText(data, size)) {
-    json_begin = reinterpret_cast<const char*>(data);
-    json_size = size;
-    return {};
-  }
-  if (size < 4) {
-    return fail(ErrorCode::kGlbTruncated,
-                "input is " + std::to_string(size) + " bytes: too short to be a GLB or glTF");
-  }
-  return fail(ErrorCode::kGlbBadMagic, "input is neither a GLB (magic 'glTF') nor glTF JSON text");
-}
 
 bool isNumberArray(const json& value, std::size_t length) {
   if (!value.is_array() || value.size() != length) return false;
@@ -135,7 +70,7 @@ Error reduceNode(const json& node, std::size_t index, json& out) {
   if (auto it = node.find("children"); it != node.end()) {
     if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, where + ": children is not an array");
     for (const json& c : *it) {
-      // Bounded here because tinygltf stores indices as int.
+      // Bounded here because the skeleton stores indices as int.
       if (!c.is_number_integer() || c.get<std::int64_t>() < 0 ||
           c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
         return fail(ErrorCode::kGltfInvalid, where + ": a child index is not a node index");
@@ -246,20 +181,23 @@ Error linkHierarchy(Skeleton& skeleton) {
   return {};
 }
 
-Transform nodeRestTransform(const tinygltf::Node& node) {
+// The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in
+// glTF. Both readers hand their doubles to this one function, so they agree to the bit.
+Transform restTransform(const double* matrix, const double* translation, const double* rotation,
+                        const double* scale) {
   Transform t;
-  if (node.matrix.size() == 16) {
+  if (matrix != nullptr) {
     glm::mat4 m;
     for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m[c][r] = static_cast<float>(node.matrix[c * 4 + r]);
+      for (int r = 0; r < 4; ++r) m[c][r] = static_cast<float>(matrix[c * 4 + r]);
     }
     return decomposeTransform(m);
   }
-  if (node.translation.size() == 3) {
-    t.translation = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
+  if (translation != nullptr) {
+    t.translation = glm::vec3(translation[0], translation[1], translation[2]);
   }
-  if (node.rotation.size() == 4) {
-    const std::vector<double>& r = node.rotation;
+  if (rotation != nullptr) {
+    const double* r = rotation;
     // In double: the squares of float-range components overflow a float.
     const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
     // glTF demands unit quaternions; renormalize small errors, treat a zero one as identity.
@@ -267,26 +205,17 @@ Transform nodeRestTransform(const tinygltf::Node& node) {
                                         static_cast<float>(r[1] / len), static_cast<float>(r[2] / len))
                             : glm::quat(1, 0, 0, 0);
   }
-  if (node.scale.size() == 3) t.scale = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
+  if (scale != nullptr) t.scale = glm::vec3(scale[0], scale[1], scale[2]);
   return t;
 }
 
-}  // namespace
+// The message tinygltf gave for a document without a string `asset.version`, kept word for word.
+constexpr const char* kAssetMissing = "\"asset\" object not found in .gltf or not an object type\n";
 
-Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  out = Skeleton{};
-  if (data == nullptr && size != 0) return fail(ErrorCode::kInvalidArgument, "null GLB buffer");
-  if (size == 0) return fail(ErrorCode::kGlbTruncated, "input is empty");
+// ---------------------------------------------------------------------------------------------
+// The checked reader: nlohmann DOM, reduced and type-checked.
 
-  const char* json_begin = nullptr;
-  std::size_t json_size = 0;
-  if (Error e = extractJsonText(data, size, json_begin, json_size)) return e;
-  if (json_size > kMaxGltfJsonBytes) {
-    return fail(ErrorCode::kLimitExceeded, "glTF JSON is " + std::to_string(json_size) +
-                                               " bytes, more than the limit of " +
-                                               std::to_string(kMaxGltfJsonBytes));
-  }
-
+Error readCheckedDocument(const char* json_begin, std::size_t json_size, Skeleton& skeleton) {
   json reduced;
   try {
     json doc = json::parse(json_begin, json_begin + json_size);
@@ -296,33 +225,179 @@ Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
   } catch (const std::exception& ex) {
     return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON could not be read: ") + ex.what());
   }
-
-  tinygltf::Model model;
-  try {
-    tinygltf::TinyGLTF gltf;
-    std::string err, warn;
-    const std::string text = reduced.dump();
-    if (!gltf.LoadASCIIFromString(&model, &err, &warn, text.data(),
-                                  static_cast<unsigned int>(text.size()), "",
-                                  tinygltf::REQUIRE_VERSION)) {
-      return fail(ErrorCode::kGltfInvalid, "not a valid glTF: " + (err.empty() ? warn : err));
-    }
-  } catch (const std::exception& ex) {
-    return fail(ErrorCode::kGltfInvalid, std::string("not a valid glTF: ") + ex.what());
+  if (!reduced.contains("asset") || !reduced["asset"].contains("version")) {
+    return fail(ErrorCode::kGltfInvalid, std::string("not a valid glTF: ") + kAssetMissing);
   }
+  const json& nodes = reduced["nodes"];
+  skeleton.nodes.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const json& src = nodes[i];
+    SkeletonNode& dst = skeleton.nodes[i];
+    if (auto it = src.find("name"); it != src.end()) dst.name = it->get<std::string>();
+    if (auto it = src.find("children"); it != src.end()) {
+      dst.children.reserve(it->size());
+      for (const json& c : *it) dst.children.push_back(static_cast<int>(c.get<std::int64_t>()));
+    }
+    double fields[4][16];
+    const double* present[4] = {nullptr, nullptr, nullptr, nullptr};
+    static const char* const kFields[4] = {"matrix", "translation", "rotation", "scale"};
+    for (int f = 0; f < 4; ++f) {
+      auto it = src.find(kFields[f]);
+      if (it == src.end()) continue;
+      for (std::size_t k = 0; k < it->size(); ++k) fields[f][k] = (*it)[k].get<double>();
+      present[f] = fields[f];
+    }
+    dst.rest_local = restTransform(present[0], present[1], present[2], present[3]);
+  }
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// The fast reader. Returns false ("use the checked reader") on anything unusual; true only when
+// the checked reader would produce exactly this skeleton. No local here has a destructor (see
+// SPRINGBONES_NOINLINE).
+
+// An array of exactly `length` numbers within float range, as reduceNode demands.
+bool scanNumbers(JsonScan& scan, double* out, std::size_t length) {
+  if (!scan.consume('[')) return false;
+  for (std::size_t i = 0; i < length; ++i) {
+    if (i > 0 && !scan.consume(',')) return false;
+    JsonNumber n;
+    if (!scan.number(n) || !(std::fabs(n.value) <= std::numeric_limits<float>::max())) return false;
+    out[i] = n.value;
+  }
+  return scan.consume(']');
+}
+
+bool scanNode(JsonScan& scan, SkeletonNode& node, std::string& scratch) {
+  enum : unsigned { kName = 1, kChildren = 2, kMatrix = 4, kTranslation = 8, kRotation = 16, kScale = 32 };
+  unsigned seen = 0;  // a repeated key is left to nlohmann (its last value wins)
+  double matrix[16], translation[3], rotation[4], scale[3];
+  if (!scan.consume('{')) return false;
+  if (!scan.consume('}')) {
+    do {
+      std::string_view key;
+      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
+      unsigned field = 0;
+      if (key == "name") {
+        field = kName;
+        std::string_view name;
+        if ((seen & field) || !scan.string(name, scratch)) return false;
+        node.name.assign(name.data(), name.size());
+      } else if (key == "children") {
+        field = kChildren;
+        if ((seen & field) || !scan.consume('[')) return false;
+        if (!scan.consume(']')) {
+          do {
+            JsonNumber c;
+            if (!scan.number(c) || !c.integer || c.negative || c.magnitude > kMaxNodes) return false;
+            node.children.push_back(static_cast<int>(c.magnitude));
+          } while (scan.consume(','));
+          if (!scan.consume(']')) return false;
+        }
+      } else if (key == "matrix") {
+        field = kMatrix;
+        if ((seen & field) || !scanNumbers(scan, matrix, 16)) return false;
+      } else if (key == "translation") {
+        field = kTranslation;
+        if ((seen & field) || !scanNumbers(scan, translation, 3)) return false;
+      } else if (key == "rotation") {
+        field = kRotation;
+        if ((seen & field) || !scanNumbers(scan, rotation, 4)) return false;
+      } else if (key == "scale") {
+        field = kScale;
+        if ((seen & field) || !scanNumbers(scan, scale, 3)) return false;
+      } else if (!scan.skipValue(scratch)) {
+        return false;
+      }
+      seen |= field;
+    } while (scan.consume(','));
+    if (!scan.consume('}')) return false;
+  }
+  node.rest_local = restTransform((seen & kMatrix) ? matrix : nullptr, (seen & kTranslation) ? translation : nullptr,
+                                  (seen & kRotation) ? rotation : nullptr, (seen & kScale) ? scale : nullptr);
+  return true;
+}
+
+SPRINGBONES_NOINLINE bool scanDocument(const char* begin, std::size_t size, Skeleton& skeleton,
+                                       std::string& scratch) {
+  JsonScan scan(begin, begin + size);
+  bool seen_asset = false, seen_nodes = false, has_version = false;
+  if (!scan.consume('{')) return false;
+  if (!scan.consume('}')) {
+    do {
+      std::string_view key;
+      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
+      if (key == "asset") {
+        if (seen_asset || !scan.consume('{')) return false;
+        seen_asset = true;
+        if (!scan.consume('}')) {
+          do {
+            std::string_view asset_key, version;
+            if (!scan.string(asset_key, scratch) || !scan.consume(':')) return false;
+            if (asset_key == "version") {
+              if (has_version || !scan.string(version, scratch)) return false;
+              has_version = true;
+            } else if (!scan.skipValue(scratch)) {
+              return false;
+            }
+          } while (scan.consume(','));
+          if (!scan.consume('}')) return false;
+        }
+      } else if (key == "nodes") {
+        if (seen_nodes || !scan.consume('[')) return false;
+        seen_nodes = true;
+        if (!scan.consume(']')) {
+          do {
+            if (skeleton.nodes.size() == kMaxNodes) return false;
+            skeleton.nodes.emplace_back();
+            if (!scanNode(scan, skeleton.nodes.back(), scratch)) return false;
+          } while (scan.consume(','));
+          if (!scan.consume(']')) return false;
+        }
+      } else if (!scan.skipValue(scratch)) {
+        return false;
+      }
+    } while (scan.consume(','));
+    if (!scan.consume('}')) return false;
+  }
+  return has_version && scan.atEnd();
+}
+
+Error loadSkeletonWith(const std::uint8_t* data, std::size_t size, Skeleton& out, bool fast) {
+  out = Skeleton{};
+  const char* json_begin = nullptr;
+  std::size_t json_size = 0;
+  if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
 
   Skeleton skeleton;
-  skeleton.nodes.resize(model.nodes.size());
-  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-    const tinygltf::Node& src = model.nodes[i];
-    SkeletonNode& dst = skeleton.nodes[i];
-    dst.name = src.name;
-    dst.children = src.children;
-    dst.rest_local = nodeRestTransform(src);
+  std::string scratch;
+  if (!fast || !scanDocument(json_begin, json_size, skeleton, scratch)) {
+    skeleton = Skeleton{};
+    if (Error e = readCheckedDocument(json_begin, json_size, skeleton)) return e;
   }
   if (Error e = linkHierarchy(skeleton)) return e;
   out = std::move(skeleton);
   return {};
+}
+
+}  // namespace
+
+Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
+  return loadSkeletonWith(data, size, out, /*fast=*/true);
+}
+
+Error loadSkeletonChecked(const std::uint8_t* data, std::size_t size, Skeleton& out) {
+  return loadSkeletonWith(data, size, out, /*fast=*/false);
+}
+
+bool fastGltfReaderAccepts(const std::uint8_t* data, std::size_t size) {
+  const char* json_begin = nullptr;
+  std::size_t json_size = 0;
+  if (findGltfJson(data, size, json_begin, json_size)) return false;
+  Skeleton skeleton;
+  std::string scratch;
+  return scanDocument(json_begin, json_size, skeleton, scratch);
 }
 
 }  // namespace springbones

@@ -1,5 +1,5 @@
-// The glTF JSON inside a GLB or a glTF text input (see gltf_json.h). Same container checks and
-// messages as the loader's own stage 1 (glb_loader.cpp), so either path reports a bad file alike.
+// The glTF JSON inside a GLB or a glTF text input (see gltf_json.h): stage 1 of loadSkeleton
+// (glb_loader.cpp) and of the VRM reader, so both report a bad container alike.
 #include "gltf_json.h"
 
 #include <string>

@@ -1,6 +1,6 @@
 // Where the glTF JSON is inside an input: the JSON chunk of a GLB, or the whole input when it is
-// glTF JSON text. Shared by every reader that needs more of the document than the node hierarchy
-// (the VRM spring-bone reader; glb_loader.cpp has the same checks inline and can switch to this).
+// glTF JSON text. Shared by every reader of the document: the node hierarchy (glb_loader.cpp) and
+// the VRM spring-bone reader.
 #pragma once
 
 #include <cstddef>

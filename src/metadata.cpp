@@ -2,16 +2,31 @@
 // A preview must show whatever the catalyst accepted, and should still show something sensible
 // for metadata it would reject, so every problem here is a warning with a fallback, except shapes
 // that leave nothing to read (springBones or models[hash] not an object).
+//
+// From text there are two readers (as for the glTF, see glb_loader.cpp): a fast one that scans
+// the text once (json_scan.h) and handles the usual document (values present and in range, or
+// missing), and the nlohmann-based one for everything else, which also gives the exact error or
+// warning text. The fast one gives up, leaving no trace, unless its result is the same.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "bone_params.h"
 #include "json_depth.h"
 #include "json_pointer.h"
+#include "json_scan.h"
 #include "springbones.h"
+
+// See glb_loader.cpp: keeps the destructor-free fast reader out of callers that have cleanups.
+#if defined(__GNUC__) || defined(__clang__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
 
 namespace springbones {
 namespace {
@@ -25,6 +40,32 @@ std::string describe(const json& value) {
   return text;
 }
 
+std::string format(float v) {
+  std::string s = std::to_string(v);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+
+std::string missingMessage(const ParamRange& range) {
+  return std::string(range.key) + " is missing; using the default " + format(range.fallback);
+}
+constexpr const char* kGravityDirMissing = "gravityDir is missing; using the default [0,-1,0]";
+
+bool inRange(double value, const ParamRange& range) { return !(value < range.min || value > range.max); }
+
+// A readable gravityDir (3 finite numbers) as a unit vector; false when it has no direction.
+// Divided by the largest component first: squaring [1e200, 0, 0] would overflow to infinity.
+bool unitGravityDir(double v[3], glm::vec3& out) {
+  const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+  if (!(largest > 1e-9)) return false;
+  for (int i = 0; i < 3; ++i) v[i] /= largest;
+  const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  out = glm::vec3(static_cast<float>(v[0] / length), static_cast<float>(v[1] / length),
+                  static_cast<float>(v[2] / length));
+  return true;
+}
+
 class EntryReader {
  public:
   EntryReader(std::vector<Warning>& warnings) : warnings_(warnings) {}
@@ -34,7 +75,7 @@ class EntryReader {
     const std::string path = entry_path + pointerToken(key);
     auto it = entry.find(key);
     if (it == entry.end()) {
-      warn("param-missing", key + " is missing; using the default " + format(range.fallback), path);
+      warn("param-missing", missingMessage(range), path);
       return range.fallback;
     }
     if (!it->is_number()) {
@@ -49,7 +90,7 @@ class EntryReader {
            key + " is not finite; using the default " + format(range.fallback), path);
       return range.fallback;
     }
-    if (value < range.min || value > range.max) {
+    if (!inRange(value, range)) {
       const float clamped = value < range.min ? range.min : range.max;
       warn("param-out-of-range", key + " " + describe(*it) + " is outside [" + format(range.min) +
                                      ", " + format(range.max) + "]; clamped to " + format(clamped),
@@ -64,7 +105,7 @@ class EntryReader {
     const std::string path = entry_path + "/gravityDir";
     auto it = entry.find("gravityDir");
     if (it == entry.end()) {
-      warn("param-missing", "gravityDir is missing; using the default [0,-1,0]", path);
+      warn("param-missing", kGravityDirMissing, path);
       return fallback;
     }
     bool readable = it->is_array() && it->size() == 3;
@@ -89,16 +130,12 @@ class EntryReader {
         break;
       }
     }
-    // Divided by the largest component first: squaring [1e200, 0, 0] would overflow to infinity.
-    const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
-    if (!(largest > 1e-9)) {
+    glm::vec3 unit;
+    if (!unitGravityDir(v, unit)) {
       warn("gravity-dir-zero", "gravityDir has no direction; using the default [0,-1,0]", path);
       return fallback;
     }
-    for (double& c : v) c /= largest;
-    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    return glm::vec3(static_cast<float>(v[0] / length), static_cast<float>(v[1] / length),
-                     static_cast<float>(v[2] / length));
+    return unit;
   }
 
   void readCenter(const json& entry, const std::string& entry_path, BoneEntry& out) {
@@ -129,15 +166,180 @@ class EntryReader {
   }
 
  private:
-  static std::string format(float v) {
-    std::string s = std::to_string(v);
-    s.erase(s.find_last_not_of('0') + 1);
-    if (!s.empty() && s.back() == '.') s.pop_back();
-    return s;
-  }
-
   std::vector<Warning>& warnings_;
 };
+
+// ---------------------------------------------------------------------------------------------
+// The fast reader of springBones text. It handles a document whose version is 1 and whose
+// models[hash] is an object of entries that are objects with every present value readable and in
+// range (stiffness, gravityPower, drag numbers in their ranges; gravityDir 3 finite numbers in
+// [-10, 10] with a direction; center a string or null; isRoot a boolean or null), keys appearing
+// once. Anything else returns false and the nlohmann path decides, with its own warnings.
+
+constexpr unsigned kMissStiffness = 1, kMissGravityPower = 2, kMissGravityDir = 4, kMissDrag = 8;
+
+struct ScannedBone {
+  BoneEntry entry;       ///< name, params, center, is_root; path is set after sorting
+  unsigned missing = 0;  ///< MissingParam bits: each one is a param-missing warning
+};
+
+bool scanParam(JsonScan& scan, const ParamRange& range, float& out) {
+  JsonNumber n;
+  if (!scan.number(n) || !std::isfinite(n.value) || !inRange(n.value, range)) return false;
+  out = static_cast<float>(n.value);
+  return true;
+}
+
+bool scanGravityDir(JsonScan& scan, glm::vec3& out) {
+  double v[3];
+  if (!scan.consume('[')) return false;
+  for (int i = 0; i < 3; ++i) {
+    JsonNumber n;
+    if ((i > 0 && !scan.consume(',')) || !scan.number(n) || !std::isfinite(n.value) ||
+        std::fabs(n.value) > kGravityDirComponentLimit) {
+      return false;
+    }
+    v[i] = n.value;
+  }
+  return scan.consume(']') && unitGravityDir(v, out);
+}
+
+bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
+  enum : unsigned { kStiffness = 1, kGravityPower = 2, kGravityDir = 4, kDrag = 8, kCenter = 16, kIsRoot = 32 };
+  unsigned seen = 0;
+  BoneEntry& entry = bone.entry;
+  if (!scan.consume('{')) return false;
+  if (!scan.consume('}')) {
+    do {
+      std::string_view key;
+      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
+      unsigned field = 0;
+      bool ok = true;
+      if (key == kStiffnessRange.key) {
+        field = kStiffness;
+        ok = scanParam(scan, kStiffnessRange, entry.params.stiffness);
+      } else if (key == kGravityPowerRange.key) {
+        field = kGravityPower;
+        ok = scanParam(scan, kGravityPowerRange, entry.params.gravity_power);
+      } else if (key == kDragRange.key) {
+        field = kDrag;
+        ok = scanParam(scan, kDragRange, entry.params.drag);
+      } else if (key == "gravityDir") {
+        field = kGravityDir;
+        ok = scanGravityDir(scan, entry.params.gravity_dir);
+      } else if (key == "center") {
+        field = kCenter;
+        entry.has_center = true;
+        std::string_view center;
+        if (scan.peek() == 'n') {
+          ok = scan.word("null");
+        } else if ((ok = scan.string(center, scratch))) {
+          entry.center.assign(center.data(), center.size());
+        }
+      } else if (key == "isRoot") {
+        field = kIsRoot;
+        const char c = scan.peek();
+        ok = c == 't' ? scan.word("true") : c == 'f' ? scan.word("false") : scan.word("null");
+        entry.is_root = c == 't';
+      } else {
+        ok = scan.skipValue(scratch);
+      }
+      if (!ok || (seen & field)) return false;
+      seen |= field;
+    } while (scan.consume(','));
+    if (!scan.consume('}')) return false;
+  }
+  bone.missing = ((seen & kStiffness) ? 0 : kMissStiffness) | ((seen & kGravityPower) ? 0 : kMissGravityPower) |
+                 ((seen & kGravityDir) ? 0 : kMissGravityDir) | ((seen & kDrag) ? 0 : kMissDrag);
+  return true;
+}
+
+// The entries of models[hash] in document order, or false.
+SPRINGBONES_NOINLINE bool scanSpringBones(const std::string& text, const std::string& hash,
+                                          std::vector<ScannedBone>& bones, std::string& scratch) {
+  JsonScan scan(text.data(), text.data() + text.size());
+  bool seen_version = false, seen_models = false, found = false;
+  double version = 0;
+  if (!scan.consume('{')) return false;
+  if (!scan.consume('}')) {
+    do {
+      std::string_view key;
+      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
+      if (key == "version") {
+        JsonNumber n;
+        if (seen_version || !scan.number(n)) return false;
+        seen_version = true;
+        version = n.value;
+      } else if (key == "models") {
+        if (seen_models || !scan.consume('{')) return false;
+        seen_models = true;
+        if (!scan.consume('}')) {
+          do {
+            std::string_view model_key;
+            if (!scan.string(model_key, scratch) || !scan.consume(':')) return false;
+            if (model_key != hash) {
+              if (!scan.skipValue(scratch)) return false;
+              continue;
+            }
+            if (found || !scan.consume('{')) return false;
+            found = true;
+            if (scan.consume('}')) continue;
+            do {
+              std::string_view name;
+              if (!scan.string(name, scratch) || !scan.consume(':')) return false;
+              bones.emplace_back();
+              bones.back().entry.name.assign(name.data(), name.size());
+              if (!scanEntry(scan, bones.back(), scratch)) return false;
+            } while (scan.consume(','));
+            if (!scan.consume('}')) return false;
+          } while (scan.consume(','));
+          if (!scan.consume('}')) return false;
+        }
+      } else if (!scan.skipValue(scratch)) {
+        return false;
+      }
+    } while (scan.consume(','));
+    if (!scan.consume('}')) return false;
+  }
+  return seen_version && version == 1.0 && found && scan.atEnd();
+}
+
+// Finishes a successful scan as parseSpringBones would: entries in key order (nlohmann's objects
+// are sorted maps), each with its path and its param-missing warnings. False on a repeated name
+// (nlohmann keeps the last; left to it).
+bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelEntry& out,
+                std::vector<Warning>& warnings) {
+  std::vector<std::size_t> order(bones.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return bones[a].entry.name < bones[b].entry.name; });
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    if (bones[order[i - 1]].entry.name == bones[order[i]].entry.name) return false;
+  }
+  const std::string model_path = "/models" + pointerToken(hash);
+  out.enabled = true;
+  out.bones.reserve(bones.size());
+  for (std::size_t index : order) {
+    ScannedBone& bone = bones[index];
+    bone.entry.path = model_path + pointerToken(bone.entry.name);
+    const std::string& path = bone.entry.path;
+    // The order parseSpringBones reads them in: stiffness, gravityPower, gravityDir, drag.
+    if (bone.missing & kMissStiffness) {
+      warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + pointerToken(std::string(kStiffnessRange.key))});
+    }
+    if (bone.missing & kMissGravityPower) {
+      warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + pointerToken(std::string(kGravityPowerRange.key))});
+    }
+    if (bone.missing & kMissGravityDir) {
+      warnings.push_back(Warning{"param-missing", kGravityDirMissing, path + "/gravityDir"});
+    }
+    if (bone.missing & kMissDrag) {
+      warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + pointerToken(std::string(kDragRange.key))});
+    }
+    out.bones.push_back(std::move(bone.entry));
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -211,14 +413,29 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
   return {};
 }
 
-Error parseSpringBonesText(const std::string& text, const std::string& hash, ModelEntry& out,
-                           std::vector<Warning>& warnings) {
+namespace {
+
+Error parseSpringBonesTextWith(const std::string& text, const std::string& hash, ModelEntry& out,
+                               std::vector<Warning>& warnings, bool fast) {
   out = ModelEntry{};
   if (text.size() > kMaxMetadataBytes) {
     return Error{ErrorCode::kLimitExceeded,
                  "springBones JSON is " + std::to_string(text.size()) +
                      " bytes, more than the limit of " + std::to_string(kMaxMetadataBytes),
                  ""};
+  }
+  {
+    std::vector<ScannedBone> bones;
+    std::string scratch;
+    if (fast && scanSpringBones(text, hash, bones, scratch)) {
+      std::vector<Warning> fast_warnings;
+      if (finishScan(bones, hash, out, fast_warnings)) {
+        warnings.insert(warnings.end(), std::make_move_iterator(fast_warnings.begin()),
+                        std::make_move_iterator(fast_warnings.end()));
+        return {};
+      }
+      out = ModelEntry{};
+    }
   }
   json value;
   try {
@@ -228,6 +445,27 @@ Error parseSpringBonesText(const std::string& text, const std::string& hash, Mod
                  std::string("springBones JSON does not parse: ") + ex.what(), ""};
   }
   return parseSpringBones(value, hash, out, warnings);
+}
+
+}  // namespace
+
+Error parseSpringBonesText(const std::string& text, const std::string& hash, ModelEntry& out,
+                           std::vector<Warning>& warnings) {
+  return parseSpringBonesTextWith(text, hash, out, warnings, /*fast=*/true);
+}
+
+Error parseSpringBonesTextChecked(const std::string& text, const std::string& hash, ModelEntry& out,
+                                  std::vector<Warning>& warnings) {
+  return parseSpringBonesTextWith(text, hash, out, warnings, /*fast=*/false);
+}
+
+bool fastSpringBonesReaderAccepts(const std::string& text, const std::string& hash) {
+  std::vector<ScannedBone> bones;
+  std::string scratch;
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  return text.size() <= kMaxMetadataBytes && scanSpringBones(text, hash, bones, scratch) &&
+         finishScan(bones, hash, model, warnings);
 }
 
 }  // namespace springbones
