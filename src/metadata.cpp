@@ -321,8 +321,20 @@ bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelE
   out.bones.reserve(bones.size());
   for (std::size_t index : order) {
     ScannedBone& bone = bones[index];
-    bone.entry.path = model_path + pointerToken(bone.entry.name);
-    const std::string& path = bone.entry.path;
+    std::string& path = bone.entry.path;
+    // model_path + pointerToken(name), built in place.
+    path.reserve(model_path.size() + bone.entry.name.size() + 8);
+    path = model_path;
+    path += '/';
+    for (char c : bone.entry.name) {
+      if (c == '~') {
+        path += "~0";
+      } else if (c == '/') {
+        path += "~1";
+      } else {
+        path += c;
+      }
+    }
     // The order parseSpringBones reads them in: stiffness, gravityPower, gravityDir, drag.
     if (bone.missing & kMissStiffness) {
       warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + pointerToken(std::string(kStiffnessRange.key))});
