@@ -9,7 +9,7 @@
 // warning text. The fast one gives up, leaving no trace, unless its result is the same.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <cstring>
 #include <string>
 #include <string_view>
 
@@ -258,6 +258,9 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
 SPRINGBONES_NOINLINE bool scanSpringBones(const std::string& text, const std::string& hash,
                                           std::vector<ScannedBone>& bones, std::string& scratch) {
   JsonScan scan(text.data(), text.data() + text.size());
+  // An entry takes at least 7 bytes ("x":{}, plus a key); one in 64 bytes is usual. Reserving
+  // spares the moves of growth (each an out-of-line call at -Oz).
+  bones.reserve(std::min<std::size_t>(text.size() / 64, 1 << 16));
   bool seen_version = false, seen_models = false, found = false;
   double version = 0;
   if (!scan.consume('{')) return false;
@@ -304,19 +307,28 @@ SPRINGBONES_NOINLINE bool scanSpringBones(const std::string& text, const std::st
   return seen_version && version == 1.0 && found && scan.atEnd();
 }
 
-// Finishes a successful scan as parseSpringBones would: entries in key order (nlohmann's objects
-// are sorted maps), each with its path and its param-missing warnings. False on a repeated name
-// (nlohmann keeps the last; left to it).
-bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelEntry& out,
-                std::vector<Warning>& warnings) {
-  std::vector<std::size_t> order(bones.size());
-  std::iota(order.begin(), order.end(), std::size_t(0));
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return bones[a].entry.name < bones[b].entry.name; });
+// Entry indices in key order (nlohmann's objects are sorted maps: byte-wise, as std::string's <).
+// False on a repeated name (nlohmann keeps the last; left to it).
+SPRINGBONES_NOINLINE bool sortScanned(const std::vector<ScannedBone>& bones, std::vector<std::size_t>& order) {
+  for (std::size_t i = 0; i < bones.size(); ++i) order[i] = i;
+  const auto less = [&](std::size_t a, std::size_t b) {
+    const std::string& x = bones[a].entry.name;
+    const std::string& y = bones[b].entry.name;
+    const int c = std::memcmp(x.data(), y.data(), std::min(x.size(), y.size()));
+    return c < 0 || (c == 0 && x.size() < y.size());
+  };
+  std::sort(order.begin(), order.end(), less);
   for (std::size_t i = 1; i < order.size(); ++i) {
     if (bones[order[i - 1]].entry.name == bones[order[i]].entry.name) return false;
   }
-  const std::string model_path = "/models" + pointerToken(hash);
+  return true;
+}
+
+// The entries in that order, each with its path and its param-missing warnings, as
+// parseSpringBones would produce them. (No locals with destructors: see SPRINGBONES_NOINLINE.)
+SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std::vector<std::size_t>& order,
+                                      const std::string& model_path, ModelEntry& out,
+                                      std::vector<Warning>& warnings) {
   out.enabled = true;
   out.bones.reserve(bones.size());
   for (std::size_t index : order) {
@@ -337,19 +349,26 @@ bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelE
     }
     // The order parseSpringBones reads them in: stiffness, gravityPower, gravityDir, drag.
     if (bone.missing & kMissStiffness) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + pointerToken(std::string(kStiffnessRange.key))});
+      warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + "/stiffness"});
     }
     if (bone.missing & kMissGravityPower) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + pointerToken(std::string(kGravityPowerRange.key))});
+      warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + "/gravityPower"});
     }
     if (bone.missing & kMissGravityDir) {
       warnings.push_back(Warning{"param-missing", kGravityDirMissing, path + "/gravityDir"});
     }
     if (bone.missing & kMissDrag) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + pointerToken(std::string(kDragRange.key))});
+      warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + "/drag"});
     }
     out.bones.push_back(std::move(bone.entry));
   }
+}
+
+bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelEntry& out,
+                std::vector<Warning>& warnings) {
+  std::vector<std::size_t> order(bones.size());
+  if (!sortScanned(bones, order)) return false;
+  emitScanned(bones, order, "/models" + pointerToken(hash), out, warnings);
   return true;
 }
 

@@ -46,6 +46,11 @@ class RigBuilder {
     rig_->warnings = std::move(warnings);
   }
 
+  // Kept out of buildRig, whose frame owns this builder: inlined there, every call of the phases
+  // would sit behind an exception landing pad (a JavaScript trampoline in WebAssembly).
+#if defined(__GNUC__) || defined(__clang__)
+  __attribute__((noinline))
+#endif
   std::shared_ptr<const Rig> build() {
     if (!model_.enabled) return rig_;
     indexNodes();
@@ -77,12 +82,13 @@ class RigBuilder {
   void matchEntries() {
     const auto& all = nodes();
     entry_of_node_.assign(all.size(), -1);
-    std::unordered_map<std::string_view, int> entry_by_name;
+    auto& entry_by_name = entry_by_name_;
     entry_by_name.reserve(model_.bones.size());
     for (std::size_t e = 0; e < model_.bones.size(); ++e) {
       entry_by_name.emplace(model_.bones[e].name, static_cast<int>(e));
     }
-    std::vector<int> matches(model_.bones.size(), 0);
+    auto& matches = matches_;
+    matches.assign(model_.bones.size(), 0);
     for (std::size_t i = 0; i < all.size(); ++i) {
       auto it = entry_by_name.find(all[i].name);
       if (it == entry_by_name.end()) continue;
@@ -164,8 +170,9 @@ class RigBuilder {
 
   void buildJoints() {
     const auto& all = nodes();
-    std::vector<int> joint_of_node(all.size(), -1);
-    std::vector<int> queue;
+    auto& joint_of_node = joint_of_node_;
+    joint_of_node.assign(all.size(), -1);
+    auto& queue = queue_;
     for (int root : root_nodes_) {
       const int chain_joint = static_cast<int>(rig_->joints.size());
       bool chain_has_joint = false;
@@ -185,7 +192,12 @@ class RigBuilder {
           }
           continue;
         }
-        Joint joint;
+        // Built in place: a local Joint (it owns a vector) would put every call of this loop
+        // behind an exception landing pad, which in WebAssembly is a JavaScript trampoline.
+        const int joint_index = static_cast<int>(rig_->joints.size());
+        const int parent_joint = node.parent >= 0 ? joint_of_node[node.parent] : -1;
+        rig_->joints.emplace_back();
+        Joint& joint = rig_->joints.back();
         joint.node = n;
         joint.tail_node = node.children.front();
         joint.chain = chain_joint;
@@ -193,7 +205,6 @@ class RigBuilder {
         joint.tail_local = all[joint.tail_node].rest_local.translation;
         joint.rest_length = glm::length(glm::vec3(all[joint.tail_node].rest_world[3]) -
                                         glm::vec3(node.rest_world[3]));
-        const int parent_joint = node.parent >= 0 ? joint_of_node[node.parent] : -1;
         joint.parent_joint = parent_joint;
         if (parent_joint >= 0) {
           const Joint& parent = rig_->joints[parent_joint];
@@ -210,8 +221,7 @@ class RigBuilder {
           warn("zero-length-bone", "'" + node.name + "' and its tail '" + all[joint.tail_node].name +
                                        "' are at the same place; the bone keeps its rest rotation");
         }
-        joint_of_node[n] = static_cast<int>(rig_->joints.size());
-        rig_->joints.push_back(std::move(joint));
+        joint_of_node[n] = joint_index;
         chain_has_joint = true;
       }
       if (chain_has_joint) {
@@ -273,6 +283,11 @@ class RigBuilder {
   // 7,000 nodes copies no strings.
   std::unordered_map<std::string_view, int> first_node_by_name_;
   std::unordered_map<int, int> center_of_entry_;
+  // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
+  std::unordered_map<std::string_view, int> entry_by_name_;
+  std::vector<int> matches_;
+  std::vector<int> joint_of_node_;
+  std::vector<int> queue_;
   std::unordered_map<int, int> driver_of_node_;
 };
 
