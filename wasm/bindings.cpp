@@ -12,7 +12,9 @@
 // The logic lives in src/; this file only moves data and catches.
 #include <malloc.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
@@ -31,6 +33,7 @@
 #include "builder_edits.h"
 #include "content_hash.h"
 #include "entity.h"
+#include "float_text.h"
 #include "springbones.h"
 #include "validation.h"
 #include "vrm_loader.h"
@@ -89,20 +92,9 @@ int guarded(Body&& body) {
 }
 
 // The shortest decimal that reads back as the same float, so 0.4f shows as 0.4 in JS, not as
-// 0.4000000059604645: the value the simulation uses, written the way the metadata wrote it.
-// (The loop always ends by 9 digits, which round-trip every float.)
-double shortestDouble(float value) {
-  char text[32];
-  for (int precision = 6; precision <= 9; ++precision) {
-    std::snprintf(text, sizeof text, "%.*g", precision, static_cast<double>(value));
-    if (std::strtof(text, nullptr) == value) break;
-  }
-  return std::strtod(text, nullptr);
-}
-
-json vec3Json(const glm::vec3& v) {
-  return json::array({shortestDouble(v.x), shortestDouble(v.y), shortestDouble(v.z)});
-}
+// 0.4000000059604645: the value the simulation uses, written the way the metadata wrote it
+// (src/float_text.h).
+double shortestDouble(float value) { return shortestFloatDouble(value); }
 
 json paramsJson(const BoneParams& p) {
   return json{{"stiffness", shortestDouble(p.stiffness)},
@@ -113,53 +105,216 @@ json paramsJson(const BoneParams& p) {
               {"drag", shortestDouble(p.drag)}};
 }
 
-std::string rigJson(const LoadedRig& loaded) {
+// ---------------------------------------------------------------------------------------------
+// The rig description, written straight as text: a 5,000-joint rig is 1.5 MB of JSON, which as
+// an nlohmann DOM (a map per joint) and printf per float cost more than loading the rig itself.
+// The text is what nlohmann would dump, keys in its (sorted) order and the same numbers; the
+// writers below hold no objects with destructors, so in WebAssembly their calls stay direct
+// instead of going through the JavaScript exception trampolines.
+
+#if defined(__GNUC__) || defined(__clang__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
+
+// A string that needs escaping or holds non-ASCII bytes: nlohmann's own escaping (replace: a
+// message may quote a node name cut inside a UTF-8 sequence).
+SPRINGBONES_NOINLINE void escapeString(const std::string& s, std::string& out) {
+  out = json(s).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// Appends into a std::string sized ahead, through a plain pointer: at -Oz every std::string
+// append is an out-of-line call, which at 1.5 MB of text was most of the time.
+class TextWriter {
+ public:
+  TextWriter(std::string& out, std::string& scratch) : out_(out), scratch_(scratch) { grow(1 << 16); }
+
+  void raw(const char* s, std::size_t n) {
+    if (static_cast<std::size_t>(end_ - p_) < n) grow(n);
+    std::memcpy(p_, s, n);
+    p_ += n;
+  }
+  template <std::size_t N>
+  void lit(const char (&s)[N]) {
+    raw(s, N - 1);
+  }
+  void integer(long long v) {
+    if (end_ - p_ < 24) grow(24);
+    p_ += writeInteger(p_, v);
+  }
+  void number(float v) {
+    // The same floats recur (parameters shared by a chain, equal bone lengths): a small cache of
+    // their texts, keyed by the bits.
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    CachedFloat& c = cache_[(bits ^ (bits >> 13) ^ (bits >> 23)) & (kCacheSize - 1)];
+    if (!c.valid || c.bits != bits) {
+      c.length = static_cast<unsigned char>(writeShortestFloat(c.text, v));
+      c.bits = bits;
+      c.valid = true;
+    }
+    raw(c.text, c.length);
+  }
+  void string(const std::string& s) {
+    for (char c : s) {
+      if (c < 0x20 || c > 0x7E || c == '"' || c == '\\') {
+        escapeString(s, scratch_);
+        raw(scratch_.data(), scratch_.size());
+        return;
+      }
+    }
+    if (static_cast<std::size_t>(end_ - p_) < s.size() + 2) grow(s.size() + 2);
+    *p_++ = '"';
+    std::memcpy(p_, s.data(), s.size());
+    p_ += s.size();
+    *p_++ = '"';
+  }
+  void vec3(const glm::vec3& v) {
+    lit("[");
+    number(v.x);
+    lit(",");
+    number(v.y);
+    lit(",");
+    number(v.z);
+    lit("]");
+  }
+  void finish() { out_.resize(static_cast<std::size_t>(p_ - out_.data())); }
+
+ private:
+  static constexpr std::size_t kCacheSize = 256;
+  struct CachedFloat {
+    std::uint32_t bits = 0;
+    bool valid = false;
+    unsigned char length = 0;
+    char text[kMaxFloatTextLength];
+  };
+
+  SPRINGBONES_NOINLINE void grow(std::size_t n) {
+    const std::size_t used = p_ ? static_cast<std::size_t>(p_ - out_.data()) : 0;
+    out_.resize(std::max(out_.size() * 2, used + n + 1024));
+    p_ = &out_[0] + used;
+    end_ = &out_[0] + out_.size();
+  }
+
+  std::string& out_;
+  std::string& scratch_;
+  char* p_ = nullptr;
+  char* end_ = nullptr;
+  CachedFloat cache_[kCacheSize];
+};
+
+SPRINGBONES_NOINLINE void writeRigJson(const LoadedRig& loaded, TextWriter& w) {
   const Rig& rig = *loaded.rig;
   const auto& nodes = rig.skeleton.nodes;
-  json joints = json::array();
-  for (const Joint& j : rig.joints) {
+  w.lit("{\"chains\":[");
+  for (std::size_t i = 0; i < rig.chain_roots.size(); ++i) {
+    if (i) w.lit(",");
+    w.integer(rig.chain_roots[i]);
+  }
+  w.lit("],\"colliders\":[");
+  for (std::size_t i = 0; i < rig.colliders.size(); ++i) {
+    const Collider& c = rig.colliders[i];
+    const bool capsule = c.shape == Collider::Shape::kCapsule;
+    if (i) w.lit(",");
+    w.lit("{\"driver\":");
+    w.integer(c.driver);
+    w.lit(",\"node\":");
+    if (c.driver >= 0) {
+      w.string(rig.drivers[c.driver].name);
+    } else {
+      w.lit("null");
+    }
+    w.lit(",\"offset\":");
+    w.vec3(c.offset);
+    w.lit(",\"radius\":");
+    w.number(c.radius);
+    if (capsule) {
+      w.lit(",\"shape\":\"capsule\",\"tail\":");
+      w.vec3(c.tail);
+    } else {
+      w.lit(",\"shape\":\"sphere\"");
+    }
+    w.lit("}");
+  }
+  w.lit("],\"contentHash\":");
+  w.string(loaded.hash);
+  w.lit(",\"drivers\":[");
+  for (std::size_t i = 0; i < rig.drivers.size(); ++i) {
+    if (i) w.lit(",");
+    w.lit("{\"name\":");
+    w.string(rig.drivers[i].name);
+    w.lit(",\"node\":");
+    w.integer(rig.drivers[i].node);
+    w.lit("}");
+  }
+  w.lit("],\"format\":");
+  w.string(loaded.format);
+  w.lit(",\"joints\":[");
+  for (std::size_t i = 0; i < rig.joints.size(); ++i) {
+    const Joint& j = rig.joints[i];
     // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
     const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
-    joints.push_back(json{{"name", nodes[j.node].name},
-                          {"node", j.node},
-                          {"tail", tail_is_node ? json(nodes[j.tail_node].name) : json(nullptr)},
-                          {"tailNode", tail_is_node ? j.tail_node : -1},
-                          {"tailOffset", vec3Json(j.tail_local)},
-                          {"hitRadius", shortestDouble(j.hit_radius)},
-                          {"parent", j.parent_joint},
-                          {"parentDriver", j.parent_driver},
-                          {"centerDriver", j.center_driver},
-                          {"chain", j.chain},
-                          {"restLength", shortestDouble(j.rest_length)},
-                          {"params", paramsJson(j.params)}});
+    if (i) w.lit(",");
+    w.lit("{\"centerDriver\":");
+    w.integer(j.center_driver);
+    w.lit(",\"chain\":");
+    w.integer(j.chain);
+    w.lit(",\"hitRadius\":");
+    w.number(j.hit_radius);
+    w.lit(",\"name\":");
+    w.string(nodes[j.node].name);
+    w.lit(",\"node\":");
+    w.integer(j.node);
+    w.lit(",\"params\":{\"drag\":");
+    w.number(j.params.drag);
+    w.lit(",\"gravityDir\":");
+    w.vec3(j.params.gravity_dir);
+    w.lit(",\"gravityPower\":");
+    w.number(j.params.gravity_power);
+    w.lit(",\"stiffness\":");
+    w.number(j.params.stiffness);
+    w.lit("},\"parent\":");
+    w.integer(j.parent_joint);
+    w.lit(",\"parentDriver\":");
+    w.integer(j.parent_driver);
+    w.lit(",\"restLength\":");
+    w.number(j.rest_length);
+    w.lit(",\"tail\":");
+    if (tail_is_node) {
+      w.string(nodes[j.tail_node].name);
+    } else {
+      w.lit("null");
+    }
+    w.lit(",\"tailNode\":");
+    w.integer(tail_is_node ? j.tail_node : -1);
+    w.lit(",\"tailOffset\":");
+    w.vec3(j.tail_local);
+    w.lit("}");
   }
-  json drivers = json::array();
-  for (const Driver& d : rig.drivers) drivers.push_back(json{{"name", d.name}, {"node", d.node}});
-  json colliders = json::array();
-  for (const Collider& c : rig.colliders) {
-    const bool capsule = c.shape == Collider::Shape::kCapsule;
-    json entry{{"driver", c.driver},
-               {"node", c.driver >= 0 ? json(rig.drivers[c.driver].name) : json(nullptr)},
-               {"shape", capsule ? "capsule" : "sphere"},
-               {"offset", vec3Json(c.offset)},
-               {"radius", shortestDouble(c.radius)}};
-    if (capsule) entry["tail"] = vec3Json(c.tail);
-    colliders.push_back(std::move(entry));
+  w.lit("],\"nodeCount\":");
+  w.integer(static_cast<long long>(nodes.size()));
+  w.lit(",\"warnings\":[");
+  for (std::size_t i = 0; i < rig.warnings.size(); ++i) {
+    const Warning& x = rig.warnings[i];
+    if (i) w.lit(",");
+    w.lit("{\"code\":");
+    w.string(x.code);
+    w.lit(",\"message\":");
+    w.string(x.message);
+    w.lit(",\"path\":");
+    w.string(x.path);
+    w.lit("}");
   }
-  json warnings = json::array();
-  for (const Warning& w : rig.warnings) {
-    warnings.push_back(json{{"code", w.code}, {"message", w.message}, {"path", w.path}});
-  }
-  json out{{"contentHash", loaded.hash},
-           {"nodeCount", nodes.size()},
-           {"joints", std::move(joints)},
-           {"chains", rig.chain_roots},
-           {"drivers", std::move(drivers)},
-           {"colliders", std::move(colliders)},
-           {"format", loaded.format},
-           {"warnings", std::move(warnings)}};
-  // replace: a message may quote a truncated node name cut inside a UTF-8 sequence.
-  return out.dump(-1, ' ', false, json::error_handler_t::replace);
+  w.lit("]}");
+  w.finish();
+}
+
+std::string rigJson(const LoadedRig& loaded) {
+  std::string out, scratch;
+  auto writer = std::make_unique<TextWriter>(out, scratch);  // 10 KB of float cache: not on the stack
+  writeRigJson(loaded, *writer);
+  return out;
 }
 
 Instance* findInstance(int handle) {
@@ -214,14 +369,16 @@ RigOptions rigOptionsFrom(const std::string& text) {
   return options;
 }
 
-/// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text (the text "null"
-/// for none), the models key (empty: the GLB's own content hash) and the rig options as JSON
+/// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text as `metadata_size`
+/// UTF-8 bytes at `metadata_data` (the text "null" for none; bytes, not a JS string, because
+/// embind converts strings with a per-character JavaScript loop), the models key (empty: the GLB's own content hash) and the rig options as JSON
 /// (empty for none). Returns the rig handle, or 0 with the error pending. The caller keeps
 /// ownership of `data`.
-int loadRig(std::uintptr_t data, std::size_t size, const std::string& metadata,
+int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data, std::size_t metadata_size,
             const std::string& hash, const std::string& options_text) {
   return guarded([&] {
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
+    const std::string metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
     RigOptions options;
     try {
       options = rigOptionsFrom(options_text);
@@ -289,16 +446,26 @@ std::string hashBytes(std::uintptr_t data, std::size_t size) {
   return hash;
 }
 
-/// The rig as JSON (contentHash, nodeCount, joints, chains, drivers, warnings), or "".
-std::string rigInfo(int rig) {
-  std::string text;
+/// The rig as JSON (contentHash, nodeCount, joints, chains, drivers, warnings) in a malloc'd
+/// block: a 32-bit length, then that many UTF-8 bytes. The caller decodes it with TextDecoder and
+/// frees it (embind's std::string return walks the 1.5 MB of a large rig byte by byte in
+/// JavaScript). 0 with the error pending.
+std::uintptr_t rigInfo(int rig) {
+  std::uintptr_t block = 0;
   guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
-    text = rigJson(it->second);
+    const std::string text = rigJson(it->second);
+    if (text.size() > UINT32_MAX - 4) throw std::length_error("rig description too large");
+    auto* p = static_cast<std::uint8_t*>(std::malloc(4 + text.size()));
+    if (p == nullptr) throw std::bad_alloc();
+    const std::uint32_t length = static_cast<std::uint32_t>(text.size());
+    std::memcpy(p, &length, 4);
+    std::memcpy(p + 4, text.data(), text.size());
+    block = reinterpret_cast<std::uintptr_t>(p);
     return 1;
   });
-  return text;
+  return block;
 }
 
 /// A new instance of the rig; options out of range are clamped by the core (the JS API rejects

@@ -105,7 +105,10 @@ class SpringBones {
     const rigOptionsText = rigOptionsJson(opts);
     const m = this.#m;
     const hash = resolveHash(m, 'loadRig', opts);
-    const handle = withBytes(m, bytes, (ptr, size) => m.loadRig(ptr, size, metadataText, hash, rigOptionsText));
+    // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
+    const metadataBytes = utf8Bytes(metadataText);
+    const handle = withBytes(m, bytes, (ptr, size) => withBytes(m, metadataBytes,
+      (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -221,16 +224,26 @@ class SpringBones {
 
   #rig(handle) {
     const m = this.#m;
-    const info = call(() => m.rigInfo(handle));
-    if (info === '') {
+    // A malloc'd block: 32-bit length, then the UTF-8 JSON (see rigInfo in wasm/bindings.cpp).
+    const block = call(() => m.rigInfo(handle));
+    if (block === 0) {
       m.disposeRig(handle);
       throw takeError(m);
+    }
+    let info;
+    try {
+      const length = m.HEAPU32[block >>> 2];
+      info = kTextDecoder.decode(m.HEAPU8.subarray(block + 4, block + 4 + length));
+    } finally {
+      m._free(block);
     }
     return new Rig(m, handle, JSON.parse(info));
   }
 }
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+const kTextEncoder = new TextEncoder();
+const kTextDecoder = new TextDecoder();
 const kIntegrators = ['vrm', 'xpbd'];
 // The XPBD integrator is meant for fixed 120 Hz substeps (src/xpbd_solver.h kXpbdDefaultStepHz);
 // 8 of them cover a 15 fps frame.
@@ -692,6 +705,24 @@ function toJsonText(what, value, allowNull) {
     throw new TypeError(`${what} must be an object, JSON text${allowNull ? ', null or undefined' : ''}`);
   }
   return JSON.stringify(value);  // throws TypeError itself for cycles and BigInt
+}
+
+// JSON text as UTF-8 bytes for the core. A lone surrogate (possible in a string, never in UTF-8)
+// is written as its 3-byte WTF-8 form instead of TextEncoder's U+FFFD, so the core still sees
+// text that is not UTF-8 and reports metadata-bad-json rather than reading a replaced name.
+function utf8Bytes(text) {
+  const wellFormed = typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
+  if (wellFormed) return kTextEncoder.encode(text);
+  const out = [];
+  for (const ch of text) {  // by code point: pairs stay together, lone surrogates come alone
+    const cp = ch.codePointAt(0);
+    if (cp >= 0xd800 && cp <= 0xdfff) {
+      out.push(0xe0 | (cp >> 12), 0x80 | ((cp >> 6) & 0x3f), 0x80 | (cp & 0x3f));
+    } else {
+      out.push(...kTextEncoder.encode(ch));
+    }
+  }
+  return Uint8Array.from(out);
 }
 
 // Copies bytes into WASM memory for the duration of fn(ptr, size).
