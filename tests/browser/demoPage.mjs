@@ -37,21 +37,33 @@ export async function openDemo() {
       // software WebGL without a GPU (SwiftShader through ANGLE); newer Chromium wants the opt-in
       '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
     ],
+  }).catch((error) => {
+    server.close();
+    rmSync(profileDir, { recursive: true, force: true });
+    throw error;
   });
-  const page = context.pages()[0] ?? await context.newPage();
-  const consoleErrors = [];
-  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
-  // Generous waits: software WebGL on a 2-core machine shared with builds can take a while; these
-  // are limits for a hung page, not timings.
-  page.setDefaultTimeout(90000);
-  await page.goto(`http://127.0.0.1:${port}/web/demo/`);
-  await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
   const close = async () => {
     await context.close();
     server.close();
     rmSync(profileDir, { recursive: true, force: true });
   };
+  const consoleErrors = [];
+  let page;
+  try {
+    page = context.pages()[0] ?? await context.newPage();
+    page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+    page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
+    // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
+    // these are limits for a hung page, not timings.
+    page.setDefaultTimeout(90000);
+    await page.goto(`http://127.0.0.1:${port}/web/demo/`);
+    await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
+  } catch (error) {
+    // The caller gets no close(): without this, Chromium and the server would keep the test
+    // process alive forever after a failed start.
+    await close().catch(() => {});
+    throw error;
+  }
   return { page, consoleErrors, close };
 }
 

@@ -1,6 +1,6 @@
 // The preview: a three.js scene with the sample avatar (or a crowd of them), each wearing the
 // current wearable through the springbones three.js adapter, animated with the avatar's clips.
-// Every avatar's instance is in one springbones scene, stepped with one call per frame. The
+// Every attachment is in one SpringBonesGroup: one springbones scene.step per frame for all. The
 // creator panel (creator.js) decides which wearable and which parameters; this file owns the
 // scene, the frame loop, the playback controls (animation, turn, shake, pause, reset, integrator,
 // colliders, debug lines) and the read-only debug hook (window.springbonesDemo) the browser test
@@ -11,7 +11,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { createSpringBones } from '../../springbones.js';
-import { attachWearable, avatarArmature, wearableNodes, SpringBonesHelper } from '../../three/springBonesThree.js';
+import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
 
@@ -47,10 +47,8 @@ class Preview {
     this.colliders = true;     // the avatar's head and torso colliders go into the rig
     this.showColliders = false;
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
-    this.springTimes = new Float64Array(120);  // ms per frame in drivers + scene.step + rotations, a ring
+    this.springTimes = new Float64Array(120);  // ms per frame in group.update (drivers, scene.step, rotations), a ring
     this.springTimeCount = 0;
-    this.solverTimes = new Float64Array(120);  // ms per frame in scene.step alone
-    this.solverTimeCount = 0;
     this.frameTimes = new Float64Array(120);
     this.frameCount = 0;
     this.lastReadout = 0;
@@ -89,7 +87,7 @@ class Preview {
 
     this.loader = new GLTFLoader();
     this.sb = await createSpringBones();
-    this.simulation = this.sb.createScene();  // every avatar's instance, stepped in one call
+    this.group = new SpringBonesGroup(this.sb);  // every attachment, stepped by one scene.step
     const avatarBytes = await fetchBytes(new URL('avatar.glb', ASSETS));
     this.avatarGltf = await this.loader.parseAsync(avatarBytes.buffer, ASSETS.href);
     this.timer = new THREE.Timer();
@@ -219,17 +217,17 @@ class Preview {
     avatar.helper = new SpringBonesHelper(avatar.attachment);
     avatar.helper.visible = this.showChains;
     this.scene.add(avatar.helper);
+    this.group.add(avatar.attachment);  // setRig keeps it in the group, dispose takes it out
     this.linkAttachment(avatar);
   }
 
   /**
-   * After attaching or a new rig: the instance joins the page's scene; drivers the wearable GLB
-   * does not have (a collider on an avatar bone, node -1) are found by name in the avatar's
-   * armature and written by the frame loop; the colliders are drawn on their bones.
+   * After attaching or a new rig: drivers the wearable GLB does not have (a collider on an avatar
+   * bone, node -1) are found by name in the avatar's armature and written by the frame loop; the
+   * colliders are drawn on their bones.
    */
   linkAttachment(avatar) {
     const { attachment } = avatar;
-    this.simulation.add(attachment.instance);
     const armature = avatarArmature(avatar.root);
     avatar.extraDrivers = [];
     attachment.rig.drivers.forEach((d, index) => {
@@ -249,7 +247,7 @@ class Preview {
 
   unwear(avatar) {
     if (!avatar.attachment) return;
-    avatar.attachment.dispose();  // takes its instance out of the scene
+    avatar.attachment.dispose();  // takes it out of the group
     avatar.helper.removeFromParent();
     avatar.helper.dispose();
     avatar.colliderHelper?.dispose();
@@ -387,35 +385,28 @@ class Preview {
     if (dt > 0) this.simulate(dt);
   }
 
-  /** Drivers of every avatar in, one scene.step for all of them, rotations out. */
+  /**
+   * Drivers of every avatar in, one scene.step for all of them, rotations out (group.update).
+   * The group's readDrivers() skips drivers without an object, so the avatar bones found by name
+   * for node -1 drivers are written first and kept.
+   */
   simulate(dt) {
     const t0 = performance.now();
     for (const a of this.avatars) {
-      if (!a.attachment) continue;
-      a.attachment.readDrivers();
-      if (a.extraDrivers.length) {
-        const matrices = a.attachment.instance.driverMatrices;
-        for (const { index, elements } of a.extraDrivers) {
-          for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
-        }
+      if (!a.attachment || a.extraDrivers.length === 0) continue;
+      const matrices = a.attachment.instance.driverMatrices;
+      for (const { index, elements } of a.extraDrivers) {
+        for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
       }
     }
-    const t1 = performance.now();
-    this.simulation.step(dt);
-    const t2 = performance.now();
-    for (const a of this.avatars) a.attachment?.writeRotations();
-    const t3 = performance.now();
-    this.springTimes[this.springTimeCount++ % this.springTimes.length] = t3 - t0;
-    this.solverTimes[this.solverTimeCount++ % this.solverTimes.length] = t2 - t1;
+    this.group.update(dt);
+    this.springTimes[this.springTimeCount++ % this.springTimes.length] = performance.now() - t0;
   }
 
   springMsAverage() {
     return ringAverage(this.springTimes, this.springTimeCount);
   }
 
-  solverMsAverage() {
-    return ringAverage(this.solverTimes, this.solverTimeCount);
-  }
 
   fps() {
     const n = Math.min(this.frameCount, this.frameTimes.length);
@@ -427,12 +418,10 @@ class Preview {
   updateReadout() {
     const joints = this.jointCount;
     const ms = this.springMsAverage();
-    const solver = this.solverMsAverage();
     $('readout-joints').textContent = String(joints);
     $('readout-integrator').textContent = this.integrator.toUpperCase();
-    $('readout-solver').textContent = Number.isFinite(solver) ? solver.toFixed(3) : '–';
-    $('readout-springs').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
-    $('readout-per-joint').textContent = Number.isFinite(solver) && joints ? `(${((solver * 1e6) / joints).toFixed(0)} ns/joint)` : '';
+    $('readout-solver').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
+    $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
     const fps = this.fps();
     $('readout-fps').textContent = Number.isFinite(fps) ? fps.toFixed(0) : '–';
   }
@@ -522,14 +511,13 @@ function debugHook(preview, creator) {
       wearable: preview.wearable?.label ?? null,
       contentHash: creator.hash,
       springMsPerFrame: preview.springMsAverage(),
-      solverMsPerFrame: preview.solverMsAverage(),
       integrator: preview.integrator,
       colliders: preview.colliders,
       rigColliders: first()?.rig.colliders.length ?? 0,
       collidersShown: preview.avatars.reduce((n, a) => n + (a.colliderHelper?.lines.filter((l) => l.visible && l.parent).length ?? 0), 0),
       chainsShown: preview.avatars.filter((a) => a.helper?.visible && a.helper.parent).length,
-      sceneSize: preview.simulation.size,
-      instances: preview.avatars.filter((a) => a.attachment && preview.simulation.slotOf(a.attachment.instance) >= 0).length,
+      sceneSize: preview.group.scene.size,
+      instances: preview.avatars.filter((a) => a.attachment && preview.group.scene.slotOf(a.attachment.instance) >= 0).length,
       fps: preview.fps(),
       messages: creator.messageList(),
       validation: creator.validationList(),
