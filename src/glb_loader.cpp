@@ -302,12 +302,12 @@ bool scanNode(JsonScan& scan, SkeletonNode& node, std::string& scratch) {
       std::string_view key;
       if (!scan.string(key, scratch) || !scan.consume(':')) return false;
       unsigned field = 0;
-      if (key == "name") {
+      if (keyIs(key, "name")) {
         field = kName;
         std::string_view name;
         if ((seen & field) || !scan.string(name, scratch)) return false;
         node.name.assign(name.data(), name.size());
-      } else if (key == "children") {
+      } else if (keyIs(key, "children")) {
         field = kChildren;
         if ((seen & field) || !scan.consume('[')) return false;
         if (!scan.consume(']')) {
@@ -318,16 +318,16 @@ bool scanNode(JsonScan& scan, SkeletonNode& node, std::string& scratch) {
           } while (scan.consume(','));
           if (!scan.consume(']')) return false;
         }
-      } else if (key == "matrix") {
+      } else if (keyIs(key, "matrix")) {
         field = kMatrix;
         if ((seen & field) || !scanNumbers(scan, matrix, 16)) return false;
-      } else if (key == "translation") {
+      } else if (keyIs(key, "translation")) {
         field = kTranslation;
         if ((seen & field) || !scanNumbers(scan, translation, 3)) return false;
-      } else if (key == "rotation") {
+      } else if (keyIs(key, "rotation")) {
         field = kRotation;
         if ((seen & field) || !scanNumbers(scan, rotation, 4)) return false;
-      } else if (key == "scale") {
+      } else if (keyIs(key, "scale")) {
         field = kScale;
         if ((seen & field) || !scanNumbers(scan, scale, 3)) return false;
       } else if (!scan.skipValue(scratch)) {
@@ -351,14 +351,14 @@ SPRINGBONES_NOINLINE bool scanDocument(const char* begin, std::size_t size, Skel
     do {
       std::string_view key;
       if (!scan.string(key, scratch) || !scan.consume(':')) return false;
-      if (key == "asset") {
+      if (keyIs(key, "asset")) {
         if (seen_asset || !scan.consume('{')) return false;
         seen_asset = true;
         if (!scan.consume('}')) {
           do {
             std::string_view asset_key, version;
             if (!scan.string(asset_key, scratch) || !scan.consume(':')) return false;
-            if (asset_key == "version") {
+            if (keyIs(asset_key, "version")) {
               if (has_version || !scan.string(version, scratch)) return false;
               has_version = true;
             } else if (!scan.skipValue(scratch)) {
@@ -367,7 +367,7 @@ SPRINGBONES_NOINLINE bool scanDocument(const char* begin, std::size_t size, Skel
           } while (scan.consume(','));
           if (!scan.consume('}')) return false;
         }
-      } else if (key == "nodes") {
+      } else if (keyIs(key, "nodes")) {
         if (seen_nodes || !scan.consume('[')) return false;
         seen_nodes = true;
         if (!scan.consume(']')) {

@@ -41,6 +41,13 @@ Error parseSpringBonesTextChecked(const std::string& text, const std::string& ha
 bool fastGltfReaderAccepts(const std::uint8_t* data, std::size_t size);
 bool fastSpringBonesReaderAccepts(const std::string& text, const std::string& hash);
 
+/// key == literal, inline: at -Oz string_view's == against a C string is strlen plus an
+/// out-of-line compare per call, and the fast readers compare every key they meet.
+template <std::size_t N>
+inline bool keyIs(std::string_view key, const char (&literal)[N]) {
+  return key.size() == N - 1 && std::memcmp(key.data(), literal, N - 1) == 0;
+}
+
 struct JsonNumber {
   double value = 0;       ///< what nlohmann's get<double>() returns
   bool integer = false;   ///< the token is an integer nlohmann stores as int64 or uint64

@@ -215,19 +215,19 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
       if (!scan.string(key, scratch) || !scan.consume(':')) return false;
       unsigned field = 0;
       bool ok = true;
-      if (key == kStiffnessRange.key) {
+      if (keyIs(key, "stiffness")) {
         field = kStiffness;
         ok = scanParam(scan, kStiffnessRange, entry.params.stiffness);
-      } else if (key == kGravityPowerRange.key) {
+      } else if (keyIs(key, "gravityPower")) {
         field = kGravityPower;
         ok = scanParam(scan, kGravityPowerRange, entry.params.gravity_power);
-      } else if (key == kDragRange.key) {
+      } else if (keyIs(key, "drag")) {
         field = kDrag;
         ok = scanParam(scan, kDragRange, entry.params.drag);
-      } else if (key == "gravityDir") {
+      } else if (keyIs(key, "gravityDir")) {
         field = kGravityDir;
         ok = scanGravityDir(scan, entry.params.gravity_dir);
-      } else if (key == "center") {
+      } else if (keyIs(key, "center")) {
         field = kCenter;
         entry.has_center = true;
         std::string_view center;
@@ -236,7 +236,7 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
         } else if ((ok = scan.string(center, scratch))) {
           entry.center.assign(center.data(), center.size());
         }
-      } else if (key == "isRoot") {
+      } else if (keyIs(key, "isRoot")) {
         field = kIsRoot;
         const char c = scan.peek();
         ok = c == 't' ? scan.word("true") : c == 'f' ? scan.word("false") : scan.word("null");
@@ -268,12 +268,12 @@ SPRINGBONES_NOINLINE bool scanSpringBones(const std::string& text, const std::st
     do {
       std::string_view key;
       if (!scan.string(key, scratch) || !scan.consume(':')) return false;
-      if (key == "version") {
+      if (keyIs(key, "version")) {
         JsonNumber n;
         if (seen_version || !scan.number(n)) return false;
         seen_version = true;
         version = n.value;
-      } else if (key == "models") {
+      } else if (keyIs(key, "models")) {
         if (seen_models || !scan.consume('{')) return false;
         seen_models = true;
         if (!scan.consume('}')) {
