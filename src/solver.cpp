@@ -155,9 +155,13 @@ struct Instance::State {
     const std::size_t count = rig->drivers.size();
     for (std::size_t d = 0; d < count; ++d) {
       const float* m = driver_input.data() + 16 * d;
-      // A non-finite matrix is ignored: the driver keeps its last good pose.
-      if (!isFiniteMatrix(m)) continue;
       DriverPose& pose = current_drivers[d];
+      // A non-finite matrix is ignored: the driver keeps its last good pose (current_drivers was
+      // swapped with previous_drivers after the last frame, so that pose is in previous_drivers).
+      if (!isFiniteMatrix(m)) {
+        pose = previous_drivers[d];
+        continue;
+      }
       std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
       pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
       // The general path interpolates decompositions; a similarity already is one.
@@ -471,7 +475,8 @@ void Instance::step(double dt) {
     s.run(static_cast<float>(h), /*seed_only=*/false);
   }
   s.accumulator = dropped ? 0.0 : std::max(0.0, s.accumulator - steps * h);
-  s.previous_drivers = s.current_drivers;
+  // This frame's poses become the previous ones; a swap, not a copy (readDrivers overwrites).
+  std::swap(s.previous_drivers, s.current_drivers);
 }
 
 }  // namespace springbones
