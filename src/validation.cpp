@@ -17,6 +17,7 @@
 
 #include "bone_params.h"
 #include "json_pointer.h"
+#include "utf8_append.h"
 
 namespace springbones {
 namespace {
@@ -264,23 +265,6 @@ std::u16string toUtf16(const std::string& text) {
   return out;
 }
 
-void appendUtf8(std::string& out, char32_t cp) {
-  if (cp < 0x80) {
-    out += static_cast<char>(cp);
-  } else if (cp < 0x800) {
-    out += static_cast<char>(0xC0 | (cp >> 6));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  } else if (cp < 0x10000) {
-    out += static_cast<char>(0xE0 | (cp >> 12));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  } else {
-    out += static_cast<char>(0xF0 | (cp >> 18));
-    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-}
 
 // A cut can split a surrogate pair; the lone half has no UTF-8 form and becomes U+FFFD.
 std::string toUtf8(const std::u16string& units) {
