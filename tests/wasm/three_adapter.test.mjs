@@ -1,21 +1,12 @@
 // The three.js adapter (web/three/springBonesThree.js) in Node: three.js without a renderer, the
 // WebAssembly module through the public JS API, the demo's sample avatar and hair wearable.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
 import { before, describe, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
 import { AnimationMixer, Group, Matrix4, Quaternion, Scene, Vector3 } from 'three';
-import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { createSpringBones } from '../../web/springbones.js';
+import { loadSampleWearable } from './sample_wearable.mjs';
 import { SpringBonesHelper, attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const assets = join(root, 'web', 'demo', 'assets');
-const read = (name) => new Uint8Array(readFileSync(join(assets, name)));
-const loader = new GLTFLoader();
-const parse = (bytes) => loader.parseAsync(bytes.slice().buffer, '');
 
 let sb;
 let avatarGltf;
@@ -25,12 +16,7 @@ let metadata;
 let rig;
 
 before(async () => {
-  sb = await createSpringBones();
-  avatarGltf = await parse(read('avatar.glb'));
-  wearableBytes = read('hair_wearable.glb');
-  wearableGltf = await parse(wearableBytes);
-  metadata = JSON.parse(readFileSync(join(assets, 'hair_wearable.metadata.json'), 'utf8'));
-  rig = sb.loadRig(wearableBytes, metadata);
+  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
 });
 
 /** A fresh avatar in a scene, wearing a fresh clone of the sample wearable. */

@@ -3,23 +3,15 @@
 // three.js's updateMatrixWorld) equal to the instance's, `.rotation` brought in step on request
 // (the adapter bypasses Quaternion.set()), and a group stepping exactly like separate updates.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
 import { before, describe, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
 import { setFlagsFromString } from 'node:v8';
 import { runInNewContext } from 'node:vm';
 import { AnimationMixer, Euler, Quaternion, Scene } from 'three';
-import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { createSpringBones } from '../../web/springbones.js';
+import { loadSampleWearable } from './sample_wearable.mjs';
 import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const assets = join(root, 'web', 'demo', 'assets');
-const read = (name) => new Uint8Array(readFileSync(join(assets, name)));
-const loader = new GLTFLoader();
-const parse = (bytes) => loader.parseAsync(bytes.slice().buffer, '');
 const DT = 1 / 60;
 // One solver step per frame, landing at the frame's end: the instance's world matrices are then
 // those of this frame's drivers, the ones three.js composes the bones under.
@@ -33,12 +25,7 @@ let metadata;
 let rig;
 
 before(async () => {
-  sb = await createSpringBones();
-  avatarGltf = await parse(read('avatar.glb'));
-  wearableBytes = read('hair_wearable.glb');
-  wearableGltf = await parse(wearableBytes);
-  metadata = JSON.parse(readFileSync(join(assets, 'hair_wearable.metadata.json'), 'utf8'));
-  rig = sb.loadRig(wearableBytes, metadata);
+  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
 });
 
 /** A fresh avatar in `scene` wearing a fresh clone of the sample wearable, walking. */
