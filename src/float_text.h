@@ -79,13 +79,75 @@ inline int writeInteger(char* out, long long value) {
   return length;
 }
 
+namespace float_text_detail {
+
+// The shortest "%.pg" decimal (p from 6 to 9) that reads back as `value`, as digits * 10^q with
+// no trailing zero digit, for a finite nonzero value with 1e-7 <= |value| < 1e7; false outside
+// that range.
+inline bool shortestDecimal(float value, std::uint64_t& digits_out, int& q_out) {
+  const float magnitude = std::fabs(value);
+  if (!(magnitude >= 1e-7f && magnitude < 1e7f)) return false;
+  // value = m * 2^e exactly, 2^23 <= m < 2^24.
+  int ex = 0;
+  const double fraction = std::frexp(static_cast<double>(magnitude), &ex);
+  const std::uint64_t m = static_cast<std::uint64_t>(std::ldexp(fraction, 24));
+  const int e = ex - 24;
+  // E = floor(log10(value)), checked exactly.
+  int E = static_cast<int>(std::floor(std::log10(static_cast<double>(magnitude))));
+  if (compare(m, e, 1, E) < 0) --E;
+  if (compare(m, e, 1, E + 1) >= 0) ++E;
+  const bool even = (m & 1) == 0;
+  const bool power_of_two = m == (std::uint64_t(1) << 23);
+  std::uint64_t pow10p = 100000;
+  for (int p = 6; p <= 9; ++p) {
+    pow10p *= 10;  // 10^p
+    int q = E - p + 1;
+    // N = value / 10^q rounded half to even, as printf rounds.
+    u128 num = m, den = 1;
+    if (q >= 0) {
+      den *= pow5(q);
+    } else {
+      num *= pow5(-q);
+    }
+    if (e - q >= 0) {
+      num <<= (e - q);
+    } else {
+      den <<= (q - e);
+    }
+    u128 n = num / den;
+    const u128 rem = num % den;
+    if (2 * rem > den || (2 * rem == den && (n & 1) != 0)) ++n;
+    if (n == pow10p) {
+      n /= 10;
+      ++q;
+    }
+    // Does N * 10^q read back as value? It must lie strictly between the midpoints to the
+    // neighbouring floats, or on one of them when m is even (ties round to even).
+    const int hi = compare(2 * m + 1, e - 1, n, q);  // sign of (upper midpoint - N*10^q)
+    const int lo = power_of_two ? compare(4 * m - 1, e - 2, n, q) : compare(2 * m - 1, e - 1, n, q);
+    const bool below_hi = hi > 0 || (hi == 0 && even);
+    const bool above_lo = lo < 0 || (lo == 0 && even);
+    if (!(below_hi && above_lo)) continue;
+    std::uint64_t digits = static_cast<std::uint64_t>(n);
+    while (digits % 10 == 0) {
+      digits /= 10;
+      ++q;
+    }
+    digits_out = digits;
+    q_out = q;
+    return true;
+  }
+  return false;  // not reached: 9 digits always read back
+}
+
+}  // namespace float_text_detail
+
 /// Writes the JSON text of the number shortestFloatDouble(value) returns (not necessarily the
 /// same characters, the same number once parsed) at `out`, which has room for
 /// kMaxFloatTextLength characters; returns the length. "null" for a non-finite value, as nlohmann
 /// writes one.
 inline constexpr int kMaxFloatTextLength = 32;
 inline int writeShortestFloat(char* out, float value) {
-  using namespace float_text_detail;
   if (!std::isfinite(value)) {
     std::memcpy(out, "null", 4);
     return 4;
@@ -98,66 +160,38 @@ inline int writeShortestFloat(char* out, float value) {
     out[0] = '0';
     return 1;
   }
-  const float magnitude = std::fabs(value);
-  if (magnitude >= 1e-7f && magnitude < 1e7f) {
-    // value = m * 2^e exactly, 2^23 <= m < 2^24.
-    int ex = 0;
-    const double fraction = std::frexp(static_cast<double>(magnitude), &ex);
-    const std::uint64_t m = static_cast<std::uint64_t>(std::ldexp(fraction, 24));
-    const int e = ex - 24;
-    // E = floor(log10(value)), checked exactly.
-    int E = static_cast<int>(std::floor(std::log10(static_cast<double>(magnitude))));
-    if (compare(m, e, 1, E) < 0) --E;
-    if (compare(m, e, 1, E + 1) >= 0) ++E;
-    const bool even = (m & 1) == 0;
-    const bool power_of_two = m == (std::uint64_t(1) << 23);
-    std::uint64_t pow10p = 100000;
-    for (int p = 6; p <= 9; ++p) {
-      pow10p *= 10;  // 10^p
-      int q = E - p + 1;
-      // N = value / 10^q rounded half to even, as printf rounds.
-      u128 num = m, den = 1;
-      if (q >= 0) {
-        den *= pow5(q);
-      } else {
-        num *= pow5(-q);
-      }
-      if (e - q >= 0) {
-        num <<= (e - q);
-      } else {
-        den <<= (q - e);
-      }
-      u128 n = num / den;
-      const u128 rem = num % den;
-      if (2 * rem > den || (2 * rem == den && (n & 1) != 0)) ++n;
-      if (n == pow10p) {
-        n /= 10;
-        ++q;
-      }
-      // Does N * 10^q read back as value? It must lie strictly between the midpoints to the
-      // neighbouring floats, or on one of them when m is even (ties round to even).
-      const int hi = compare(2 * m + 1, e - 1, n, q);  // sign of (upper midpoint - N*10^q)
-      const int lo = power_of_two ? compare(4 * m - 1, e - 2, n, q) : compare(2 * m - 1, e - 1, n, q);
-      const bool below_hi = hi > 0 || (hi == 0 && even);
-      const bool above_lo = lo < 0 || (lo == 0 && even);
-      if (!(below_hi && above_lo)) continue;
-      std::uint64_t digits = static_cast<std::uint64_t>(n);
-      while (digits % 10 == 0) {
-        digits /= 10;
-        ++q;
-      }
-      int length = 0;
-      if (value < 0) out[length++] = '-';
-      length += writeInteger(out + length, static_cast<long long>(digits));
-      if (q != 0) {
-        out[length++] = 'e';
-        length += writeInteger(out + length, q);
-      }
-      return length;
+  std::uint64_t digits = 0;
+  int q = 0;
+  if (float_text_detail::shortestDecimal(value, digits, q)) {
+    int length = 0;
+    if (value < 0) out[length++] = '-';
+    length += writeInteger(out + length, static_cast<long long>(digits));
+    if (q != 0) {
+      out[length++] = 'e';
+      length += writeInteger(out + length, q);
     }
+    return length;
   }
   const int length = std::snprintf(out, kMaxFloatTextLength, "%.17g", shortestFloatDouble(value));
   return length;
+}
+
+/// shortestFloatDouble(value) for a finite value, the number JSON.parse makes of
+/// writeShortestFloat's text, without printf or strtod in the usual range: digits < 10^9 and
+/// |q| <= 22 are exact doubles, so one IEEE multiplication or division rounds correctly (Clinger).
+inline double shortestFloatValue(float value) {
+  if (value == 0.0f) return static_cast<double>(value);  // keeps -0
+  std::uint64_t digits = 0;
+  int q = 0;
+  if (float_text_detail::shortestDecimal(value, digits, q) && q >= -22 && q <= 22) {
+    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                        1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                        1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const double d = static_cast<double>(digits);
+    const double v = q < 0 ? d / kPow10[-q] : d * kPow10[q];
+    return value < 0 ? -v : v;
+  }
+  return shortestFloatDouble(value);
 }
 
 /// writeShortestFloat appended to a string.

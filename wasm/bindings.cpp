@@ -5,8 +5,9 @@
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
 //    then read once with takeError() as JSON {code, message, path}.
 //  - Bulk data crosses as pointers into WASM memory (GLB bytes in, driver matrices in, rotations
-//    out); structured data that is read once (rig description, rig options, entities, validation
-//    errors, Builder edits, errors) crosses as one JSON string.
+//    out, the rig description as one block of 32-bit words, see rigInfo); structured data that is
+//    read once (rig options, entities, validation errors, Builder edits, errors) crosses as one
+//    JSON string.
 //  - Nothing throws across the boundary: every entry point catches every C++ exception and turns
 //    it into an error, so bad input never aborts the module and the next call works.
 // The logic lives in src/; this file only moves data and catches.
@@ -106,11 +107,11 @@ json paramsJson(const BoneParams& p) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The rig description, written straight as text: a 5,000-joint rig is 1.5 MB of JSON, which as
-// an nlohmann DOM (a map per joint) and printf per float cost more than loading the rig itself.
-// The text is what nlohmann would dump, keys in its (sorted) order and the same numbers; the
-// writers below hold no objects with destructors, so in WebAssembly their calls stay direct
-// instead of going through the JavaScript exception trampolines.
+// The rig description: numbers and names in a binary block, and the few strings that may need
+// escaping as JSON text, written straight (no nlohmann DOM, no printf per float). The JSON is what
+// nlohmann would dump, keys in its (sorted) order and the same numbers; the writers below hold no
+// objects with destructors, so in WebAssembly their calls stay direct instead of going through the
+// JavaScript exception trampolines.
 
 #if defined(__GNUC__) || defined(__clang__)
 #define SPRINGBONES_NOINLINE __attribute__((noinline))
@@ -204,15 +205,20 @@ class TextWriter {
   CachedFloat cache_[kCacheSize];
 };
 
-SPRINGBONES_NOINLINE void writeRigJson(const LoadedRig& loaded, TextWriter& w) {
-  const Rig& rig = *loaded.rig;
-  const auto& nodes = rig.skeleton.nodes;
-  w.lit("{\"chains\":[");
-  for (std::size_t i = 0; i < rig.chain_roots.size(); ++i) {
-    if (i) w.lit(",");
-    w.integer(rig.chain_roots[i]);
-  }
-  w.lit("],\"colliders\":[");
+// The parts of the description that are JSON: strings the core may have to escape (a warning
+// can quote a node name cut inside a UTF-8 sequence, a content hash is whatever the caller gave),
+// in nlohmann's key order.
+SPRINGBONES_NOINLINE void writeHeadJson(const LoadedRig& loaded, TextWriter& w) {
+  w.lit("{\"contentHash\":");
+  w.string(loaded.hash);
+  w.lit(",\"format\":");
+  w.string(loaded.format);
+  w.lit("}");
+  w.finish();
+}
+
+SPRINGBONES_NOINLINE void writeListsJson(const Rig& rig, TextWriter& w) {
+  w.lit("{\"colliders\":[");
   for (std::size_t i = 0; i < rig.colliders.size(); ++i) {
     const Collider& c = rig.colliders[i];
     const bool capsule = c.shape == Collider::Shape::kCapsule;
@@ -237,64 +243,7 @@ SPRINGBONES_NOINLINE void writeRigJson(const LoadedRig& loaded, TextWriter& w) {
     }
     w.lit("}");
   }
-  w.lit("],\"contentHash\":");
-  w.string(loaded.hash);
-  w.lit(",\"drivers\":[");
-  for (std::size_t i = 0; i < rig.drivers.size(); ++i) {
-    if (i) w.lit(",");
-    w.lit("{\"name\":");
-    w.string(rig.drivers[i].name);
-    w.lit(",\"node\":");
-    w.integer(rig.drivers[i].node);
-    w.lit("}");
-  }
-  w.lit("],\"format\":");
-  w.string(loaded.format);
-  w.lit(",\"joints\":[");
-  for (std::size_t i = 0; i < rig.joints.size(); ++i) {
-    const Joint& j = rig.joints[i];
-    // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
-    const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
-    if (i) w.lit(",");
-    w.lit("{\"centerDriver\":");
-    w.integer(j.center_driver);
-    w.lit(",\"chain\":");
-    w.integer(j.chain);
-    w.lit(",\"hitRadius\":");
-    w.number(j.hit_radius);
-    w.lit(",\"name\":");
-    w.string(nodes[j.node].name);
-    w.lit(",\"node\":");
-    w.integer(j.node);
-    w.lit(",\"params\":{\"drag\":");
-    w.number(j.params.drag);
-    w.lit(",\"gravityDir\":");
-    w.vec3(j.params.gravity_dir);
-    w.lit(",\"gravityPower\":");
-    w.number(j.params.gravity_power);
-    w.lit(",\"stiffness\":");
-    w.number(j.params.stiffness);
-    w.lit("},\"parent\":");
-    w.integer(j.parent_joint);
-    w.lit(",\"parentDriver\":");
-    w.integer(j.parent_driver);
-    w.lit(",\"restLength\":");
-    w.number(j.rest_length);
-    w.lit(",\"tail\":");
-    if (tail_is_node) {
-      w.string(nodes[j.tail_node].name);
-    } else {
-      w.lit("null");
-    }
-    w.lit(",\"tailNode\":");
-    w.integer(tail_is_node ? j.tail_node : -1);
-    w.lit(",\"tailOffset\":");
-    w.vec3(j.tail_local);
-    w.lit("}");
-  }
-  w.lit("],\"nodeCount\":");
-  w.integer(static_cast<long long>(nodes.size()));
-  w.lit(",\"warnings\":[");
+  w.lit("],\"warnings\":[");
   for (std::size_t i = 0; i < rig.warnings.size(); ++i) {
     const Warning& x = rig.warnings[i];
     if (i) w.lit(",");
@@ -310,11 +259,102 @@ SPRINGBONES_NOINLINE void writeRigJson(const LoadedRig& loaded, TextWriter& w) {
   w.finish();
 }
 
-std::string rigJson(const LoadedRig& loaded) {
-  std::string out, scratch;
-  auto writer = std::make_unique<TextWriter>(out, scratch);  // 10 KB of float cache: not on the stack
-  writeRigJson(loaded, *writer);
-  return out;
+// The rig description block (rigInfo), read by RigDescription in web/springbones.js. Every
+// section starts on a 4-byte boundary; counts and offsets are in the header:
+//   header      kRigBlockHeaderWords uint32: total bytes, joints J, chains C, drivers D, nodes N,
+//               strings S (= N + D), string bytes, head JSON bytes, lists JSON bytes
+//   joint ints  J x 6 int32: node, tailNode (-1: no node), parent, parentDriver, centerDriver, chain
+//   joint floats J x 11 float32: hitRadius, restLength, drag, gravityDir x y z, gravityPower,
+//               stiffness, tailOffset x y z (the floats themselves: the JS side turns them into
+//               the shortest decimals, shortestFloatValues, when the joints are first read)
+//   chains      C int32; driver nodes D int32
+//   string ends S uint32 (end offset of each string in the string bytes; names of the N nodes,
+//               then of the D drivers: valid UTF-8, the readers check it)
+//   string bytes, head JSON {contentHash, format}, lists JSON {colliders, warnings}
+// Binary rather than JSON: for a 5,000-joint rig the JSON text (1.5 MB), its parse and the
+// objects built from it took twice as long as loading the rig.
+constexpr std::size_t kRigBlockHeaderWords = 9;
+constexpr std::size_t kJointInts = 6;
+constexpr std::size_t kJointFloats = 11;
+
+std::size_t padded(std::size_t n) { return (n + 3) & ~std::size_t(3); }
+
+// Fills the numeric sections and the strings; no locals with destructors (see TextWriter).
+SPRINGBONES_NOINLINE void writeRigBlock(const Rig& rig, std::uint8_t* block) {
+  const auto& nodes = rig.skeleton.nodes;
+  std::uint8_t* p = block + 4 * kRigBlockHeaderWords;
+  for (const Joint& j : rig.joints) {
+    // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
+    const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
+    const std::int32_t ints[kJointInts] = {j.node, tail_is_node ? j.tail_node : -1, j.parent_joint,
+                                           j.parent_driver, j.center_driver, j.chain};
+    std::memcpy(p, ints, sizeof ints);
+    p += sizeof ints;
+  }
+  for (const Joint& j : rig.joints) {
+    const BoneParams& q = j.params;
+    const float floats[kJointFloats] = {j.hit_radius, j.rest_length, q.drag, q.gravity_dir.x, q.gravity_dir.y,
+                                        q.gravity_dir.z, q.gravity_power, q.stiffness, j.tail_local.x,
+                                        j.tail_local.y, j.tail_local.z};
+    std::memcpy(p, floats, sizeof floats);
+    p += sizeof floats;
+  }
+  for (int root : rig.chain_roots) {
+    const std::int32_t v = root;
+    std::memcpy(p, &v, 4);
+    p += 4;
+  }
+  for (const Driver& d : rig.drivers) {
+    const std::int32_t v = d.node;
+    std::memcpy(p, &v, 4);
+    p += 4;
+  }
+  std::uint8_t* text = p + 4 * (nodes.size() + rig.drivers.size());
+  std::uint32_t end = 0;
+  const auto add = [&](const std::string& name) {
+    std::memcpy(text + end, name.data(), name.size());
+    end += static_cast<std::uint32_t>(name.size());
+    std::memcpy(p, &end, 4);
+    p += 4;
+  };
+  for (const SkeletonNode& n : nodes) add(n.name);
+  for (const Driver& d : rig.drivers) add(d.name);
+}
+
+// The whole block, malloc'd; nullptr when it cannot be allocated.
+std::uint8_t* rigBlock(const LoadedRig& loaded) {
+  const Rig& rig = *loaded.rig;
+  std::string head, lists, scratch;
+  {
+    auto writer = std::make_unique<TextWriter>(head, scratch);  // 10 KB of float cache: not on the stack
+    writeHeadJson(loaded, *writer);
+  }
+  {
+    auto writer = std::make_unique<TextWriter>(lists, scratch);
+    writeListsJson(rig, *writer);
+  }
+  std::size_t string_bytes = 0;
+  for (const SkeletonNode& n : rig.skeleton.nodes) string_bytes += n.name.size();
+  for (const Driver& d : rig.drivers) string_bytes += d.name.size();
+  const std::size_t strings = rig.skeleton.nodes.size() + rig.drivers.size();
+  const std::size_t words = kRigBlockHeaderWords + (kJointInts + kJointFloats) * rig.joints.size() +
+                            rig.chain_roots.size() + rig.drivers.size() + strings;
+  const std::size_t total = 4 * words + padded(string_bytes) + padded(head.size()) + lists.size();
+  if (total > UINT32_MAX) throw std::length_error("rig description too large");
+  auto* block = static_cast<std::uint8_t*>(std::malloc(total));
+  if (block == nullptr) return nullptr;
+  const std::uint32_t header[kRigBlockHeaderWords] = {
+      static_cast<std::uint32_t>(total),           static_cast<std::uint32_t>(rig.joints.size()),
+      static_cast<std::uint32_t>(rig.chain_roots.size()), static_cast<std::uint32_t>(rig.drivers.size()),
+      static_cast<std::uint32_t>(rig.skeleton.nodes.size()), static_cast<std::uint32_t>(strings),
+      static_cast<std::uint32_t>(string_bytes),    static_cast<std::uint32_t>(head.size()),
+      static_cast<std::uint32_t>(lists.size())};
+  std::memcpy(block, header, sizeof header);
+  writeRigBlock(rig, block);
+  std::uint8_t* json_at = block + 4 * words + padded(string_bytes);
+  std::memcpy(json_at, head.data(), head.size());
+  std::memcpy(json_at + padded(head.size()), lists.data(), lists.size());
+  return block;
 }
 
 Instance* findInstance(int handle) {
@@ -446,26 +486,32 @@ std::string hashBytes(std::uintptr_t data, std::size_t size) {
   return hash;
 }
 
-/// The rig as JSON (contentHash, nodeCount, joints, chains, drivers, warnings) in a malloc'd
-/// block: a 32-bit length, then that many UTF-8 bytes. The caller decodes it with TextDecoder and
-/// frees it (embind's std::string return walks the 1.5 MB of a large rig byte by byte in
-/// JavaScript). 0 with the error pending.
+/// The rig description (see rigBlock) in a malloc'd block the caller copies out and frees; 0 with
+/// the error pending.
 std::uintptr_t rigInfo(int rig) {
   std::uintptr_t block = 0;
   guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
-    const std::string text = rigJson(it->second);
-    if (text.size() > UINT32_MAX - 4) throw std::length_error("rig description too large");
-    auto* p = static_cast<std::uint8_t*>(std::malloc(4 + text.size()));
+    std::uint8_t* p = rigBlock(it->second);
     if (p == nullptr) throw std::bad_alloc();
-    const std::uint32_t length = static_cast<std::uint32_t>(text.size());
-    std::memcpy(p, &length, 4);
-    std::memcpy(p + 4, text.data(), text.size());
     block = reinterpret_cast<std::uintptr_t>(p);
     return 1;
   });
   return block;
+}
+
+/// Replaces `count` floats at `data` (8-byte aligned, room for `count` doubles) by the doubles
+/// JSON.parse reads from their shortest text (float_text.h), so 0.4f shows as 0.4 in JS and not as
+/// 0.4000000059604645: the value the simulation uses, written the way the metadata wrote it. The
+/// values must be finite. Backwards, so each float is read before its slot is overwritten.
+void shortestFloatValues(std::uintptr_t data, int count) {
+  auto* floats = reinterpret_cast<const float*>(data);
+  auto* doubles = reinterpret_cast<double*>(data);
+  for (int i = count - 1; i >= 0; --i) {
+    const float f = floats[i];
+    doubles[i] = shortestFloatValue(f);
+  }
 }
 
 /// A new instance of the rig; options out of range are clamped by the core (the JS API rejects
@@ -738,6 +784,7 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("mainFileHash", &mainFileHash);
   emscripten::function("hashBytes", &hashBytes);
   emscripten::function("rigInfo", &rigInfo);
+  emscripten::function("shortestFloatValues", &shortestFloatValues);
   emscripten::function("createInstance", &createInstance);
   emscripten::function("driverMatricesPtr", &driverMatricesPtr);
   emscripten::function("driverCount", &driverCount);

@@ -224,20 +224,190 @@ class SpringBones {
 
   #rig(handle) {
     const m = this.#m;
-    // A malloc'd block: 32-bit length, then the UTF-8 JSON (see rigInfo in wasm/bindings.cpp).
+    // A malloc'd block of 32-bit words (rigBlock in wasm/bindings.cpp), copied out: the
+    // description outlives the handle, and WASM memory may grow under it.
     const block = call(() => m.rigInfo(handle));
     if (block === 0) {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    let info;
+    let bytes;
     try {
-      const length = m.HEAPU32[block >>> 2];
-      info = kTextDecoder.decode(m.HEAPU8.subarray(block + 4, block + 4 + length));
+      bytes = m.HEAPU8.slice(block, block + m.HEAPU32[block >>> 2]);
     } finally {
       m._free(block);
     }
-    return new Rig(m, handle, JSON.parse(info));
+    return new Rig(m, handle, new RigDescription(m, bytes.buffer));
+  }
+}
+
+// The rig description as wasm/bindings.cpp lays it out (rigBlock): a header of counts, per joint
+// 6 int32 and 11 float32, chain roots, driver nodes, string ends, UTF-8 names, then two JSON
+// texts. The frozen plain objects of rig.joints and the other lists are built on first read: a
+// 5,000-joint rig is 70,000 objects and arrays the per-frame path never needs.
+const kJointInts = 6;
+const kJointFloats = 11;
+const kRigHeaderWords = 9;
+
+class RigDescription {
+  #m;
+  #buffer;
+  #words;  // header
+  #jointInts;
+  #jointFloats;
+  #chainsAt;
+  #driverNodes;
+  #stringEnds;
+  #stringBytes;
+  #lists;  // JSON text of {colliders, warnings}
+  #cache = {};
+
+  constructor(m, buffer) {
+    this.#m = m;
+    this.#buffer = buffer;
+    const h = new Uint32Array(buffer, 0, kRigHeaderWords);
+    this.#words = h;
+    const [, joints, chains, drivers, , strings, stringBytes, headBytes, listsBytes] = h;
+    let at = 4 * kRigHeaderWords;
+    this.#jointInts = new Int32Array(buffer, at, kJointInts * joints);
+    at += 4 * kJointInts * joints;
+    this.#jointFloats = new Float32Array(buffer, at, kJointFloats * joints);
+    at += 4 * kJointFloats * joints;
+    this.#chainsAt = at;
+    at += 4 * chains;
+    this.#driverNodes = new Int32Array(buffer, at, drivers);
+    at += 4 * drivers;
+    this.#stringEnds = new Uint32Array(buffer, at, strings);
+    at += 4 * strings;
+    this.#stringBytes = new Uint8Array(buffer, at, stringBytes);
+    at += (stringBytes + 3) & ~3;
+    const head = JSON.parse(kTextDecoder.decode(new Uint8Array(buffer, at, headBytes)));
+    at += (headBytes + 3) & ~3;
+    this.#lists = new Uint8Array(buffer, at, listsBytes);
+    this.contentHash = head.contentHash;
+    this.format = head.format;
+  }
+
+  get nodeCount() {
+    return this.#words[4];
+  }
+
+  joints() {
+    return this.#cache.joints ??= this.#buildJoints();
+  }
+
+  chains() {
+    return this.#cache.chains ??= Object.freeze(Array.from(new Int32Array(this.#buffer, this.#chainsAt, this.#words[2])));
+  }
+
+  drivers() {
+    return this.#cache.drivers ??= this.#buildDrivers();
+  }
+
+  colliders() {
+    return this.#listsJson().colliders;
+  }
+
+  warnings() {
+    return this.#listsJson().warnings;
+  }
+
+  #listsJson() {
+    return this.#cache.lists ??= deepFreeze(JSON.parse(kTextDecoder.decode(this.#lists)));
+  }
+
+  #buildDrivers() {
+    const names = this.#names();
+    const nodeCount = this.#words[4];
+    return Object.freeze(Array.from(this.#driverNodes,
+      (node, i) => Object.freeze({ name: names(nodeCount + i), node })));
+  }
+
+  #buildJoints() {
+    const ints = this.#jointInts;
+    const values = this.#floatValues();
+    const names = this.#names();
+    const count = this.#words[1];
+    const joints = new Array(count);
+    for (let i = 0; i < count; ++i) {
+      const n = kJointInts * i;
+      const f = kJointFloats * i;
+      const tailNode = ints[n + 1];
+      joints[i] = Object.freeze({
+        centerDriver: ints[n + 4],
+        chain: ints[n + 5],
+        hitRadius: values[f],
+        name: names(ints[n]),
+        node: ints[n],
+        params: Object.freeze({
+          drag: values[f + 2],
+          gravityDir: Object.freeze([values[f + 3], values[f + 4], values[f + 5]]),
+          gravityPower: values[f + 6],
+          stiffness: values[f + 7],
+        }),
+        parent: ints[n + 2],
+        parentDriver: ints[n + 3],
+        restLength: values[f + 1],
+        tail: tailNode >= 0 ? names(tailNode) : null,
+        tailNode,
+        tailOffset: Object.freeze([values[f + 8], values[f + 9], values[f + 10]]),
+      });
+    }
+    return Object.freeze(joints);
+  }
+
+  // The joint floats as the numbers the JSON description had: the shortest decimal that reads
+  // back as the float (0.4, not 0.4000000059604645), null for a non-finite one. Each distinct
+  // value is converted once, by the core (shortestFloatValues), which owns the exact rule.
+  #floatValues() {
+    const floats = this.#jointFloats;
+    const out = new Array(floats.length);
+    const index = new Int32Array(floats.length).fill(-1);  // into distinct, for the others
+    const slot = new Map();  // value -> index in distinct; zeros and non-finite never enter
+    const distinct = [];
+    for (let i = 0; i < floats.length; ++i) {
+      const v = floats[i];
+      if (v === 0) {
+        out[i] = v;  // keeps -0, as JSON's "-0" did
+      } else if (!Number.isFinite(v)) {
+        out[i] = null;
+      } else {
+        let k = slot.get(v);
+        if (k === undefined) {
+          k = distinct.length;
+          slot.set(v, k);
+          distinct.push(v);
+        }
+        index[i] = k;
+      }
+    }
+    if (distinct.length === 0) return out;
+    const m = this.#m;
+    const ptr = m._malloc(8 * distinct.length);
+    if (ptr === 0) {
+      throw new SpringBonesError('out-of-memory', 'could not allocate WebAssembly memory for the rig description');
+    }
+    try {
+      new Float32Array(m.HEAPF32.buffer, ptr, distinct.length).set(distinct);
+      m.shortestFloatValues(ptr, distinct.length);
+      const doubles = new Float64Array(m.HEAPF32.buffer, ptr, distinct.length);
+      for (let i = 0; i < out.length; ++i) {
+        if (index[i] >= 0) out[i] = doubles[index[i]];
+      }
+    } finally {
+      m._free(ptr);
+    }
+    return out;
+  }
+
+  // name(i): the i-th string (node names, then driver names). All ASCII (the usual case): one
+  // decode and slices; else each string decoded alone.
+  #names() {
+    const ends = this.#stringEnds;
+    const bytes = this.#stringBytes;
+    const all = kTextDecoder.decode(bytes);
+    if (all.length === bytes.length) return (i) => all.slice(i === 0 ? 0 : ends[i - 1], ends[i]);
+    return (i) => kTextDecoder.decode(bytes.subarray(i === 0 ? 0 : ends[i - 1], ends[i]));
   }
 }
 
@@ -257,27 +427,47 @@ let sceneInternals;
 class Rig {
   #m;
   #handle;
+  #description;
 
-  constructor(m, handle, info) {
+  constructor(m, handle, description) {
     this.#m = m;
     this.#handle = handle;
+    this.#description = description;
     /** The models key the rig was built from ('' for a VRM). */
-    this.contentHash = info.contentHash;
+    this.contentHash = description.contentHash;
     /** Where the springs came from: 'dcl' (data.springBones), 'vrmc-springbone', 'vrm0' or 'none'. */
-    this.format = info.format;
+    this.format = description.format;
     /** Nodes in the GLB. */
-    this.nodeCount = info.nodeCount;
-    /** Simulated joints, parents before children; rotations[4*i..4*i+3] belongs to joints[i]. */
-    this.joints = deepFreeze(info.joints);
-    /** Indices into joints of the chain roots. */
-    this.chains = deepFreeze(info.chains);
-    /** Nodes whose world matrices the caller writes each frame; driverMatrices[16*i..] is drivers[i]. */
-    this.drivers = deepFreeze(info.drivers);
-    /** Collision shapes, each carried by a driver's world matrix. */
-    this.colliders = deepFreeze(info.colliders);
-    /** Everything the loader clamped, replaced or ignored: {code, message, path}. */
-    this.warnings = deepFreeze(info.warnings);
+    this.nodeCount = description.nodeCount;
     Object.freeze(this);
+  }
+
+  // The lists below are frozen plain data, built on first read (RigDescription) and the same
+  // objects on every read after; they stay readable after dispose().
+
+  /** Simulated joints, parents before children; rotations[4*i..4*i+3] belongs to joints[i]. */
+  get joints() {
+    return this.#description.joints();
+  }
+
+  /** Indices into joints of the chain roots. */
+  get chains() {
+    return this.#description.chains();
+  }
+
+  /** Nodes whose world matrices the caller writes each frame; driverMatrices[16*i..] is drivers[i]. */
+  get drivers() {
+    return this.#description.drivers();
+  }
+
+  /** Collision shapes, each carried by a driver's world matrix. */
+  get colliders() {
+    return this.#description.colliders();
+  }
+
+  /** Everything the loader clamped, replaced or ignored: {code, message, path}. */
+  get warnings() {
+    return this.#description.warnings();
   }
 
   get disposed() {

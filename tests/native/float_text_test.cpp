@@ -1,6 +1,6 @@
-// appendShortestFloat (src/float_text.h) against its reference, printf "%.{6..9}g" + strtof:
-// the text it writes must parse to the very double the reference returns, for every float we
-// try: the exact-arithmetic range [1e-7, 1e7) densely, its edges, powers of two and ten, ties.
+// appendShortestFloat and shortestFloatValue (src/float_text.h) against their reference, printf
+// "%.{6..9}g" + strtof: the text written must parse to the very double the reference returns,
+// and shortestFloatValue must return that double, for every float we try: the exact-arithmetic range [1e-7, 1e7) densely, its edges, powers of two and ten, ties.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,6 +23,12 @@ std::string check(float v) {
   if (std::memcmp(&expected, &got, sizeof got) != 0) {
     char line[160];
     std::snprintf(line, sizeof line, "%.9g: wrote %s, reference %.17g", static_cast<double>(v), text.c_str(), expected);
+    return line;
+  }
+  const double value = shortestFloatValue(v);
+  if (std::memcmp(&expected, &value, sizeof value) != 0) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%.9g: value %.17g, reference %.17g", static_cast<double>(v), value, expected);
     return line;
   }
   return {};
