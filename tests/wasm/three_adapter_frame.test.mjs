@@ -239,6 +239,100 @@ describe('SpringBonesGroup', () => {
     ponytail.dispose();
   });
 
+  test('members of different sizes: each instance gets its own drivers and its own joints get its rotations', () => {
+    // The group copies through flat lists over all members: a wrong offset at a member boundary
+    // shows as a driver matrix or a quaternion of another avatar.
+    const scene = new Scene();
+    const walkers = [0, 1, 2, 3].map((x, i) => walker(scene, { x, speed: 1 + 0.3 * i }));
+    const [hash] = Object.keys(metadata.models);
+    const ponytail = sb.loadRig(wearableBytes, { version: 1, models: { [hash]: { SpringBone_ponytail: metadata.models[hash].SpringBone_ponytail } } });
+    walkers[1].attachment.setRig(ponytail);
+    assert.ok(ponytail.joints.length < rig.joints.length, 'the members differ in joint count');
+    const group = new SpringBonesGroup(sb);
+    for (const w of walkers) group.add(w.attachment);
+    for (let f = 0; f < 30; f++) {
+      animate(scene, walkers, f);
+      group.readDrivers();
+      for (const { attachment } of walkers) {
+        const m = attachment.instance.driverMatrices;
+        attachment.driverObjects.forEach((o, d) => {
+          assert.deepEqual(Array.from(m.subarray(16 * d, 16 * d + 16)), Array.from(Float32Array.from(o.matrixWorld.elements)), `frame ${f}, driver ${d}`);
+        });
+      }
+      group.scene.step(DT);
+      group.writeRotations();
+      for (const { attachment } of walkers) {
+        const r = attachment.instance.rotations;
+        attachment.jointObjects.forEach((o, j) => {
+          assert.deepEqual(o.quaternion.toArray(), Array.from(r.subarray(4 * j, 4 * j + 4)), `frame ${f}, ${o.name}`);
+        });
+      }
+    }
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+    ponytail.dispose();
+  });
+
+  test('after WebAssembly memory grows, updates go through the new views', () => {
+    // The adapter keeps each instance's views between frames; growth detaches them.
+    const scene = new Scene();
+    const walkers = [0, 1, 2].map((x, i) => walker(scene, { x, speed: 1 + 0.4 * i }));
+    const group = new SpringBonesGroup(sb);
+    group.add(walkers[1].attachment);
+    group.add(walkers[2].attachment);
+    const frame = (f) => {
+      animate(scene, walkers, f);
+      walkers[0].attachment.update(DT);
+      group.update(DT);
+    };
+    for (let f = 0; f < 10; f++) frame(f);
+    const old = walkers.map((w) => w.attachment.instance.rotations);
+    sb.contentHash(new Uint8Array(sb.stats().heapBytes + (8 << 20)));  // copied into WASM memory: it grows
+    assert.ok(old.every((view) => view.byteLength === 0), 'the views held across the growth are detached');
+    for (let f = 10; f < 20; f++) {
+      frame(f);
+      for (const { attachment } of walkers) {
+        const m = attachment.instance.driverMatrices;
+        attachment.driverObjects.forEach((o, d) => {
+          assert.deepEqual(Array.from(m.subarray(16 * d, 16 * d + 16)), Array.from(Float32Array.from(o.matrixWorld.elements)), `frame ${f}, driver ${d}`);
+        });
+        const r = attachment.instance.rotations;
+        attachment.jointObjects.forEach((o, j) => {
+          assert.deepEqual(o.quaternion.toArray(), Array.from(r.subarray(4 * j, 4 * j + 4)), `frame ${f}, ${o.name}`);
+        });
+      }
+    }
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+  });
+
+  test('an instance disposed of directly: update throws \'disposed\' before writing anything', () => {
+    const scene = new Scene();
+    const walkers = [0, 1].map((x) => walker(scene, { x }));
+    const group = new SpringBonesGroup(sb);
+    group.add(walkers[1].attachment);
+    animate(scene, walkers, 0);
+    walkers[0].attachment.update(DT);
+    group.update(DT);
+    for (const { attachment } of walkers) attachment.instance.dispose();
+    // New instances may take the freed memory: a view kept across the dispose would write there.
+    const fresh = [rig.createInstance(), rig.createInstance()];
+    const before = fresh.map((i) => [Float32Array.from(i.driverMatrices), Float32Array.from(i.rotations)]);
+    animate(scene, walkers, 1);
+    assert.throws(() => walkers[0].attachment.update(DT), { code: 'disposed' });
+    assert.throws(() => walkers[0].attachment.readDrivers(), { code: 'disposed' });
+    assert.throws(() => walkers[0].attachment.writeRotations(), { code: 'disposed' });
+    assert.throws(() => group.update(DT), { code: 'disposed' });
+    assert.throws(() => group.writeRotations(), { code: 'disposed' });
+    fresh.forEach((i, k) => {
+      assert.deepEqual(i.driverMatrices, before[k][0]);
+      assert.deepEqual(i.rotations, before[k][1]);
+      i.dispose();
+    });
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+  });
+
   test('a setRig the group cannot take (another module\'s rig) changes nothing', async () => {
     const scene = new Scene();
     const w = walker(scene);

@@ -59,9 +59,16 @@ export class SpringBonesAttachment {
    * stepped by group.update(); calling this as well would step it twice.
    */
   update(dt: number): void;
-  /** The first part of update(): drivers' matrixWorld into the instance. */
+  /**
+   * The first part of update(): drivers' matrixWorld into the instance (a driver without an object
+   * is skipped: its matrix in instance.driverMatrices is kept).
+   * @throws SpringBonesError 'disposed' once the instance is disposed of
+   */
   readDrivers(): void;
-  /** The last part of update(): the instance's rotations into the joints' quaternions (fields). */
+  /**
+   * The last part of update(): the instance's rotations into the joints' quaternions (fields).
+   * @throws SpringBonesError 'disposed' once the instance is disposed of
+   */
   writeRotations(): void;
   /**
    * Brings the joints' `.rotation` (Euler) in step with their quaternions, for code that reads
@@ -126,9 +133,20 @@ export class SpringBonesGroup {
   remove(attachment: SpringBonesAttachment): void;
   /**
    * One frame of dt seconds for every attachment; call after updating world matrices, as for
-   * attachment.update(). Allocation-free.
+   * attachment.update(). Allocation-free. Equals readDrivers(), scene.step(dt), writeRotations().
    */
   update(dt: number): void;
+  /**
+   * The first part of update(): every attachment's drivers into its instance, and each avatar
+   * root's world position into scene.positions (for the budget).
+   * @throws SpringBonesError 'disposed' after dispose(), or when an attachment's instance is
+   */
+  readDrivers(): void;
+  /**
+   * The last part of update(): every attachment's rotations into its joints' quaternions.
+   * @throws SpringBonesError 'disposed' when an attachment's instance is disposed of
+   */
+  writeRotations(): void;
   /** Frees the scene; the attachments are not disposed of and can update() on their own. */
   dispose(): void;
 }
