@@ -7,6 +7,8 @@
 // Nothing here fails: every questionable input becomes a warning and a documented fallback.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -37,6 +39,78 @@ bool containsSpringBoneToken(const std::string& name) {
   return false;
 }
 
+// Keeps a function out of its caller. In WebAssembly with JavaScript-based exceptions, every call
+// made from a frame that has destructors to run (a warning's message string, say) goes through a
+// JavaScript trampoline; the hot loops below have none, and their warnings are built in separate
+// functions marked this way.
+#if defined(__GNUC__) || defined(__clang__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
+
+// Name -> first index with that name, over views of strings that outlive it. Open addressing in
+// one flat array: std::unordered_map allocated a node per name (7,000 for a large wearable) and
+// was a third of the build.
+class NameIndex {
+ public:
+  void reserve(std::size_t count) {
+    std::size_t size = 16;
+    while (size < 2 * count) size *= 2;
+    slots_.assign(size, Slot{});
+    mask_ = size - 1;
+  }
+
+  /// Adds name -> value unless the name is there already (the first one is kept).
+  void insertFirst(std::string_view name, int value) {
+    const std::uint32_t h = hash(name);
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      Slot& s = slots_[i];
+      if (s.value < 0) {
+        s = Slot{name.data(), static_cast<std::uint32_t>(name.size()), h, value};
+        return;
+      }
+      if (s.hash == h && equal(s, name)) return;
+    }
+  }
+
+  /// The value of `name`, or -1.
+  int find(std::string_view name) const {
+    if (slots_.empty()) return -1;
+    const std::uint32_t h = hash(name);
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      const Slot& s = slots_[i];
+      if (s.value < 0) return -1;
+      if (s.hash == h && equal(s, name)) return s.value;
+    }
+  }
+
+ private:
+  struct Slot {
+    const char* data = nullptr;
+    std::uint32_t size = 0;
+    std::uint32_t hash = 0;
+    int value = -1;  ///< -1: empty
+  };
+
+  static bool equal(const Slot& s, std::string_view name) {
+    return s.size == name.size() && std::memcmp(s.data, name.data(), name.size()) == 0;
+  }
+
+  // FNV-1a, then a final mix so that names differing only in their last bytes spread out.
+  static std::uint32_t hash(std::string_view name) {
+    std::uint32_t h = 2166136261u;
+    for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    return h;
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
+};
+
 class RigBuilder {
  public:
   RigBuilder(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings, const RigOptions& options)
@@ -48,10 +122,7 @@ class RigBuilder {
 
   // Kept out of buildRig, whose frame owns this builder: inlined there, every call of the phases
   // would sit behind an exception landing pad (a JavaScript trampoline in WebAssembly).
-#if defined(__GNUC__) || defined(__clang__)
-  __attribute__((noinline))
-#endif
-  std::shared_ptr<const Rig> build() {
+  SPRINGBONES_NOINLINE std::shared_ptr<const Rig> build() {
     if (!model_.enabled) return rig_;
     indexNodes();
     matchEntries();
@@ -68,53 +139,58 @@ class RigBuilder {
     rig_->warnings.push_back(Warning{code, std::move(message), std::move(path)});
   }
 
-  void indexNodes() {
+  SPRINGBONES_NOINLINE void indexNodes() {
     const auto& all = nodes();
     is_candidate_.resize(all.size());
     first_node_by_name_.reserve(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) {
       is_candidate_[i] = containsSpringBoneToken(all[i].name);
-      first_node_by_name_.emplace(all[i].name, static_cast<int>(i));  // keeps the first
+      first_node_by_name_.insertFirst(all[i].name, static_cast<int>(i));
     }
   }
 
   // Entry per node, by exact (case-sensitive) name. Entries that cannot apply are reported.
   void matchEntries() {
+    matchNodes();
+    for (std::size_t e = 0; e < model_.bones.size(); ++e) {
+      if (matches_[e] != 1 || !containsSpringBoneToken(model_.bones[e].name)) warnEntry(e);
+    }
+  }
+
+  SPRINGBONES_NOINLINE void matchNodes() {
     const auto& all = nodes();
     entry_of_node_.assign(all.size(), -1);
-    auto& entry_by_name = entry_by_name_;
-    entry_by_name.reserve(model_.bones.size());
+    entry_by_name_.reserve(model_.bones.size());
     for (std::size_t e = 0; e < model_.bones.size(); ++e) {
-      entry_by_name.emplace(model_.bones[e].name, static_cast<int>(e));
+      entry_by_name_.insertFirst(model_.bones[e].name, static_cast<int>(e));
     }
-    auto& matches = matches_;
-    matches.assign(model_.bones.size(), 0);
+    matches_.assign(model_.bones.size(), 0);
     for (std::size_t i = 0; i < all.size(); ++i) {
-      auto it = entry_by_name.find(all[i].name);
-      if (it == entry_by_name.end()) continue;
-      ++matches[it->second];
-      if (is_candidate_[i]) entry_of_node_[i] = it->second;
+      const int entry = entry_by_name_.find(all[i].name);
+      if (entry < 0) continue;
+      ++matches_[entry];
+      if (is_candidate_[i]) entry_of_node_[i] = entry;
     }
-    for (std::size_t e = 0; e < model_.bones.size(); ++e) {
-      const BoneEntry& entry = model_.bones[e];
-      if (matches[e] == 0) {
-        warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node",
-             entry.path);
-      } else if (!containsSpringBoneToken(entry.name)) {
-        warn("bone-not-spring",
-             "metadata names '" + entry.name +
-                 "', whose name lacks the 'springbone' token; the entry is ignored",
-             entry.path);
-      } else if (matches[e] > 1) {
-        warn("duplicate-node-name", "the GLB has " + std::to_string(matches[e]) + " nodes named '" +
-                                        entry.name + "'; the entry applies to each",
-             entry.path);
-      }
+  }
+
+  SPRINGBONES_NOINLINE void warnEntry(std::size_t e) {
+    const BoneEntry& entry = model_.bones[e];
+    const int matches = matches_[e];
+    if (matches == 0) {
+      warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node", entry.path);
+    } else if (!containsSpringBoneToken(entry.name)) {
+      warn("bone-not-spring",
+           "metadata names '" + entry.name + "', whose name lacks the 'springbone' token; the entry is ignored",
+           entry.path);
+    } else if (matches > 1) {
+      warn("duplicate-node-name",
+           "the GLB has " + std::to_string(matches) + " nodes named '" + entry.name + "'; the entry applies to each",
+           entry.path);
     }
   }
 
   // chain_of_node_[n] = index of the root joint's node for nodes inside a chain, else -1.
-  void assignChains() {
+  SPRINGBONES_NOINLINE void assignChains() {
     const auto& all = nodes();
     chain_of_node_.assign(all.size(), -1);
     for (int n : rig_->skeleton.parents_first) {
@@ -124,12 +200,7 @@ class RigBuilder {
       const bool is_root = entry >= 0 && model_.bones[entry].is_root;
       if (parent_chain >= 0) {
         chain_of_node_[n] = parent_chain;
-        if (is_root) {
-          warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
-                                  all[parent_chain].name +
-                                  "'; it is simulated as a member of that chain with its own parameters",
-               model_.bones[entry].path);
-        }
+        if (is_root) warnNestedRoot(n, parent_chain, entry);
       } else if (is_root) {
         chain_of_node_[n] = n;
         root_nodes_.push_back(n);
@@ -137,41 +208,60 @@ class RigBuilder {
     }
   }
 
+  SPRINGBONES_NOINLINE void warnNestedRoot(int n, int parent_chain, int entry) {
+    const auto& all = nodes();
+    warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
+                            all[parent_chain].name +
+                            "'; it is simulated as a member of that chain with its own parameters",
+         model_.bones[entry].path);
+  }
+
   int driverFor(int node) {
-    auto [it, added] = driver_of_node_.emplace(node, static_cast<int>(rig_->drivers.size()));
-    if (added) rig_->drivers.push_back(Driver{node, nodes()[node].name});
-    return it->second;
+    if (driver_of_node_.empty()) driver_of_node_.assign(nodes().size(), -1);
+    int& driver = driver_of_node_[node];
+    if (driver < 0) {
+      driver = static_cast<int>(rig_->drivers.size());
+      rig_->drivers.emplace_back();
+      rig_->drivers.back().node = node;
+      rig_->drivers.back().name = nodes()[node].name;
+    }
+    return driver;
   }
 
   // The driver of an entry's center, or -1 (world space) with a warning when it cannot be used.
   // Resolved once per entry so a chain sharing an entry warns once.
-  int resolveCenter(int entry_index) {
+  SPRINGBONES_NOINLINE int resolveCenter(int entry_index) {
     auto cached = center_of_entry_.find(entry_index);
     if (cached != center_of_entry_.end()) return cached->second;
     const BoneEntry& entry = model_.bones[entry_index];
     int driver = -1;
     if (!entry.center.empty()) {
-      auto it = first_node_by_name_.find(entry.center);
-      if (it == first_node_by_name_.end()) {
+      const int node = first_node_by_name_.find(entry.center);
+      if (node < 0) {
         warn("center-not-found", "center '" + entry.center + "' of '" + entry.name +
                                      "' is not a node of the GLB; using world space",
              entry.path + "/center");
-      } else if (is_candidate_[it->second] || chain_of_node_[it->second] >= 0) {
+      } else if (is_candidate_[node] || chain_of_node_[node] >= 0) {
         warn("center-is-spring-bone", "center '" + entry.center + "' of '" + entry.name +
                                           "' is a spring bone itself; using world space",
              entry.path + "/center");
       } else {
-        driver = driverFor(it->second);
+        driver = driverFor(node);
       }
     }
     center_of_entry_.emplace(entry_index, driver);
     return driver;
   }
 
-  void buildJoints() {
+  SPRINGBONES_NOINLINE void buildJoints() {
     const auto& all = nodes();
     auto& joint_of_node = joint_of_node_;
     joint_of_node.assign(all.size(), -1);
+    // Every chain node with children becomes a joint: reserved exactly, as a Joint is large and
+    // growing the vector would move each one several times.
+    std::size_t joints = 0;
+    for (std::size_t n = 0; n < all.size(); ++n) joints += chain_of_node_[n] >= 0 && !all[n].children.empty();
+    rig_->joints.reserve(joints);
     auto& queue = queue_;
     for (int root : root_nodes_) {
       const int chain_joint = static_cast<int>(rig_->joints.size());
@@ -184,12 +274,7 @@ class RigBuilder {
         for (int c : node.children) queue.push_back(c);
         const int entry = entry_of_node_[n];
         if (node.children.empty()) {
-          if (entry >= 0 && n != root) {
-            warn("tip-entry-ignored", "'" + node.name +
-                                          "' is a chain tip (no children): it only marks where its "
-                                          "parent bone ends, so its parameters are ignored",
-                 model_.bones[entry].path);
-          }
+          if (entry >= 0 && n != root) warnTipEntry(n, entry);
           continue;
         }
         // Built in place: a local Joint (it owns a vector) would put every call of this loop
@@ -217,25 +302,38 @@ class RigBuilder {
           joint.params = model_.bones[entry].params;
           if (model_.bones[entry].has_center) joint.center_driver = resolveCenter(entry);
         }
-        if (!(joint.rest_length > kMinBoneLength)) {
-          warn("zero-length-bone", "'" + node.name + "' and its tail '" + all[joint.tail_node].name +
-                                       "' are at the same place; the bone keeps its rest rotation");
-        }
+        if (!(joint.rest_length > kMinBoneLength)) warnZeroLength(n, joint.tail_node);
         joint_of_node[n] = joint_index;
         chain_has_joint = true;
       }
       if (chain_has_joint) {
         rig_->chain_roots.push_back(chain_joint);
       } else {
-        warn("root-without-tail", "spring root '" + all[root].name +
-                                      "' has no child bone, so there is nothing to simulate");
+        warnRootWithoutTail(root);
       }
     }
   }
 
+  SPRINGBONES_NOINLINE void warnTipEntry(int n, int entry) {
+    warn("tip-entry-ignored", "'" + nodes()[n].name +
+                                  "' is a chain tip (no children): it only marks where its parent bone ends, so "
+                                  "its parameters are ignored",
+         model_.bones[entry].path);
+  }
+
+  SPRINGBONES_NOINLINE void warnZeroLength(int n, int tail) {
+    warn("zero-length-bone", "'" + nodes()[n].name + "' and its tail '" + nodes()[tail].name +
+                                 "' are at the same place; the bone keeps its rest rotation");
+  }
+
+  SPRINGBONES_NOINLINE void warnRootWithoutTail(int root) {
+    warn("root-without-tail",
+         "spring root '" + nodes()[root].name + "' has no child bone, so there is nothing to simulate");
+  }
+
   // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
   // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
-  void addColliders() {
+  SPRINGBONES_NOINLINE void addColliders() {
     if (options_.colliders.empty() || rig_->joints.empty()) return;
     const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
     std::unordered_map<std::string, int> external;
@@ -246,13 +344,13 @@ class RigBuilder {
         continue;
       }
       int driver = -1;
-      auto it = first_node_by_name_.find(spec.node);
-      if (it != first_node_by_name_.end()) {
-        if (is_candidate_[it->second] || chain_of_node_[it->second] >= 0) {
+      const int node = first_node_by_name_.find(spec.node);
+      if (node >= 0) {
+        if (is_candidate_[node] || chain_of_node_[node] >= 0) {
           warn("collider-on-spring-bone", "collider node '" + spec.node + "' is a spring bone; ignored");
           continue;
         }
-        driver = driverFor(it->second);
+        driver = driverFor(node);
       } else {
         auto [e, added] = external.emplace(spec.node, static_cast<int>(rig_->drivers.size()));
         if (added) rig_->drivers.push_back(Driver{-1, spec.node});
@@ -281,14 +379,14 @@ class RigBuilder {
   std::vector<int> root_nodes_;
   // Views of the skeleton's names (the rig owns the skeleton and never changes it), so indexing
   // 7,000 nodes copies no strings.
-  std::unordered_map<std::string_view, int> first_node_by_name_;
+  NameIndex first_node_by_name_;
   std::unordered_map<int, int> center_of_entry_;
   // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
-  std::unordered_map<std::string_view, int> entry_by_name_;
+  NameIndex entry_by_name_;
   std::vector<int> matches_;
   std::vector<int> joint_of_node_;
   std::vector<int> queue_;
-  std::unordered_map<int, int> driver_of_node_;
+  std::vector<int> driver_of_node_;  ///< node -> driver, -1 (sized on first use)
 };
 
 }  // namespace
