@@ -7,6 +7,7 @@
 // of small documents, which hit the fast readers' refusals and the nlohmann errors alike.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -343,6 +344,45 @@ TEST(LoadFastPath, RestWorldIsGlmsProductToTheBit) {
     checked += n.parent >= 0;
   }
   EXPECT_GT(checked, 50);
+}
+
+}  // namespace
+}  // namespace springbones
+
+namespace springbones {
+namespace {
+
+// The fast metadata reader sorts entry names by 8 bytes after their common prefix, whole names
+// only on a tie: names that differ only past those 8 bytes, are prefixes of one another, hold
+// bytes above 0x7f or a \u0000, in shuffled order, must come out in nlohmann's (byte-wise) order,
+// and a repeated name must still be left to the checked reader.
+TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
+  std::vector<std::string> names = {"springbone_", "springbone_a", "springbone_a\\u0000", "springbone_a\\u0001",
+                                    "springbone_\\u00e9", "springbone_\\u00ff", "springbone_~1", "springbone_a/b"};
+  for (int i = 0; i < 40; ++i) {
+    names.push_back("springbone_" + std::to_string(i));
+    names.push_back("springbone_" + std::to_string(i) + "_longer_than_eight_" + std::to_string(i % 3));
+    names.push_back("springbone_abcdefgh" + std::to_string(i * 7));
+  }
+  std::mt19937 rng(11);
+  for (int round = 0; round < 5; ++round) {
+    std::shuffle(names.begin(), names.end(), rng);
+    std::string text = R"({"version":1,"models":{"h":{)";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      text += (i ? ",\"" : "\"") + names[i] + R"(":{"stiffness":1,"drag":0.5})";
+    }
+    text += "}}}";
+    EXPECT_TRUE(fastSpringBonesReaderAccepts(text, "h"));
+    EXPECT_EQ(compareMetadata(text, "h"), "");
+    // The same with one name twice: the checked reader decides (nlohmann keeps the last).
+    const std::string repeated = text.substr(0, text.size() - 3) + ",\"" + names[round] + R"(":{"drag":1}}}})";
+    EXPECT_FALSE(fastSpringBonesReaderAccepts(repeated, "h"));
+    EXPECT_EQ(compareMetadata(repeated, "h"), "");
+  }
+  // No common prefix at all, and a single entry.
+  EXPECT_EQ(compareMetadata(R"({"version":1,"models":{"h":{"b":{},"a":{},"":{},"ab":{}}}})", "h"), "");
+  EXPECT_TRUE(fastSpringBonesReaderAccepts(R"({"version":1,"models":{"h":{"b":{},"a":{},"":{},"ab":{}}}})", "h"));
+  EXPECT_EQ(compareMetadata(R"({"version":1,"models":{"h":{"only":{}}}})", "h"), "");
 }
 
 }  // namespace
