@@ -273,6 +273,46 @@ describe('SpringBonesGroup', () => {
     ponytail.dispose();
   });
 
+  test('a joint or driver without a three.js object: warned, skipped, and the others are right', () => {
+    const scene = new Scene();
+    const complete = walker(scene, { x: 1 });
+    const avatarRoot = SkeletonUtils.clone(avatarGltf.scene);
+    scene.add(avatarRoot);
+    const wearable = SkeletonUtils.clone(wearableGltf.scene);
+    const nodes = wearableNodes(wearableGltf, wearable);
+    const lostDriver = 0;
+    const lostJoint = rig.joints.length - 1;
+    delete nodes[rig.drivers[lostDriver].node];
+    delete nodes[rig.joints[lostJoint].node];
+    const attachment = attachWearable(avatarRoot, wearable, rig, { nodes, instance: ONE_STEP });
+    assert.deepEqual(attachment.warnings.map((w) => w.code), ['node-not-found', 'node-not-found']);
+    assert.equal(attachment.driverObjects[lostDriver], null);
+    assert.equal(attachment.jointObjects[lostJoint], null);
+    const rest = Array.from(attachment.instance.driverMatrices.subarray(16 * lostDriver, 16 * lostDriver + 16));
+    const mixer = new AnimationMixer(avatarRoot);
+    mixer.clipAction(avatarGltf.animations.find((c) => c.name === 'walk')).play();
+    const walkers = [{ avatarRoot, attachment, mixer, speed: 1.3 }, complete];
+    const group = new SpringBonesGroup(sb);
+    for (const w of walkers) group.add(w.attachment);  // the complete one after: offsets past the gaps
+    for (let f = 0; f < 30; f++) {
+      animate(scene, walkers, f);
+      group.update(DT);
+      for (const w of walkers) {
+        const m = w.attachment.instance.driverMatrices;
+        w.attachment.driverObjects.forEach((o, d) => {
+          const expected = o ? Array.from(Float32Array.from(o.matrixWorld.elements)) : rest;
+          assert.deepEqual(Array.from(m.subarray(16 * d, 16 * d + 16)), expected, `frame ${f}, driver ${d}`);
+        });
+        const r = w.attachment.instance.rotations;
+        w.attachment.jointObjects.forEach((o, j) => {
+          if (o) assert.deepEqual(o.quaternion.toArray(), Array.from(r.subarray(4 * j, 4 * j + 4)), `frame ${f}, ${o.name}`);
+        });
+      }
+    }
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+  });
+
   test('after WebAssembly memory grows, updates go through the new views', () => {
     // The adapter keeps each instance's views between frames; growth detaches them.
     const scene = new Scene();

@@ -19,7 +19,7 @@
 // `three` is a peer dependency (imported as 'three'); this module only uses springbones' public
 // JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
 // / step / rotations / reset / dispose), never the WebAssembly glue.
-import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Quaternion, Skeleton } from 'three';
+import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Object3D, Skeleton } from 'three';
 
 /** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
 const gltfName = (object) => object.userData?.name ?? object.name;
@@ -232,11 +232,12 @@ export class SpringBonesAttachment {
       if (object && !current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
     }
     // The per-frame loops touch only these arrays: the joints' Quaternion objects (a joint without
-    // an object writes into a spare one, so the array stays of one type) and the drivers'
-    // matrixWorld.elements arrays (Matrix4 keeps its array for life; a missing driver keeps the
-    // rest world matrix the instance starts with). Reaching through object.quaternion each frame
-    // cost 3x more (cache misses).
-    this._quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Quaternion()));
+    // an object writes into a spare Object3D's: a bare `new Quaternion()` has another hidden class,
+    // without the own onChange callback, and would make the write loop polymorphic) and the
+    // drivers' matrixWorld.elements arrays (Matrix4 keeps its array for life; a missing driver
+    // keeps the rest world matrix the instance starts with). Reaching through object.quaternion
+    // each frame cost 3x more (cache misses).
+    this._quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Object3D().quaternion));
     this._driverElements = this.driverObjects.map((o) => (o ? o.matrixWorld.elements : null));
     this._copies.setMembers([this]);
     if (this._group) this._group._moveToEnd(this);  // the new instance took the scene's last slot
