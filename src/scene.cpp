@@ -13,6 +13,7 @@ std::size_t Scene::add(Instance* instance) {
   positions_.resize(3 * members_.size(), 0.0f);
   active_.push_back(1);
   by_distance_.reserve(members_.size());
+  stepping_.reserve(members_.size());
   return members_.size() - 1;
 }
 
@@ -33,12 +34,14 @@ void Scene::setBudget(int max_active, const glm::vec3& viewer) {
 void Scene::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) return;
   const std::size_t count = members_.size();
+  stepping_.clear();
   if (max_active_ < 0 || static_cast<std::size_t>(max_active_) >= count) {
     for (std::size_t i = 0; i < count; ++i) {
       if (!active_[i]) members_[i]->reset();  // back in the budget: start from rest
       active_[i] = 1;
-      members_[i]->step(dt);
+      stepping_.push_back(members_[i]);
     }
+    Instance::stepAll(stepping_.data(), stepping_.size(), dt);
     return;
   }
   // Nearest first; an avatar at a non-finite position sorts last.
@@ -57,8 +60,9 @@ void Scene::step(double dt) {
     const bool wanted = rank < budget;
     if (wanted && !next[i]) members_[i]->reset();
     next[i] = wanted ? 1 : 0;
-    if (wanted) members_[i]->step(dt);
+    if (wanted) stepping_.push_back(members_[i]);
   }
+  Instance::stepAll(stepping_.data(), stepping_.size(), dt);
 }
 
 }  // namespace springbones

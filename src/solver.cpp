@@ -63,9 +63,13 @@ struct Similarity {
 // One driver's world transform in every form a step needs.
 struct DriverPose {
   glm::mat4 matrix{1.0f};
-  Transform trs;  // for interpolating the general path
   bool is_similarity = true;
-  Similarity similarity;
+  Similarity similarity;  // when is_similarity
+  Transform trs;          // otherwise: the decomposition the general path interpolates
+
+  Transform decomposed() const {
+    return is_similarity ? Transform{similarity.position, similarity.rotation, glm::vec3(similarity.scale)} : trs;
+  }
 };
 
 bool isFiniteMatrix(const float* m) {
@@ -75,20 +79,49 @@ bool isFiniteMatrix(const float* m) {
   return true;
 }
 
-// A positive uniform scale, orthogonal axes and no projective part.
+// The unit quaternion of the rotation whose axes, each scaled by s, are x, y, z (columns). With
+// M = s R, (1 + trace R) s = s + trace M = 4 s w^2 and, e.g., M21 - M12 = 4 s w x: the components
+// scaled alike come straight from M, and one normalization removes the common factor. The largest
+// of the four candidates is used, as usual, to stay far from cancellation.
+glm::quat rotationOfScaledAxes(const glm::vec3& x, const glm::vec3& y, const glm::vec3& z, float s) {
+  // Mij: row i, column j (x, y, z are the columns).
+  const float m00 = x.x, m10 = x.y, m20 = x.z, m01 = y.x, m11 = y.y, m21 = y.z, m02 = z.x, m12 = z.y, m22 = z.z;
+  const float tw = s + m00 + m11 + m22, tx = s + m00 - m11 - m22, ty = s - m00 + m11 - m22,
+              tz = s - m00 - m11 + m22;
+  glm::quat q;  // glm: (w, x, y, z)
+  if (tw >= tx && tw >= ty && tw >= tz) {
+    q = glm::quat(tw, m21 - m12, m02 - m20, m10 - m01);
+  } else if (tx >= ty && tx >= tz) {
+    q = glm::quat(m21 - m12, tx, m10 + m01, m02 + m20);
+  } else if (ty >= tz) {
+    q = glm::quat(m02 - m20, m10 + m01, ty, m21 + m12);
+  } else {
+    q = glm::quat(m10 - m01, m02 + m20, m21 + m12, tz);
+  }
+  const float inverse = 1.0f / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return glm::quat(q.w * inverse, q.x * inverse, q.y * inverse, q.z * inverse);
+}
+
+// A positive uniform scale, orthogonal axes and no projective part. Every driver of every avatar
+// goes through this each frame, so the axis lengths are compared squared: |a|^2 - |x|^2 is about
+// 2 |x| (|a| - |x|), hence the doubled tolerance, and no square root is taken until it passes.
 bool similarityOf(const glm::mat4& m, Similarity& out) {
+  if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) return false;
   const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
-  const float s = glm::length(x);
-  if (!(s > 1e-12f) || m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) return false;
-  const float tolerance = kSimilarityTolerance * s;
-  if (std::fabs(glm::length(y) - s) > tolerance || std::fabs(glm::length(z) - s) > tolerance) return false;
-  if (std::fabs(glm::dot(x, y)) > tolerance * s || std::fabs(glm::dot(y, z)) > tolerance * s ||
-      std::fabs(glm::dot(z, x)) > tolerance * s) {
+  const float xx = glm::dot(x, x);
+  if (!(xx > 1e-24f)) return false;
+  const float tolerance = kSimilarityTolerance * xx;
+  if (std::fabs(glm::dot(y, y) - xx) > 2.0f * tolerance || std::fabs(glm::dot(z, z) - xx) > 2.0f * tolerance) {
+    return false;
+  }
+  if (std::fabs(glm::dot(x, y)) > tolerance || std::fabs(glm::dot(y, z)) > tolerance ||
+      std::fabs(glm::dot(z, x)) > tolerance) {
     return false;
   }
   if (glm::dot(glm::cross(x, y), z) <= 0.0f) return false;  // mirrored
+  const float s = std::sqrt(xx);
   out.scale = s;
-  out.rotation = glm::normalize(glm::quat_cast(glm::mat3(x / s, y / s, z / s)));
+  out.rotation = rotationOfScaledAxes(x, y, z, s);
   out.position = glm::vec3(m[3]);
   return true;
 }
@@ -118,7 +151,10 @@ struct SpringInput {
 }  // namespace
 
 struct Instance::State {
-  explicit State(std::shared_ptr<const Rig> r) : rig(std::move(r)), lanes(*rig) {}
+  explicit State(std::shared_ptr<const Rig> r) : rig(std::move(r)) {}
+  ~State() {
+    if (lanes) lanes->releaseCopy(lane_copy);
+  }
 
   std::shared_ptr<const Rig> rig;
   InstanceOptions options;
@@ -139,13 +175,13 @@ struct Instance::State {
   std::vector<DriverPose> previous_drivers, current_drivers;
   std::vector<glm::mat4> step_drivers, step_driver_inverses;
   std::vector<Similarity> step_similarities;
-  DriverTable driver_table;  // step_similarities as the lane kernel reads them, slot 0 = identity
-  ColliderTable collider_table;  // world-space colliders of the current step, both paths
+  ColliderTable collider_table;  // world-space colliders of the current step, general paths
   std::vector<bool> step_inverse_valid;
 
   // Simulation state, per joint.
   std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
-  SpringLanes lanes;                                   // fast path, with its world transforms
+  std::shared_ptr<SpringLanes> lanes;  // the rig's lane pool (fast path), null when unusable
+  std::size_t lane_copy = 0;           // this instance's copy in it
   std::vector<glm::mat4> joint_world;                  // general path world transforms
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
@@ -165,9 +201,7 @@ struct Instance::State {
       std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
       pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
       // The general path interpolates decompositions; a similarity already is one.
-      pose.trs = pose.is_similarity ? Transform{pose.similarity.position, pose.similarity.rotation,
-                                                glm::vec3(pose.similarity.scale)}
-                                    : decomposeTransform(pose.matrix);
+      if (!pose.is_similarity) pose.trs = decomposeTransform(pose.matrix);
     }
   }
 
@@ -191,16 +225,17 @@ struct Instance::State {
           s.rotation = interpolateRotation(a.similarity.rotation, b.similarity.rotation, t);
           s.scale = a.similarity.scale + (b.similarity.scale - a.similarity.scale) * t;
         }
-        driver_table.set(d + 1, s.position, s.rotation, s.scale);
+        lanes->drivers().set(lanes->driverSlot(lane_copy, static_cast<int>(d)), s.position, s.rotation, s.scale);
         continue;
       }
       if (t >= 1.0f) {
         step_drivers[d] = b.matrix;
       } else {
+        const Transform ta = a.decomposed(), tb = b.decomposed();
         Transform r;
-        r.translation = glm::mix(a.trs.translation, b.trs.translation, t);
-        r.rotation = interpolateRotation(a.trs.rotation, b.trs.rotation, t);
-        r.scale = glm::mix(a.trs.scale, b.trs.scale, t);
+        r.translation = glm::mix(ta.translation, tb.translation, t);
+        r.rotation = interpolateRotation(ta.rotation, tb.rotation, t);
+        r.scale = glm::mix(ta.scale, tb.scale, t);
         step_drivers[d] = composeTransform(r);
       }
       glm::mat4 inverse;
@@ -229,7 +264,11 @@ struct Instance::State {
         end = glm::vec3(m * glm::vec4(collider.tail, 1.0f));
         scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
       }
-      collider_table.set(c, start, end, collider.radius * scale);
+      if (fast_path) {
+        lanes->colliders().set(lanes->colliderBase(lane_copy) + c, start, end, collider.radius * scale);
+      } else {
+        collider_table.set(c, start, end, collider.radius * scale);
+      }
     }
   }
 
@@ -353,10 +392,57 @@ struct Instance::State {
     }
     world_from_similarity = fast_path;
     if (fast_path) {
-      lanes.run(driver_table, collider_table, h, seed_only, rotations.data());
+      const CopyRange own{lane_copy, lane_copy + 1};
+      lanes->run(&own, 1, h, seed_only);
     } else {
       stepGeneral(h, seed_only);
     }
+  }
+
+  // A frame in three phases, so that a scene can interleave the steps of many instances:
+  // beginFrame reads the drivers, seeds if needed and counts the steps; prepareStep(i) sets the
+  // drivers and colliders of step i; endFrame keeps the time left over and this frame's poses.
+  int frame_steps = 0;
+  bool frame_dropped = false;
+  double frame_start = 0.0, frame_dt = 0.0;
+
+  bool beginFrame(double dt) {
+    frame_steps = 0;
+    if (!(dt > 0.0) || !std::isfinite(dt)) return false;
+    readDrivers();
+    if (!seeded) {
+      previous_drivers = current_drivers;
+      fast_path = !xpbd && lanes_usable && driversAreSimilarities();
+      prepareDrivers(1.0f);
+      run(0.0f, /*seed_only=*/true);
+      seeded = true;
+    }
+    fast_path = !xpbd && lanes_usable && driversAreSimilarities();
+    // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
+    // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
+    const double h = step_seconds;
+    const double tolerance = h * 1e-6;
+    frame_start = accumulator;
+    frame_dt = dt;
+    accumulator += dt;
+    // Counted in double: a frame of 1e9 s crosses more steps than an int holds.
+    const double crossed = std::floor((accumulator + tolerance) / h);
+    frame_dropped = crossed > options.max_substeps;
+    frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
+    return true;
+  }
+
+  void prepareStep(int i) {
+    // Where this step falls inside the frame, for driver interpolation.
+    const double h = step_seconds;
+    const double at = frame_dropped ? double(i + 1) / frame_steps : ((i + 1) * h - frame_start) / frame_dt;
+    prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
+  }
+
+  void endFrame() {
+    accumulator = frame_dropped ? 0.0 : std::max(0.0, accumulator - frame_steps * step_seconds);
+    // This frame's poses become the previous ones; a swap, not a copy (readDrivers overwrites).
+    std::swap(previous_drivers, current_drivers);
   }
 };
 
@@ -398,7 +484,6 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_driver_inverses.resize(drivers);
   s.step_similarities.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
-  s.driver_table.resize(drivers + 1);
   s.collider_table.resize(s.rig->colliders.size());
   if (s.rig->colliders.size() > kMaxLaneColliders) s.lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
@@ -416,6 +501,12 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
     s.joint_world[j] = s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world;
   }
+  // The lane path needs a copy in the rig's pool; the XPBD integrator never takes it.
+  if (s.lanes_usable && !s.xpbd) {
+    s.lanes = SpringLanes::acquire(s.rig);
+    s.lane_copy = s.lanes->addCopy(s.rotations.data());
+  }
+  s.lanes_usable = s.lanes != nullptr;
 }
 
 Instance::~Instance() = default;
@@ -433,7 +524,7 @@ const float* Instance::worldMatrices() const {
     glm::mat4 m = s.joint_world[j];
     if (s.world_from_similarity) {
       Similarity world;
-      s.lanes.jointWorld(j, world.position, world.rotation, world.scale);
+      s.lanes->jointWorld(s.lane_copy, j, world.position, world.rotation, world.scale);
       m = world.matrix();
     }
     std::memcpy(s.world_output.data() + 16 * j, &m[0][0], sizeof(float) * 16);
@@ -448,35 +539,74 @@ void Instance::reset() {
 
 void Instance::step(double dt) {
   State& s = *state_;
+  if (!s.beginFrame(dt)) return;
+  for (int i = 0; i < s.frame_steps; ++i) {
+    s.prepareStep(i);
+    s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+  }
+  s.endFrame();
+}
+
+void Instance::stepAll(Instance* const* instances, std::size_t count, double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) return;
-  s.readDrivers();
-  if (!s.seeded) {
-    s.previous_drivers = s.current_drivers;
-    s.fast_path = !s.xpbd && s.lanes_usable && s.driversAreSimilarities();
-    s.prepareDrivers(1.0f);
-    s.run(0.0f, /*seed_only=*/true);
-    s.seeded = true;
+  // A step of the lane path for one copy: which pool, at which rate, which copy. Kept between
+  // calls so a frame allocates nothing.
+  struct LaneStep {
+    SpringLanes* pool;
+    float h;
+    std::size_t copy;
+    bool operator<(const LaneStep& o) const {
+      if (pool != o.pool) return std::less<SpringLanes*>()(pool, o.pool);
+      if (h != o.h) return h < o.h;
+      return copy < o.copy;
+    }
+  };
+  static std::vector<State*> batched;
+  static std::vector<LaneStep> lane_steps;
+  static std::vector<CopyRange> ranges;
+  batched.clear();
+  int most_steps = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    State& s = *instances[n]->state_;
+    if (!s.beginFrame(dt)) continue;
+    if (s.fast_path && !s.xpbd) {
+      batched.push_back(&s);
+      most_steps = std::max(most_steps, s.frame_steps);
+      continue;
+    }
+    for (int i = 0; i < s.frame_steps; ++i) {  // the general path and XPBD: one by one
+      s.prepareStep(i);
+      s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+    }
+    s.endFrame();
   }
-  s.fast_path = !s.xpbd && s.lanes_usable && s.driversAreSimilarities();
-  // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
-  // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
-  const double h = s.step_seconds;
-  const double tolerance = h * 1e-6;
-  const double start = s.accumulator;
-  s.accumulator += dt;
-  // Counted in double: a frame of 1e9 s crosses more steps than an int holds.
-  const double crossed = std::floor((s.accumulator + tolerance) / h);
-  const bool dropped = crossed > s.options.max_substeps;
-  const int steps = dropped ? s.options.max_substeps : static_cast<int>(crossed);
-  for (int i = 0; i < steps; ++i) {
-    // Where this step falls inside the frame, for driver interpolation.
-    const double at = dropped ? double(i + 1) / steps : ((i + 1) * h - start) / dt;
-    s.prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
-    s.run(static_cast<float>(h), /*seed_only=*/false);
+  // Step i of every lane-path instance that has one, each pool's copies in as few runs as they
+  // allow (consecutive copies at the same rate form one run).
+  for (int i = 0; i < most_steps; ++i) {
+    lane_steps.clear();
+    for (State* s : batched) {
+      if (i >= s->frame_steps) continue;
+      s->prepareStep(i);
+      s->world_from_similarity = true;
+      lane_steps.push_back({s->lanes.get(), static_cast<float>(s->step_seconds), s->lane_copy});
+    }
+    std::sort(lane_steps.begin(), lane_steps.end());
+    for (std::size_t a = 0; a < lane_steps.size();) {
+      std::size_t b = a;
+      ranges.clear();
+      while (b < lane_steps.size() && lane_steps[b].pool == lane_steps[a].pool && lane_steps[b].h == lane_steps[a].h) {
+        if (!ranges.empty() && ranges.back().end == lane_steps[b].copy) {
+          ranges.back().end = lane_steps[b].copy + 1;
+        } else {
+          ranges.push_back({lane_steps[b].copy, lane_steps[b].copy + 1});
+        }
+        ++b;
+      }
+      lane_steps[a].pool->run(ranges.data(), ranges.size(), lane_steps[a].h, /*seed=*/false);
+      a = b;
+    }
   }
-  s.accumulator = dropped ? 0.0 : std::max(0.0, s.accumulator - steps * h);
-  // This frame's poses become the previous ones; a swap, not a copy (readDrivers overwrites).
-  std::swap(s.previous_drivers, s.current_drivers);
+  for (State* s : batched) s->endFrame();
 }
 
 }  // namespace springbones

@@ -1,17 +1,24 @@
 // The lane kernel: the spring update of solver.cpp written on plain floats in structure-of-arrays
-// form, one loop over lanes per depth. The loop body has no branches (selects only) and no calls,
-// so clang vectorises it for WebAssembly SIMD; every operation is a single IEEE operation with
-// -ffp-contract=off, so vectorised and scalar builds produce the same bits.
+// form, one loop over the lanes of a run of copies per depth. The loop bodies have no branches
+// (selects only) and no calls, so clang vectorises them for WebAssembly SIMD; every operation is
+// a single IEEE operation with -ffp-contract=off, so vectorised and scalar code produce the same
+// bits, whichever lanes of a vector a joint falls in.
 #include "spring_lanes.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
+
+#if defined(__GNUC__)
+#define SPRINGBONES_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define SPRINGBONES_ALWAYS_INLINE
+#endif
 
 namespace springbones {
 namespace {
 
-constexpr std::size_t kLaneMultiple = 4;  // one WebAssembly SIMD register of floats: no remainder loop
 constexpr float kMinLength = 1e-6f;
 constexpr float kOppositeDot = -0.999999f;  // rest axis and target nearly opposite
 
@@ -35,18 +42,21 @@ inline void multiply(float ax, float ay, float az, float aw, float bx, float by,
   ow = aw * bw - ax * bx - ay * by - az * bz;
 }
 
-inline void normalize(float& x, float& y, float& z, float& w) {
-  const float inv = 1.0f / std::sqrt(x * x + y * y + z * z + w * w);
-  x *= inv;
-  y *= inv;
-  z *= inv;
-  w *= inv;
-}
-
 glm::vec3 perpendicularTo(const glm::vec3& axis) {
   glm::vec3 p = glm::cross(glm::vec3(1, 0, 0), axis);
   if (glm::dot(p, p) < 1e-12f) p = glm::cross(glm::vec3(0, 1, 0), axis);
   return glm::normalize(p);
+}
+
+// Lays `rows` rows of `old_width` values out again as rows of `new_width` (new_width >=
+// old_width), filling the new columns with `fill`.
+template <typename T>
+void widenRows(std::vector<T>& v, std::size_t rows, std::size_t old_width, std::size_t new_width, T fill) {
+  std::vector<T> wider(rows * new_width, fill);
+  for (std::size_t r = 0; r < rows; ++r) {
+    std::copy(v.begin() + r * old_width, v.begin() + (r + 1) * old_width, wider.begin() + r * new_width);
+  }
+  v.swap(wider);
 }
 
 }  // namespace
@@ -67,8 +77,9 @@ void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& 
 }
 
 void DriverTable::resize(std::size_t slots) {
-  for (auto* v : {&px, &py, &pz, &qx, &qy, &qz, &qw, &s}) v->assign(slots, 0.0f);
-  set(0, glm::vec3(0.0f), glm::quat(1, 0, 0, 0), 1.0f);
+  for (auto* v : {&px, &py, &pz, &qx, &qy, &qz}) v->resize(slots, 0.0f);
+  qw.resize(slots, 1.0f);
+  s.resize(slots, 1.0f);
 }
 
 void DriverTable::set(std::size_t slot, const glm::vec3& p, const glm::quat& q, float scale) {
@@ -82,65 +93,108 @@ void DriverTable::set(std::size_t slot, const glm::vec3& p, const glm::quat& q, 
   s[slot] = scale;
 }
 
-SpringLanes::SpringLanes(const Rig& rig) {
-  const auto& joints = rig.joints;
-  const auto& nodes = rig.skeleton.nodes;
+// ---------------------------------------------------------------------------------------------
+// The pool
+
+std::shared_ptr<SpringLanes> SpringLanes::acquire(const std::shared_ptr<const Rig>& rig) {
+  // One pool per rig alive; entries of freed pools are dropped as we go.
+  static std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>> pools;
+  std::shared_ptr<SpringLanes> found;
+  for (std::size_t i = 0; i < pools.size();) {
+    std::shared_ptr<SpringLanes> pool = pools[i].second.lock();
+    if (!pool) {
+      pools[i] = pools.back();
+      pools.pop_back();
+      continue;
+    }
+    if (pools[i].first == rig.get()) found = std::move(pool);
+    ++i;
+  }
+  if (found) return found;
+  auto pool = std::make_shared<SpringLanes>(rig);
+  pools.emplace_back(rig.get(), pool);
+  return pool;
+}
+
+SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) {
+  const auto& joints = rig_->joints;
   // Lanes and depths: a joint continues its parent's lane when it is the parent's tail.
-  std::vector<int> lane_of(joints.size(), -1), depth_of(joints.size(), 0);
+  joint_lane_.assign(joints.size(), -1);
+  joint_depth_.assign(joints.size(), 0);
   int lanes = 0;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int parent = joint.parent_joint;
-    if (parent >= 0 && joints[parent].tail_node == joint.node) {
-      lane_of[j] = lane_of[parent];
-    } else {
-      lane_of[j] = lanes++;
-    }
-    depth_of[j] = parent >= 0 ? depth_of[parent] + 1 : 0;
-    depth_count_ = std::max<std::size_t>(depth_count_, depth_of[j] + 1);
+    joint_lane_[j] = parent >= 0 && joints[parent].tail_node == joint.node ? joint_lane_[parent] : lanes++;
+    joint_depth_[j] = parent >= 0 ? joint_depth_[parent] + 1 : 0;
+    depth_count_ = std::max<std::size_t>(depth_count_, joint_depth_[j] + 1);
   }
-  lane_count_ = (static_cast<std::size_t>(lanes) + kLaneMultiple - 1) / kLaneMultiple * kLaneMultiple;
-  const std::size_t slots = lane_count_ * depth_count_;
-
-  lane_start_depth_.assign(lane_count_, -1);
-  lane_parent_driver_.assign(lane_count_, 0);  // padding lanes read the identity
-  lane_parent_slot_.assign(lane_count_, -1);
-  slot_joint_.assign(slots, -1);
-  joint_slot_.assign(joints.size(), -1);
-  center_.assign(slots, 0);
-  // Padding slots get harmless constants: identity rotations, a zero-length bone.
-  for (auto* v : {&tx_, &ty_, &tz_, &rx_, &ry_, &rz_, &ax_, &az_, &px_, &py_, &tail_distance_, &stiffness_,
-                  &gravity_power_, &keep_, &gx_, &gz_}) {
-    v->assign(slots, 0.0f);
-  }
-  for (auto* v : {&rw_, &rs_, &ay_, &pz_}) v->assign(slots, 1.0f);
-  gy_.assign(slots, -1.0f);
-  for (auto* v : {&cx_, &cy_, &cz_, &ox_, &oy_, &oz_, &wpx_, &wpy_, &wpz_, &wqx_, &wqy_, &wqz_, &out_x_, &out_y_,
-                  &out_z_}) {
-    v->assign(slots, 0.0f);
-  }
-  for (auto* v : {&wqw_, &ws_, &out_w_}) v->assign(slots, 1.0f);
-  hit_radius_.assign(slots, 0.0f);
-  collider_mask_.assign(slots, 0u);
-  for (auto* v : {&ppx_, &ppy_, &ppz_, &pqx_, &pqy_, &pqz_, &cpx_, &cpy_, &cpz_, &cqx_, &cqy_, &cqz_, &hx_, &hy_,
-                  &hz_, &qx_, &qy_, &qz_, &len_, &nx_w_, &ny_w_, &nz_w_}) {
-    v->assign(lane_count_, 0.0f);
-  }
-  for (auto* v : {&pqw_, &ps_, &cqw_, &cs_, &qw_, &scale_}) v->assign(lane_count_, 1.0f);
-
+  lanes_per_copy_ = static_cast<std::size_t>(lanes);
+  driver_block_ = rig_->drivers.size() + 1;
+  collider_block_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
+  starts_.resize(depth_count_);
+  template_joint_.assign(depth_count_ * lanes_per_copy_, -1);
+  std::vector<bool> started(lanes_per_copy_, false);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    const int lane = lane_of[j];
-    const std::size_t slot = static_cast<std::size_t>(depth_of[j]) * lane_count_ + lane;
-    slot_joint_[slot] = static_cast<int>(j);
-    joint_slot_[j] = static_cast<int>(slot);
-    if (lane_start_depth_[lane] < 0) {
-      lane_start_depth_[lane] = depth_of[j];
-      lane_parent_driver_[lane] = joint.parent_joint < 0 ? joint.parent_driver + 1 : -1;
-      lane_parent_slot_[lane] = joint.parent_joint >= 0 ? joint_slot_[joint.parent_joint] : -1;
-    }
-    center_[slot] = joint.center_driver + 1;
+    const int lane = joint_lane_[j];
+    template_joint_[joint_depth_[j] * lanes_per_copy_ + lane] = static_cast<int>(j);
     any_center_ = any_center_ || joint.center_driver >= 0;
+    if (started[lane]) continue;
+    started[lane] = true;
+    LaneStart start;
+    start.lane = lane;
+    start.parent_lane = joint.parent_joint >= 0 ? joint_lane_[joint.parent_joint] : -1;
+    start.parent_driver = joint.parent_joint >= 0 ? -1 : joint.parent_driver;
+    starts_[joint_depth_[j]].push_back(start);
+  }
+}
+
+void SpringLanes::growTo(std::size_t copies) {
+  if (copies <= copy_capacity_) return;
+  const std::size_t capacity = std::max<std::size_t>(copies, 2 * copy_capacity_);
+  const std::size_t old_width = lane_capacity_, width = capacity * lanes_per_copy_;
+  const std::size_t rows = depth_count_;
+  // New lanes are padding until a copy fills them: a zero-length bone at rest under identities,
+  // which computes harmless finite values.
+  for (auto* v : {&tx_, &ty_, &tz_, &rx_, &ry_, &rz_, &bx_, &bz_, &nx_, &ny_, &tail_distance_, &stiffness_,
+                  &gravity_power_, &keep_, &gx_, &gz_, &hit_radius_, &cx_, &cy_, &cz_, &ox_, &oy_, &oz_, &out_x_,
+                  &out_y_, &out_z_}) {
+    widenRows(*v, rows, old_width, width, 0.0f);
+  }
+  for (auto* v : {&rw_, &rs_, &by_, &nz_, &out_w_}) widenRows(*v, rows, old_width, width, 1.0f);
+  widenRows(gy_, rows, old_width, width, -1.0f);
+  widenRows(center_, rows, old_width, width, 0);
+  widenRows(collider_mask_, rows, old_width, width, 0u);
+  for (auto* v : {&wpx_, &wpy_, &wpz_, &wqx_, &wqy_, &wqz_}) widenRows(*v, rows + 1, old_width, width, 0.0f);
+  for (auto* v : {&wqw_, &ws_}) widenRows(*v, rows + 1, old_width, width, 1.0f);
+  for (auto* v : {&cpx_, &cpy_, &cpz_, &cqx_, &cqy_, &cqz_, &hx_, &hy_, &hz_, &len_, &sx_, &sy_, &sz_}) {
+    v->resize(width, 0.0f);
+  }
+  for (auto* v : {&cqw_, &cs_, &scale_}) v->resize(width, 1.0f);
+  drivers_.resize(capacity * driver_block_);
+  colliders_.count = capacity * collider_block_;
+  for (auto* v : {&colliders_.x0, &colliders_.y0, &colliders_.z0, &colliders_.x1, &colliders_.y1, &colliders_.z1,
+                  &colliders_.radius}) {
+    v->resize(colliders_.count, 0.0f);
+  }
+  copy_rotations_.resize(capacity, nullptr);
+  for (std::size_t k = capacity; k-- > copy_capacity_;) free_copies_.push_back(k);  // lowest first
+  copy_capacity_ = capacity;
+  lane_capacity_ = width;
+}
+
+std::size_t SpringLanes::addCopy(float* rotations) {
+  if (free_copies_.empty()) growTo(copy_capacity_ + 1);
+  const std::size_t copy = free_copies_.back();
+  free_copies_.pop_back();
+  copy_rotations_[copy] = rotations;
+  const std::size_t first_lane = copy * lanes_per_copy_;
+  const auto& joints = rig_->joints;
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    const Joint& joint = joints[j];
+    const std::size_t slot = joint_depth_[j] * lane_capacity_ + first_lane + joint_lane_[j];
+    center_[slot] = static_cast<int>(copy * driver_block_) + joint.center_driver + 1;
     const Transform& rest = joint.rest_local;
     tx_[slot] = rest.translation.x;
     ty_[slot] = rest.translation.y;
@@ -152,19 +206,17 @@ SpringLanes::SpringLanes(const Rig& rig) {
     rs_[slot] = rest.scale.x;
     const float distance = glm::length(joint.tail_local);
     const glm::vec3 axis = distance > kMinLength ? joint.tail_local / distance : glm::vec3(0, 1, 0);
-    const glm::vec3 perpendicular = perpendicularTo(axis);
-    ax_[slot] = axis.x;
-    ay_[slot] = axis.y;
-    az_[slot] = axis.z;
-    px_[slot] = perpendicular.x;
-    py_[slot] = perpendicular.y;
-    pz_[slot] = perpendicular.z;
-    hit_radius_[slot] = joint.hit_radius;
-    std::uint32_t mask = 0;
-    for (int c : joint.colliders) {
-      if (c >= 0 && c < static_cast<int>(kMaxLaneColliders)) mask |= 1u << c;
-    }
-    collider_mask_[slot] = mask;
+    // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
+    // parent's frame, where the rest rotation is already applied.
+    const glm::quat rest_rotation = glm::normalize(rest.rotation);
+    const glm::vec3 axis_in_parent = glm::normalize(rest_rotation * axis);
+    const glm::vec3 perpendicular = perpendicularTo(axis_in_parent);
+    bx_[slot] = axis_in_parent.x;
+    by_[slot] = axis_in_parent.y;
+    bz_[slot] = axis_in_parent.z;
+    nx_[slot] = perpendicular.x;
+    ny_[slot] = perpendicular.y;
+    nz_[slot] = perpendicular.z;
     tail_distance_[slot] = distance > kMinLength ? distance : 0.0f;
     stiffness_[slot] = joint.params.stiffness;
     gravity_power_[slot] = joint.params.gravity_power;
@@ -172,23 +224,38 @@ SpringLanes::SpringLanes(const Rig& rig) {
     gx_[slot] = joint.params.gravity_dir.x;
     gy_[slot] = joint.params.gravity_dir.y;
     gz_[slot] = joint.params.gravity_dir.z;
+    hit_radius_[slot] = joint.hit_radius;
+    std::uint32_t mask = 0;
+    for (int c : joint.colliders) {
+      if (c >= 0 && c < static_cast<int>(kMaxLaneColliders)) mask |= 1u << c;
+    }
+    collider_mask_[slot] = mask;
   }
-  (void)nodes;
+  return copy;
 }
 
-void SpringLanes::run(const DriverTable& drivers, const ColliderTable& colliders, float h, bool seed,
-                      float* rotations) {
-  for (std::size_t d = 0; d < depth_count_; ++d) {
-    if (seed) {
-      any_center_ ? runDepth<true, true>(d, drivers, colliders, h) : runDepth<true, false>(d, drivers, colliders, h);
-    } else {
-      any_center_ ? runDepth<false, true>(d, drivers, colliders, h)
-                  : runDepth<false, false>(d, drivers, colliders, h);
-    }
-  }
-  for (std::size_t slot = 0; slot < slot_joint_.size(); ++slot) {
-    const int j = slot_joint_[slot];
-    if (j < 0) continue;
+void SpringLanes::releaseCopy(std::size_t copy) {
+  if (copy >= copy_capacity_ || copy_rotations_[copy] == nullptr) return;
+  copy_rotations_[copy] = nullptr;
+  free_copies_.push_back(copy);
+  // Lowest first, so the copies in use stay packed at the front and scenes step long runs.
+  std::sort(free_copies_.begin(), free_copies_.end(), std::greater<std::size_t>());
+}
+
+void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
+                             float& scale) const {
+  const std::size_t slot =
+      (joint_depth_[joint] + 1) * lane_capacity_ + copy * lanes_per_copy_ + joint_lane_[joint];
+  position = glm::vec3(wpx_[slot], wpy_[slot], wpz_[slot]);
+  rotation = glm::quat(wqw_[slot], wqx_[slot], wqy_[slot], wqz_[slot]);
+  scale = ws_[slot];
+}
+
+void SpringLanes::writeRotations(std::size_t copy) {
+  float* rotations = copy_rotations_[copy];
+  const std::size_t first_lane = copy * lanes_per_copy_;
+  for (std::size_t j = 0; j < joint_lane_.size(); ++j) {
+    const std::size_t slot = joint_depth_[j] * lane_capacity_ + first_lane + joint_lane_[j];
     float* out = rotations + 4 * j;
     out[0] = out_x_[slot];
     out[1] = out_y_[slot];
@@ -197,67 +264,100 @@ void SpringLanes::run(const DriverTable& drivers, const ColliderTable& colliders
   }
 }
 
-void SpringLanes::jointWorld(std::size_t joint, glm::vec3& position, glm::quat& rotation, float& scale) const {
-  const std::size_t slot = static_cast<std::size_t>(joint_slot_[joint]);
-  position = glm::vec3(wpx_[slot], wpy_[slot], wpz_[slot]);
-  rotation = glm::quat(wqw_[slot], wqx_[slot], wqy_[slot], wqz_[slot]);
-  scale = ws_[slot];
+void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h, bool seed) {
+  const bool colliders = collider_block_ > 0 && !seed;
+  for (std::size_t r = 0; r < range_count; ++r) {
+    const std::size_t first = ranges[r].first, end = std::min(ranges[r].end, copy_capacity_);
+    if (first >= end) continue;
+    for (std::size_t d = 0; d < depth_count_; ++d) {
+      beginLanes(d, first, end);
+      if (seed) {
+        any_center_ ? runDepth<true, true, false>(d, first, end, h) : runDepth<true, false, false>(d, first, end, h);
+      } else if (colliders) {
+        any_center_ ? runDepth<false, true, true>(d, first, end, h) : runDepth<false, false, true>(d, first, end, h);
+      } else {
+        any_center_ ? runDepth<false, true, false>(d, first, end, h) : runDepth<false, false, false>(d, first, end, h);
+      }
+    }
+    for (std::size_t k = first; k < end; ++k) {
+      if (copy_rotations_[k]) writeRotations(k);
+    }
+  }
 }
 
-template <bool kSeed, bool kCenter>
-void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const ColliderTable& colliders, float h) {
-  const std::size_t lanes = lane_count_;
-  const std::size_t base = depth * lanes;
-
-  // Lanes that begin here take their parent transform from a driver or from the joint they
-  // branch off (computed at the previous depth); the others carry on from their last joint.
-  for (std::size_t l = 0; l < lanes; ++l) {
-    if (lane_start_depth_[l] != static_cast<int>(depth)) continue;
-    const int parent_slot = lane_parent_slot_[l];
-    if (parent_slot >= 0) {
-      ppx_[l] = wpx_[parent_slot];
-      ppy_[l] = wpy_[parent_slot];
-      ppz_[l] = wpz_[parent_slot];
-      pqx_[l] = wqx_[parent_slot];
-      pqy_[l] = wqy_[parent_slot];
-      pqz_[l] = wqz_[parent_slot];
-      pqw_[l] = wqw_[parent_slot];
-      ps_[l] = ws_[parent_slot];
-    } else {
-      const int d = lane_parent_driver_[l];
-      ppx_[l] = drivers.px[d];
-      ppy_[l] = drivers.py[d];
-      ppz_[l] = drivers.pz[d];
-      pqx_[l] = drivers.qx[d];
-      pqy_[l] = drivers.qy[d];
-      pqz_[l] = drivers.qz[d];
-      pqw_[l] = drivers.qw[d];
-      ps_[l] = drivers.s[d];
+// Lanes that begin at this depth hang from a driver or from the joint they branch off (computed
+// at the previous depth): that transform goes into their parent row.
+void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy) {
+  const std::size_t row = depth * lane_capacity_;
+  for (std::size_t k = first_copy; k < end_copy; ++k) {
+    const std::size_t first_lane = k * lanes_per_copy_;
+    for (const LaneStart& start : starts_[depth]) {
+      const std::size_t to = row + first_lane + start.lane;
+      if (start.parent_lane >= 0) {
+        const std::size_t from = row + first_lane + start.parent_lane;
+        wpx_[to] = wpx_[from];
+        wpy_[to] = wpy_[from];
+        wpz_[to] = wpz_[from];
+        wqx_[to] = wqx_[from];
+        wqy_[to] = wqy_[from];
+        wqz_[to] = wqz_[from];
+        wqw_[to] = wqw_[from];
+        ws_[to] = ws_[from];
+      } else {
+        const std::size_t d = k * driver_block_ + 1 + start.parent_driver;
+        wpx_[to] = drivers_.px[d];
+        wpy_[to] = drivers_.py[d];
+        wpz_[to] = drivers_.pz[d];
+        wqx_[to] = drivers_.qx[d];
+        wqy_[to] = drivers_.qy[d];
+        wqz_[to] = drivers_.qz[d];
+        wqw_[to] = drivers_.qw[d];
+        ws_[to] = drivers_.s[d];
+      }
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The kernel
+
+template <bool kSeed, bool kCenter, bool kColliders>
+void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h) {
+  const std::size_t begin = first_copy * lanes_per_copy_, end = end_copy * lanes_per_copy_;
+  const std::size_t base = depth * lane_capacity_;  // this depth's slots; also its parent row
+  const std::size_t next = base + lane_capacity_;   // the world row of this depth's joints
+
   if (kCenter) {
-    for (std::size_t l = 0; l < lanes; ++l) {
+    for (std::size_t l = begin; l < end; ++l) {
       const int c = center_[base + l];
-      cpx_[l] = drivers.px[c];
-      cpy_[l] = drivers.py[c];
-      cpz_[l] = drivers.pz[c];
-      cqx_[l] = drivers.qx[c];
-      cqy_[l] = drivers.qy[c];
-      cqz_[l] = drivers.qz[c];
-      cqw_[l] = drivers.qw[c];
-      cs_[l] = drivers.s[c];
+      cpx_[l] = drivers_.px[c];
+      cpy_[l] = drivers_.py[c];
+      cpz_[l] = drivers_.pz[c];
+      cqx_[l] = drivers_.qx[c];
+      cqy_[l] = drivers_.qy[c];
+      cqz_[l] = drivers_.qz[c];
+      cqw_[l] = drivers_.qw[c];
+      cs_[l] = drivers_.s[c];
     }
   }
 
-  // Per lane: the parent transform (in), then the joint's world transform (out).
-  float* __restrict ppx = ppx_.data();
-  float* __restrict ppy = ppy_.data();
-  float* __restrict ppz = ppz_.data();
-  float* __restrict pqx = pqx_.data();
-  float* __restrict pqy = pqy_.data();
-  float* __restrict pqz = pqz_.data();
-  float* __restrict pqw = pqw_.data();
-  float* __restrict ps = ps_.data();
+  // The parents' world transforms (in) and the joints' (out): two rows of the same arrays.
+  const float* __restrict ppx = wpx_.data() + base;
+  const float* __restrict ppy = wpy_.data() + base;
+  const float* __restrict ppz = wpz_.data() + base;
+  const float* __restrict pqx = wqx_.data() + base;
+  const float* __restrict pqy = wqy_.data() + base;
+  const float* __restrict pqz = wqz_.data() + base;
+  const float* __restrict pqw = wqw_.data() + base;
+  const float* __restrict ps = ws_.data() + base;
+  float* __restrict wpx = wpx_.data() + next;
+  float* __restrict wpy = wpy_.data() + next;
+  float* __restrict wpz = wpz_.data() + next;
+  float* __restrict wqx = wqx_.data() + next;
+  float* __restrict wqy = wqy_.data() + next;
+  float* __restrict wqz = wqz_.data() + next;
+  float* __restrict wqw = wqw_.data() + next;
+  float* __restrict ws = ws_.data() + next;
   const float* __restrict cpx = cpx_.data();
   const float* __restrict cpy = cpy_.data();
   const float* __restrict cpz = cpz_.data();
@@ -266,19 +366,6 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
   const float* __restrict cqz = cqz_.data();
   const float* __restrict cqw = cqw_.data();
   const float* __restrict cs = cs_.data();
-  // Per lane scratch between the passes: head, rest world rotation, length, new tail (world).
-  float* __restrict hx = hx_.data();
-  float* __restrict hy = hy_.data();
-  float* __restrict hz = hz_.data();
-  float* __restrict qx = qx_.data();
-  float* __restrict qy = qy_.data();
-  float* __restrict qz = qz_.data();
-  float* __restrict qw = qw_.data();
-  float* __restrict len = len_.data();
-  float* __restrict scl = scale_.data();
-  float* __restrict nx = nx_w_.data();
-  float* __restrict ny = ny_w_.data();
-  float* __restrict nz = nz_w_.data();
   // Per slot constants and state of this depth.
   const float* __restrict tx = tx_.data() + base;
   const float* __restrict ty = ty_.data() + base;
@@ -288,12 +375,12 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
   const float* __restrict rz = rz_.data() + base;
   const float* __restrict rw = rw_.data() + base;
   const float* __restrict rs = rs_.data() + base;
-  const float* __restrict ax = ax_.data() + base;
-  const float* __restrict ay = ay_.data() + base;
-  const float* __restrict az = az_.data() + base;
-  const float* __restrict px = px_.data() + base;
-  const float* __restrict py = py_.data() + base;
-  const float* __restrict pz = pz_.data() + base;
+  const float* __restrict bx = bx_.data() + base;
+  const float* __restrict by = by_.data() + base;
+  const float* __restrict bz = bz_.data() + base;
+  const float* __restrict nx = nx_.data() + base;
+  const float* __restrict ny = ny_.data() + base;
+  const float* __restrict nz = nz_.data() + base;
   const float* __restrict td = tail_distance_.data() + base;
   const float* __restrict stiffness = stiffness_.data() + base;
   const float* __restrict gravity_power = gravity_power_.data() + base;
@@ -301,45 +388,33 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
   const float* __restrict gx = gx_.data() + base;
   const float* __restrict gy = gy_.data() + base;
   const float* __restrict gz = gz_.data() + base;
-  const float* __restrict hit = hit_radius_.data() + base;
-  const std::uint32_t* __restrict mask = collider_mask_.data() + base;
   float* __restrict cx = cx_.data() + base;
   float* __restrict cy = cy_.data() + base;
   float* __restrict cz = cz_.data() + base;
   float* __restrict ox = ox_.data() + base;
   float* __restrict oy = oy_.data() + base;
   float* __restrict oz = oz_.data() + base;
-  float* __restrict wpx = wpx_.data() + base;
-  float* __restrict wpy = wpy_.data() + base;
-  float* __restrict wpz = wpz_.data() + base;
-  float* __restrict wqx = wqx_.data() + base;
-  float* __restrict wqy = wqy_.data() + base;
-  float* __restrict wqz = wqz_.data() + base;
-  float* __restrict wqw = wqw_.data() + base;
-  float* __restrict ws = ws_.data() + base;
   float* __restrict out_x = out_x_.data() + base;
   float* __restrict out_y = out_y_.data() + base;
   float* __restrict out_z = out_z_.data() + base;
   float* __restrict out_w = out_w_.data() + base;
 
-  // Pass 1: the rest transform under the parent, then Verlet inertia (center space) with drag,
-  // the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-  for (std::size_t l = 0; l < lanes; ++l) {
-    float headx, heady, headz;
-    rotate(pqx[l], pqy[l], pqz[l], pqw[l], tx[l], ty[l], tz[l], headx, heady, headz);
-    headx = ppx[l] + ps[l] * headx;
-    heady = ppy[l] + ps[l] * heady;
-    headz = ppz[l] + ps[l] * headz;
-    float rqx, rqy, rqz, rqw;  // rest world rotation
-    multiply(pqx[l], pqy[l], pqz[l], pqw[l], rx[l], ry[l], rz[l], rw[l], rqx, rqy, rqz, rqw);
-    const float scale = ps[l] * rs[l];
-    const float length = scale * td[l];
+  // First half: the rest transform under the parent, then Verlet inertia (center space) with
+  // drag, the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
+  // Out: the head, the bone's world length and scale, the new tail (world).
+  const auto integrate = [&](std::size_t l, float& hx, float& hy, float& hz, float& length, float& scale,
+                             float& sx, float& sy, float& sz) SPRINGBONES_ALWAYS_INLINE {
+    rotate(pqx[l], pqy[l], pqz[l], pqw[l], tx[l], ty[l], tz[l], hx, hy, hz);
+    hx = ppx[l] + ps[l] * hx;
+    hy = ppy[l] + ps[l] * hy;
+    hz = ppz[l] + ps[l] * hz;
+    scale = ps[l] * rs[l];
+    length = scale * td[l];
     float dx, dy, dz;  // rest direction, world
-    rotate(rqx, rqy, rqz, rqw, ax[l], ay[l], az[l], dx, dy, dz);
-    float sx = headx + dx * length, sy = heady + dy * length, sz = headz + dz * length;
+    rotate(pqx[l], pqy[l], pqz[l], pqw[l], bx[l], by[l], bz[l], dx, dy, dz);
+    sx = hx + dx * length;
+    sy = hy + dy * length;
+    sz = hz + dz * length;
     if (!kSeed) {
       const float vx = cx[l] + (cx[l] - ox[l]) * keep[l];
       const float vy = cy[l] + (cy[l] - oy[l]) * keep[l];
@@ -357,70 +432,21 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
       wy = wy + dy * k + gy[l] * g;
       wz = wz + dz * k + gz[l] * g;
       // Back onto the sphere of the bone length; a tail lost on the head restarts at rest.
-      const float fx = wx - headx, fy = wy - heady, fz = wz - headz;
+      const float fx = wx - hx, fy = wy - hy, fz = wz - hz;
       const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
       const bool usable = offset_length > kMinLength && offset_length < 1e30f;
       const float to_length = length / offset_length;
-      sx = usable ? headx + fx * to_length : sx;
-      sy = usable ? heady + fy * to_length : sy;
-      sz = usable ? headz + fz * to_length : sz;
+      sx = usable ? hx + fx * to_length : sx;
+      sy = usable ? hy + fy * to_length : sy;
+      sz = usable ? hz + fz * to_length : sz;
     }
-    hx[l] = headx;
-    hy[l] = heady;
-    hz[l] = headz;
-    qx[l] = rqx;
-    qy[l] = rqy;
-    qz[l] = rqz;
-    qw[l] = rqw;
-    len[l] = length;
-    scl[l] = scale;
-    nx[l] = sx;
-    ny[l] = sy;
-    nz[l] = sz;
-  }
+  };
 
-  // Pass 2, one loop per collider (so each loop vectorises): push the tail out of the shape
-  // (closest point on the capsule segment, or the sphere center), then restore the bone length.
-  if (!kSeed) {
-    for (std::size_t c = 0; c < colliders.count; ++c) {
-      const float ax0 = colliders.x0[c], ay0 = colliders.y0[c], az0 = colliders.z0[c];
-      const float sgx = colliders.x1[c] - ax0, sgy = colliders.y1[c] - ay0, sgz = colliders.z1[c] - az0;
-      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
-      const float inv_segment2 = segment2 > 0.0f ? 1.0f / segment2 : 0.0f;
-      const float radius = colliders.radius[c];
-      const std::uint32_t bit = 1u << c;
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-      for (std::size_t l = 0; l < lanes; ++l) {
-        const float vx = nx[l] - ax0, vy = ny[l] - ay0, vz = nz[l] - az0;
-        float t = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
-        t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-        const float dx = vx - sgx * t, dy = vy - sgy * t, dz = vz - sgz * t;
-        const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const float penetration = radius + hit[l] - distance;
-        const bool pushed = (mask[l] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
-        const float push = pushed ? penetration / distance : 0.0f;
-        const float sx = nx[l] + dx * push, sy = ny[l] + dy * push, sz = nz[l] + dz * push;
-        const float fx = sx - hx[l], fy = sy - hy[l], fz = sz - hz[l];
-        const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
-        const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
-        const float to_length = len[l] / offset_length;
-        nx[l] = usable ? hx[l] + fx * to_length : nx[l];
-        ny[l] = usable ? hy[l] + fy * to_length : ny[l];
-        nz[l] = usable ? hz[l] + fz * to_length : nz[l];
-      }
-    }
-  }
-
-  // Pass 3: store the tail (center space), turn the joint toward it, and hand the joint's world
-  // transform to the next depth of the lane.
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-  for (std::size_t l = 0; l < lanes; ++l) {
-    float sx = nx[l], sy = ny[l], sz = nz[l];
-    const float fx = sx - hx[l], fy = sy - hy[l], fz = sz - hz[l];
+  // Second half: store the tail (center space), turn the joint toward it, and write the local
+  // rotation and the joint's world transform for the next depth.
+  const auto aim = [&](std::size_t l, float hx, float hy, float hz, float length, float scale, float sx, float sy,
+                       float sz) SPRINGBONES_ALWAYS_INLINE {
+    const float fx = sx - hx, fy = sy - hy, fz = sz - hz;
     if (kCenter) {
       float ux, uy, uz;
       rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
@@ -435,25 +461,23 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
     cy[l] = sy;
     cz[l] = sz;
 
-    // The rest axis turned toward the tail, in the joint's rest local frame.
-    float lx, ly, lz;
-    rotate(-qx[l], -qy[l], -qz[l], qw[l], fx, fy, fz, lx, ly, lz);
-    const float inv_local = 1.0f / std::sqrt(lx * lx + ly * ly + lz * lz);
-    lx *= inv_local;
-    ly *= inv_local;
-    lz *= inv_local;
-    const float dot = ax[l] * lx + ay[l] * ly + az[l] * lz;
-    const bool opposite = dot < kOppositeDot;
-    float tqx = opposite ? px[l] : ay[l] * lz - az[l] * ly;
-    float tqy = opposite ? py[l] : az[l] * lx - ax[l] * lz;
-    float tqz = opposite ? pz[l] : ax[l] * ly - ay[l] * lx;
-    float tqw = opposite ? 0.0f : 1.0f + dot;
-    normalize(tqx, tqy, tqz, tqw);
+    // The bone in the parent's frame, |f| = length: the shortest turn of the rest axis onto it,
+    // (b x f, |b||f| + b.f) normalized, applied after the rest rotation.
+    float fpx, fpy, fpz;
+    rotate(-pqx[l], -pqy[l], -pqz[l], pqw[l], fx, fy, fz, fpx, fpy, fpz);
+    const float dot = bx[l] * fpx + by[l] * fpy + bz[l] * fpz;
+    const bool opposite = dot < kOppositeDot * length;
+    const float tqx = opposite ? nx[l] : by[l] * fpz - bz[l] * fpy;
+    const float tqy = opposite ? ny[l] : bz[l] * fpx - bx[l] * fpz;
+    const float tqz = opposite ? nz[l] : bx[l] * fpy - by[l] * fpx;
+    const float tqw = opposite ? 0.0f : length + dot;
+    const float inv_turn = 1.0f / std::sqrt(tqx * tqx + tqy * tqy + tqz * tqz + tqw * tqw);
+    // Both factors are unit quaternions (the loader normalizes rest rotations), so is the product.
     float mx, my, mz, mw;
-    multiply(rx[l], ry[l], rz[l], rw[l], tqx, tqy, tqz, tqw, mx, my, mz, mw);
-    normalize(mx, my, mz, mw);
+    multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, rx[l], ry[l], rz[l], rw[l], mx, my, mz,
+             mw);
     // Seeding, a zero-length bone or a lost direction (NaN fails the comparison) keep the rest.
-    const bool moving = !kSeed && len[l] > kMinLength && inv_local < 1e30f;
+    const bool moving = !kSeed && length > kMinLength && inv_turn < 1e30f;
     const float lqx = moving ? mx : rx[l];
     const float lqy = moving ? my : ry[l];
     const float lqz = moving ? mz : rz[l];
@@ -462,17 +486,79 @@ void SpringLanes::runDepth(std::size_t depth, const DriverTable& drivers, const 
     out_y[l] = lqy;
     out_z[l] = lqz;
     out_w[l] = lqw;
-    float jx, jy, jz, jw;
-    multiply(pqx[l], pqy[l], pqz[l], pqw[l], lqx, lqy, lqz, lqw, jx, jy, jz, jw);
-    wpx[l] = ppx[l] = hx[l];
-    wpy[l] = ppy[l] = hy[l];
-    wpz[l] = ppz[l] = hz[l];
-    wqx[l] = pqx[l] = jx;
-    wqy[l] = pqy[l] = jy;
-    wqz[l] = pqz[l] = jz;
-    wqw[l] = pqw[l] = jw;
-    ws[l] = ps[l] = scl[l];
+    multiply(pqx[l], pqy[l], pqz[l], pqw[l], lqx, lqy, lqz, lqw, wqx[l], wqy[l], wqz[l], wqw[l]);
+    wpx[l] = hx;
+    wpy[l] = hy;
+    wpz[l] = hz;
+    ws[l] = scale;
+  };
+
+  if (!kColliders) {
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+    for (std::size_t l = begin; l < end; ++l) {
+      float hx, hy, hz, length, scale, sx, sy, sz;
+      integrate(l, hx, hy, hz, length, scale, sx, sy, sz);
+      aim(l, hx, hy, hz, length, scale, sx, sy, sz);
+    }
+    return;
   }
+
+  float* __restrict hx = hx_.data();
+  float* __restrict hy = hy_.data();
+  float* __restrict hz = hz_.data();
+  float* __restrict len = len_.data();
+  float* __restrict scl = scale_.data();
+  float* __restrict sx = sx_.data();
+  float* __restrict sy = sy_.data();
+  float* __restrict sz = sz_.data();
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+  for (std::size_t l = begin; l < end; ++l) integrate(l, hx[l], hy[l], hz[l], len[l], scl[l], sx[l], sy[l], sz[l]);
+
+  // One loop per copy and collider (so each loop vectorises): push the tail out of the shape
+  // (closest point on the capsule segment, or the sphere center), then restore the bone length.
+  const float* __restrict hit = hit_radius_.data() + base;
+  const std::uint32_t* __restrict mask = collider_mask_.data() + base;
+  for (std::size_t k = first_copy; k < end_copy; ++k) {
+    for (std::size_t c = 0; c < collider_block_; ++c) {
+      const std::size_t shape = k * collider_block_ + c;
+      const float ax0 = colliders_.x0[shape], ay0 = colliders_.y0[shape], az0 = colliders_.z0[shape];
+      const float sgx = colliders_.x1[shape] - ax0, sgy = colliders_.y1[shape] - ay0, sgz = colliders_.z1[shape] - az0;
+      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
+      const float inv_segment2 = segment2 > 0.0f ? 1.0f / segment2 : 0.0f;
+      const float radius = colliders_.radius[shape];
+      const std::uint32_t bit = 1u << c;
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+      for (std::size_t l = k * lanes_per_copy_; l < (k + 1) * lanes_per_copy_; ++l) {
+        const float vx = sx[l] - ax0, vy = sy[l] - ay0, vz = sz[l] - az0;
+        float t = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
+        t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+        const float dx = vx - sgx * t, dy = vy - sgy * t, dz = vz - sgz * t;
+        const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float penetration = radius + hit[l] - distance;
+        const bool pushed = (mask[l] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
+        const float push = pushed ? penetration / distance : 0.0f;
+        const float px = sx[l] + dx * push, py = sy[l] + dy * push, pz = sz[l] + dz * push;
+        const float fx = px - hx[l], fy = py - hy[l], fz = pz - hz[l];
+        const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
+        const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
+        const float to_length = len[l] / offset_length;
+        sx[l] = usable ? hx[l] + fx * to_length : sx[l];
+        sy[l] = usable ? hy[l] + fy * to_length : sy[l];
+        sz[l] = usable ? hz[l] + fz * to_length : sz[l];
+      }
+    }
+  }
+
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+  for (std::size_t l = begin; l < end; ++l) aim(l, hx[l], hy[l], hz[l], len[l], scl[l], sx[l], sy[l], sz[l]);
 }
 
 }  // namespace springbones

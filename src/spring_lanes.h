@@ -1,24 +1,32 @@
-// The fast path of the solver: joints laid out in lanes so one loop steps many chains at once.
+// The fast path of the solver: joints laid out in lanes so one loop steps many chains at once,
+// for every avatar wearing the same rig.
 //
 // A lane is a straight run of joints: a chain root followed by its tail joint, that joint's tail
-// joint, and so on; every other child joint starts a lane of its own (a branch). Joint (lane l,
-// depth d) lives at slot d * lane_count + l, so the joints of one depth sit side by side and one
-// branch-free loop over the lanes computes them together (SIMD lanes in WebAssembly with
-// -msimd128, plain scalar code elsewhere, same results). Depth-major order is also parents-first.
+// joint, and so on; every other child joint starts a lane of its own (a branch). A rig has R
+// lanes and D depths. Every instance of the rig is a copy of those R lanes in one shared pool, so
+// a scene steps all avatars of a rig together: joint (copy k, lane l, depth d) lives at slot
+// d * lane_capacity + k * R + l. The joints of one depth sit side by side for all copies and one
+// branch-free loop over a run of copies computes them together (SIMD lanes in WebAssembly with
+// -msimd128, plain scalar code elsewhere; every lane gets the same bits either way, wherever it
+// sits in the run). Depth-major order is also parents-first.
 // Transforms are similarities (rotation, translation, uniform scale); the solver only takes this
 // path when every driver and every rest scale is one.
+//
+// The pool is shared by every instance of a rig (see acquire()); like the instances it is not
+// thread-safe: step the instances of one rig from one thread.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "springbones.h"
 
 namespace springbones {
 
-/// A driver's transform for one step, as the kernel reads it. Slot 0 of the table is the identity
-/// (no parent driver, no center).
+/// Drivers' transforms for one step, as the kernel reads them: per copy a block of
+/// driver count + 1 slots, the first of which is the identity (no parent driver, no center).
 struct DriverTable {
   std::vector<float> px, py, pz, qx, qy, qz, qw, s;
   void resize(std::size_t slots);
@@ -26,7 +34,7 @@ struct DriverTable {
 };
 
 /// Collider shapes in world space for one step: a segment (x0..x1; a point for a sphere) and a
-/// radius. At most kMaxLaneColliders take part on this path (a bit mask per joint).
+/// radius. At most kMaxLaneColliders per rig take part on the lane path (a bit mask per joint).
 struct ColliderTable {
   std::size_t count = 0;
   std::vector<float> x0, y0, z0, x1, y1, z1, radius;
@@ -36,58 +44,99 @@ struct ColliderTable {
 
 inline constexpr std::size_t kMaxLaneColliders = 32;
 
+/// A run of consecutive copies [first, end) stepped by one SpringLanes::run.
+struct CopyRange {
+  std::size_t first = 0, end = 0;
+};
+
 class SpringLanes {
  public:
-  explicit SpringLanes(const Rig& rig);
+  /// The pool of `rig`'s lanes, shared by every instance of that rig alive in this process (one
+  /// is made on first use and freed with its last instance).
+  static std::shared_ptr<SpringLanes> acquire(const std::shared_ptr<const Rig>& rig);
 
-  /// Seeds (tails at rest, no velocity) or advances every joint by one step of h seconds, and
-  /// writes the local rotations (x, y, z, w per joint, rig order) to `rotations`.
-  void run(const DriverTable& drivers, const ColliderTable& colliders, float h, bool seed, float* rotations);
+  explicit SpringLanes(std::shared_ptr<const Rig> rig);
 
-  /// World transform of a joint after the last run (rig joint index).
-  void jointWorld(std::size_t joint, glm::vec3& position, glm::quat& rotation, float& scale) const;
+  /// A new copy at rest under identity drivers; `rotations` (4 floats per rig joint, rig order)
+  /// receives its local rotations after every run that includes it, until releaseCopy().
+  std::size_t addCopy(float* rotations);
+  void releaseCopy(std::size_t copy);
 
-  std::size_t laneCount() const { return lane_count_; }
+  /// The copy's block of the driver table: slot 1 + d is rig driver d.
+  std::size_t driverSlot(std::size_t copy, int driver) const { return copy * driver_block_ + 1 + driver; }
+  DriverTable& drivers() { return drivers_; }
+  /// The copy's colliders start at collider copy * rig colliders.
+  std::size_t colliderBase(std::size_t copy) const { return copy * collider_block_; }
+  ColliderTable& colliders() { return colliders_; }
+
+  /// Seeds (tails at rest, no velocity) or advances every joint of the copies in `ranges`
+  /// (ascending, not overlapping) by one step of h seconds, then writes their rotations.
+  void run(const CopyRange* ranges, std::size_t range_count, float h, bool seed);
+
+  /// World transform of a joint of a copy after its last run (rig joint index).
+  void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
+                  float& scale) const;
+
+  std::size_t lanesPerCopy() const { return lanes_per_copy_; }
   std::size_t depthCount() const { return depth_count_; }
 
  private:
-  template <bool kSeed, bool kCenter>
-  void runDepth(std::size_t depth, const DriverTable& drivers, const ColliderTable& colliders, float h);
+  struct LaneStart {
+    int lane;          // rig lane that begins at this depth
+    int parent_lane;   // rig lane of the joint it branches off (one depth up), -1 for a root
+    int parent_driver; // rig driver of a root's parent, -1: the identity
+  };
 
-  std::size_t lane_count_ = 0;   // padded to a multiple of kLaneMultiple
-  std::size_t depth_count_ = 0;
+  template <bool kSeed, bool kCenter, bool kColliders>
+  void runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h);
+  void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
+  void writeRotations(std::size_t copy);
+  void growTo(std::size_t copies);
+
+  std::shared_ptr<const Rig> rig_;
+  std::size_t lanes_per_copy_ = 0;  // R
+  std::size_t depth_count_ = 0;     // D
+  std::size_t copy_capacity_ = 0;
+  std::size_t lane_capacity_ = 0;   // copy_capacity_ * R
+  std::size_t driver_block_ = 1;    // rig drivers + 1
+  std::size_t collider_block_ = 0;  // rig colliders
   bool any_center_ = false;
 
-  // Per lane.
-  std::vector<int> lane_start_depth_;
-  std::vector<int> lane_parent_driver_;  // driver table slot of a root lane, else -1
-  std::vector<int> lane_parent_slot_;    // joint slot of a branch lane's parent, else -1
+  // The rig's layout.
+  std::vector<std::vector<LaneStart>> starts_;  // per depth
+  std::vector<int> joint_lane_, joint_depth_;   // per rig joint
+  std::vector<int> template_joint_;             // per rig slot (depth * R + lane): joint or -1
 
-  // Per slot: which joint (-1 for padding) and its constants.
-  std::vector<int> slot_joint_;
-  std::vector<int> joint_slot_;  // inverse map, per rig joint
-  std::vector<int> center_;      // driver table slot, 0 for world space
+  // Copies.
+  std::vector<float*> copy_rotations_;          // nullptr: a free copy
+  std::vector<std::size_t> free_copies_;
+  DriverTable drivers_;
+  ColliderTable colliders_;
+
+  // Per slot constants (copies of the rig's), depth_count_ rows of lane_capacity_.
+  std::vector<int> center_;                    // driver table slot of the joint's center
   std::vector<float> tx_, ty_, tz_;            // rest translation
   std::vector<float> rx_, ry_, rz_, rw_;       // rest rotation
   std::vector<float> rs_;                      // rest uniform scale
-  std::vector<float> ax_, ay_, az_;            // unit tail axis, local
-  std::vector<float> px_, py_, pz_;            // a unit axis perpendicular to it (180-degree turns)
+  std::vector<float> bx_, by_, bz_;            // unit tail axis at rest, in the parent's frame
+  std::vector<float> nx_, ny_, nz_;            // a unit axis perpendicular to it (180-degree turns)
   std::vector<float> tail_distance_;           // |tail_local|, 0 keeps the joint at rest
   std::vector<float> stiffness_, gravity_power_, keep_;  // keep = 1 - drag
   std::vector<float> gx_, gy_, gz_;            // unit gravity direction
   std::vector<float> hit_radius_;
-  std::vector<std::uint32_t> collider_mask_;   // bit c: collides with collider c
+  std::vector<std::uint32_t> collider_mask_;   // bit c: collides with the rig's collider c
 
-  // Per slot: simulation state and world transforms.
-  std::vector<float> cx_, cy_, cz_, ox_, oy_, oz_;  // current and previous tail, center space
+  // Per slot state: current and previous tail, center space (depth_count_ rows).
+  std::vector<float> cx_, cy_, cz_, ox_, oy_, oz_;
+  std::vector<float> out_x_, out_y_, out_z_, out_w_;  // local rotations
+  // World transforms, depth_count_ + 1 rows: row d + 1 holds the joints of depth d, row d the
+  // parents the lanes beginning at depth d hang from (a lane has no joint above its start).
   std::vector<float> wpx_, wpy_, wpz_, wqx_, wqy_, wqz_, wqw_, ws_;
-  std::vector<float> out_x_, out_y_, out_z_, out_w_;
 
-  // Per lane scratch: the parent transform of the joint being computed, and its center.
-  std::vector<float> ppx_, ppy_, ppz_, pqx_, pqy_, pqz_, pqw_, ps_;
+  // Per lane scratch: the center's transform; between the passes around the colliders, the
+  // head, length, scale and new tail.
   std::vector<float> cpx_, cpy_, cpz_, cqx_, cqy_, cqz_, cqw_, cs_;
-  // Per lane scratch between the kernel's passes: head, rest world rotation, length, scale, tail.
-  std::vector<float> hx_, hy_, hz_, qx_, qy_, qz_, qw_, len_, scale_, nx_w_, ny_w_, nz_w_;
+  std::vector<float> hx_, hy_, hz_, len_, scale_, sx_, sy_, sz_;
 };
 
 }  // namespace springbones
