@@ -81,21 +81,16 @@ const kNoView = new Float32Array(0);
  * on its own, or a group's): each driver's matrixWorld into its instance's driverMatrices, and each
  * instance's rotations into its joints' quaternions. Allocation-free per frame.
  *
- * Why it is shaped like this (build/ measurements, 5,000 joints and 1,000 drivers in 100
- * attachments, caches as three.js's updateMatrixWorld leaves them): the cost is memory, not
- * arithmetic. Every driver matrix is its own small array and every quaternion its own object with
- * each field in a separate boxed double (V8 stores double-typed fields as pointers to mutable
- * numbers), scattered over three.js's heap. So:
- * - one flat loop over all members' drivers (and one over all joints) instead of a loop per
- *   attachment: read 90 -> 35 us, write 100 -> 68 us per frame;
- * - the 16 elements of a matrix copied by 16 explicit statements, not an inner loop (read 60 ->
- *   35 us of the above);
- * - each instance's views (instance.driverMatrices / rotations are getters checking for memory
- *   growth, ~35 ns each) kept and re-fetched only when the instance is disposed (the getter then
- *   throws the API's 'disposed' error) or the view's length is not the expected one: growing
- *   WebAssembly memory detaches the old buffer, and a view of a detached buffer has length 0.
- * Copying 12 of the 16 elements (the last row of an affine matrix is 0 0 0 1) saved nothing
- * measurable, so every element is passed on and the core sees any non-affine matrixWorld.
+ * Shaped by measurements (README.md, "Flat loops, kept views"): the copies are memory-bound, since
+ * every driver matrix is its own small array and every quaternion its own object with each field
+ * a separately boxed double, scattered over three.js's heap. So one flat loop runs over all
+ * members' drivers (and one over all joints) instead of a loop per attachment, the 16 elements of
+ * a matrix are copied by 16 statements rather than an inner loop, and each instance's views are
+ * kept: instance.driverMatrices / rotations are getters that check for memory growth on every
+ * call. A kept view is fetched again when its instance is disposed of (the getter then throws the
+ * API's 'disposed' error: nothing is written into freed memory) or its length is not the expected
+ * one (growing WebAssembly memory detaches the old buffer; a detached view has length 0). All 16
+ * elements are copied, so a non-affine matrixWorld reaches the core, which checks for it.
  */
 class FrameCopies {
   constructor() {
