@@ -106,8 +106,7 @@ class SpringBones {
     const m = this.#m;
     const hash = resolveHash(m, 'loadRig', opts);
     // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
-    const metadataBytes = utf8Bytes(metadataText);
-    const handle = withBytes(m, bytes, (ptr, size) => withBytes(m, metadataBytes,
+    const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
       (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
@@ -913,6 +912,24 @@ function utf8Bytes(text) {
     }
   }
   return Uint8Array.from(out);
+}
+
+// Text as UTF-8 bytes in WASM memory for the duration of fn(ptr, size): encoded straight into
+// the heap when it is well formed (no intermediate array), else through utf8Bytes.
+function withUtf8(m, text, fn) {
+  const wellFormed = typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
+  if (!wellFormed) return withBytes(m, utf8Bytes(text), fn);
+  const capacity = Math.max(1, 3 * text.length);  // UTF-8 takes at most 3 bytes per UTF-16 unit
+  const ptr = m._malloc(capacity);
+  if (ptr === 0) {
+    throw new SpringBonesError('out-of-memory', `could not allocate ${capacity} bytes in WebAssembly memory`);
+  }
+  try {
+    const { written } = kTextEncoder.encodeInto(text, m.HEAPU8.subarray(ptr, ptr + capacity));
+    return call(() => fn(ptr, written));
+  } finally {
+    m._free(ptr);
+  }
 }
 
 // Copies bytes into WASM memory for the duration of fn(ptr, size).
