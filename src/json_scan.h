@@ -37,6 +37,10 @@ namespace springbones {
 Error loadSkeletonChecked(const std::uint8_t* data, std::size_t size, Skeleton& out);
 Error parseSpringBonesTextChecked(const std::string& text, const std::string& hash, ModelEntry& out,
                                   std::vector<Warning>& warnings);
+/// parseSpringBonesText over text the caller holds (the bindings read it in place from WASM
+/// memory: copying half a megabyte into a std::string cost a tenth of the load).
+Error parseSpringBonesTextView(std::string_view text, const std::string& hash, ModelEntry& out,
+                               std::vector<Warning>& warnings);
 /// Whether the fast readers take an input themselves (true) or leave it to the nlohmann path.
 /// For the same tests, to make sure the fast path is exercised.
 bool fastGltfReaderAccepts(const std::uint8_t* data, std::size_t size);

@@ -256,7 +256,7 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
 }
 
 // The entries of models[hash] in document order, or false.
-SPRINGBONES_NOINLINE bool scanSpringBones(const std::string& text, const std::string& hash,
+SPRINGBONES_NOINLINE bool scanSpringBones(std::string_view text, const std::string& hash,
                                           std::vector<ScannedBone>& bones, std::string& scratch) {
   JsonScan scan(text.data(), text.data() + text.size());
   // An entry takes at least 7 bytes ("x":{}, plus a key); one in 64 bytes is usual. Reserving
@@ -479,7 +479,7 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
 
 namespace {
 
-Error parseSpringBonesTextWith(const std::string& text, const std::string& hash, ModelEntry& out,
+Error parseSpringBonesTextWith(std::string_view text, const std::string& hash, ModelEntry& out,
                                std::vector<Warning>& warnings, bool fast) {
   out = ModelEntry{};
   if (text.size() > kMaxMetadataBytes) {
@@ -503,7 +503,7 @@ Error parseSpringBonesTextWith(const std::string& text, const std::string& hash,
   }
   json value;
   try {
-    value = json::parse(text);
+    value = json::parse(text.data(), text.data() + text.size());
   } catch (const json::exception& ex) {
     return Error{ErrorCode::kMetadataBadJson,
                  std::string("springBones JSON does not parse: ") + ex.what(), ""};
@@ -515,6 +515,11 @@ Error parseSpringBonesTextWith(const std::string& text, const std::string& hash,
 
 Error parseSpringBonesText(const std::string& text, const std::string& hash, ModelEntry& out,
                            std::vector<Warning>& warnings) {
+  return parseSpringBonesTextWith(text, hash, out, warnings, /*fast=*/true);
+}
+
+Error parseSpringBonesTextView(std::string_view text, const std::string& hash, ModelEntry& out,
+                               std::vector<Warning>& warnings) {
   return parseSpringBonesTextWith(text, hash, out, warnings, /*fast=*/true);
 }
 

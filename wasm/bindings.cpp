@@ -35,6 +35,7 @@
 #include "content_hash.h"
 #include "entity.h"
 #include "float_text.h"
+#include "json_scan.h"
 #include "springbones.h"
 #include "validation.h"
 #include "vrm_loader.h"
@@ -418,7 +419,7 @@ int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data,
             const std::string& hash, const std::string& options_text) {
   return guarded([&] {
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
-    const std::string metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
+    const std::string_view metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
     RigOptions options;
     try {
       options = rigOptionsFrom(options_text);
@@ -431,7 +432,7 @@ int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data,
     loaded.hash = hash.empty() ? contentHash(bytes, size) : hash;
     ModelEntry model;
     std::vector<Warning> warnings;
-    if (Error e = parseSpringBonesText(metadata, loaded.hash, model, warnings)) {
+    if (Error e = parseSpringBonesTextView(metadata, loaded.hash, model, warnings)) {
       return fail(e);
     }
     loaded.rig = buildRig(std::move(skeleton), model, std::move(warnings), options);
