@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <type_traits>
 #include <utility>
 
 #if defined(__GNUC__)
@@ -42,21 +44,67 @@ inline void multiply(float ax, float ay, float az, float aw, float bx, float by,
   ow = aw * bw - ax * bx - ay * by - az * bz;
 }
 
+// The block layout (see slotIndex in spring_lanes.h): four lanes per block, one field after
+// the other.
+constexpr std::size_t kBlockLanes = 4;  // one WebAssembly SIMD register of floats
+enum SlotField : std::size_t {
+  kTx, kTy, kTz,               // rest translation
+  kRx, kRy, kRz, kRw,          // rest rotation
+  kRs,                         // rest uniform scale
+  kBx, kBy, kBz,               // unit tail axis at rest, in the parent's frame
+  kNx, kNy, kNz,               // a unit axis perpendicular to it (180-degree turns)
+  kTailDistance,               // |tail_local|, 0 keeps the joint at rest
+  kStiffness, kGravityPower, kKeep,  // keep = 1 - drag
+  kGx, kGy, kGz,               // unit gravity direction
+  kHitRadius,
+  kCx, kCy, kCz, kOx, kOy, kOz,  // current and previous tail, center space
+  kOutX, kOutY, kOutZ, kOutW,    // local rotation
+  kSlotFields
+};
+enum TransformField : std::size_t { kPx, kPy, kPz, kQx, kQy, kQz, kQw, kS, kTransformFields };
+enum BetweenField : std::size_t { kHeadX, kHeadY, kHeadZ, kLength, kScale, kTailX, kTailY, kTailZ, kBetweenFields };
+constexpr std::size_t kSlotBlock = kSlotFields * kBlockLanes;
+constexpr std::size_t kTransformBlock = kTransformFields * kBlockLanes;
+constexpr std::size_t kBetweenBlock = kBetweenFields * kBlockLanes;
+
+// What a lane holds before a copy fills it: a zero-length bone at rest under identities, which
+// computes harmless finite values.
+float paddingSlot(std::size_t field) {
+  switch (field) {
+    case kRw: case kRs: case kBy: case kNz: case kOutW: return 1.0f;
+    case kGy: return -1.0f;
+    default: return 0.0f;
+  }
+}
+float paddingTransform(std::size_t field) { return field == kQw || field == kS ? 1.0f : 0.0f; }
+
+// Calls body(block, lane in block) for the lanes [begin, end). Whole blocks go through a loop
+// the vectoriser turns into one SIMD iteration; the partial blocks at the ends of a run of copies
+// (their other lanes belong to copies not stepping) go lane by lane, with the same arithmetic.
+template <typename Body>
+SPRINGBONES_ALWAYS_INLINE inline void forEachLane(std::size_t begin, std::size_t end, const Body& body) {
+  for (std::size_t block = begin / kBlockLanes; block * kBlockLanes < end; ++block) {
+    const std::size_t first = block * kBlockLanes;
+    const std::size_t lo = begin > first ? begin - first : 0;
+    const std::size_t hi = end < first + kBlockLanes ? end - first : kBlockLanes;
+    if (lo == 0 && hi == kBlockLanes) {
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
+#endif
+      for (std::size_t i = 0; i < kBlockLanes; ++i) body(block, i);
+    } else {
+#if defined(__clang__)
+#pragma clang loop vectorize(disable)
+#endif
+      for (std::size_t i = lo; i < hi; ++i) body(block, i);
+    }
+  }
+}
+
 glm::vec3 perpendicularTo(const glm::vec3& axis) {
   glm::vec3 p = glm::cross(glm::vec3(1, 0, 0), axis);
   if (glm::dot(p, p) < 1e-12f) p = glm::cross(glm::vec3(0, 1, 0), axis);
   return glm::normalize(p);
-}
-
-// Lays `rows` rows of `old_width` values out again as rows of `new_width` (new_width >=
-// old_width), filling the new columns with `fill`.
-template <typename T>
-void widenRows(std::vector<T>& v, std::size_t rows, std::size_t old_width, std::size_t new_width, T fill) {
-  std::vector<T> wider(rows * new_width, fill);
-  for (std::size_t r = 0; r < rows; ++r) {
-    std::copy(v.begin() + r * old_width, v.begin() + (r + 1) * old_width, wider.begin() + r * new_width);
-  }
-  v.swap(wider);
 }
 
 }  // namespace
@@ -133,12 +181,10 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   driver_block_ = rig_->drivers.size() + 1;
   collider_block_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
   starts_.resize(depth_count_);
-  template_joint_.assign(depth_count_ * lanes_per_copy_, -1);
   std::vector<bool> started(lanes_per_copy_, false);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int lane = joint_lane_[j];
-    template_joint_[joint_depth_[j] * lanes_per_copy_ + lane] = static_cast<int>(j);
     any_center_ = any_center_ || joint.center_driver >= 0;
     if (started[lane]) continue;
     started[lane] = true;
@@ -150,28 +196,50 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   }
 }
 
+std::size_t SpringLanes::slotIndex(std::size_t field, std::size_t row, std::size_t lane) const {
+  return (row * blocks_per_row_ + lane / kBlockLanes) * kSlotBlock + field * kBlockLanes + lane % kBlockLanes;
+}
+
+std::size_t SpringLanes::worldIndex(std::size_t field, std::size_t row, std::size_t lane) const {
+  return (row * blocks_per_row_ + lane / kBlockLanes) * kTransformBlock + field * kBlockLanes + lane % kBlockLanes;
+}
+
 void SpringLanes::growTo(std::size_t copies) {
   if (copies <= copy_capacity_) return;
   const std::size_t capacity = std::max<std::size_t>(copies, 2 * copy_capacity_);
-  const std::size_t old_width = lane_capacity_, width = capacity * lanes_per_copy_;
+  const std::size_t old_lanes = lane_capacity_, old_blocks = blocks_per_row_;
+  const std::size_t blocks = (capacity * lanes_per_copy_ + kBlockLanes - 1) / kBlockLanes;
+  const std::size_t lanes = blocks * kBlockLanes;
   const std::size_t rows = depth_count_;
-  // New lanes are padding until a copy fills them: a zero-length bone at rest under identities,
-  // which computes harmless finite values.
-  for (auto* v : {&tx_, &ty_, &tz_, &rx_, &ry_, &rz_, &bx_, &bz_, &nx_, &ny_, &tail_distance_, &stiffness_,
-                  &gravity_power_, &keep_, &gx_, &gz_, &hit_radius_, &cx_, &cy_, &cz_, &ox_, &oy_, &oz_, &out_x_,
-                  &out_y_, &out_z_}) {
-    widenRows(*v, rows, old_width, width, 0.0f);
-  }
-  for (auto* v : {&rw_, &rs_, &by_, &nz_, &out_w_}) widenRows(*v, rows, old_width, width, 1.0f);
-  widenRows(gy_, rows, old_width, width, -1.0f);
-  widenRows(center_, rows, old_width, width, 0);
-  widenRows(collider_mask_, rows, old_width, width, 0u);
-  for (auto* v : {&wpx_, &wpy_, &wpz_, &wqx_, &wqy_, &wqz_}) widenRows(*v, rows + 1, old_width, width, 0.0f);
-  for (auto* v : {&wqw_, &ws_}) widenRows(*v, rows + 1, old_width, width, 1.0f);
-  for (auto* v : {&cpx_, &cpy_, &cpz_, &cqx_, &cqy_, &cqz_, &hx_, &hy_, &hz_, &len_, &sx_, &sy_, &sz_}) {
-    v->resize(width, 0.0f);
-  }
-  for (auto* v : {&cqw_, &cs_, &scale_}) v->resize(width, 1.0f);
+  // Every value keeps its (row, lane) in the wider rows; new lanes are padding.
+  const auto widen = [&](std::vector<float>& v, std::size_t row_count, std::size_t fields, float (*fill)(std::size_t)) {
+    std::vector<float> wider(row_count * blocks * fields * kBlockLanes);
+    for (std::size_t row = 0; row < row_count; ++row) {
+      for (std::size_t block = 0; block < blocks; ++block) {
+        float* to = wider.data() + (row * blocks + block) * fields * kBlockLanes;
+        if (block < old_blocks) {
+          const float* from = v.data() + (row * old_blocks + block) * fields * kBlockLanes;
+          std::copy(from, from + fields * kBlockLanes, to);
+        } else {
+          for (std::size_t f = 0; f < fields; ++f) std::fill(to + f * kBlockLanes, to + (f + 1) * kBlockLanes, fill(f));
+        }
+      }
+    }
+    v.swap(wider);
+  };
+  widen(slots_, rows, kSlotFields, paddingSlot);
+  widen(world_, rows + 1, kTransformFields, paddingTransform);
+  widen(centers_, 1, kTransformFields, paddingTransform);
+  widen(between_, 1, kBetweenFields, [](std::size_t) { return 0.0f; });
+  const auto widen_plain = [&](auto& v, auto fill) {
+    std::remove_reference_t<decltype(v)> wider(rows * lanes, fill);
+    for (std::size_t row = 0; row < rows; ++row) {
+      std::copy(v.begin() + row * old_lanes, v.begin() + (row + 1) * old_lanes, wider.begin() + row * lanes);
+    }
+    v.swap(wider);
+  };
+  widen_plain(center_, 0);
+  widen_plain(collider_mask_, 0u);
   drivers_.resize(capacity * driver_block_);
   colliders_.count = capacity * collider_block_;
   for (auto* v : {&colliders_.x0, &colliders_.y0, &colliders_.z0, &colliders_.x1, &colliders_.y1, &colliders_.z1,
@@ -179,9 +247,10 @@ void SpringLanes::growTo(std::size_t copies) {
     v->resize(colliders_.count, 0.0f);
   }
   copy_rotations_.resize(capacity, nullptr);
-  for (std::size_t k = capacity; k-- > copy_capacity_;) free_copies_.push_back(k);  // lowest first
+  for (std::size_t k = capacity; k-- > copy_capacity_;) free_copies_.push_back(k);  // lowest last, taken first
   copy_capacity_ = capacity;
-  lane_capacity_ = width;
+  lane_capacity_ = lanes;
+  blocks_per_row_ = blocks;
 }
 
 std::size_t SpringLanes::addCopy(float* rotations) {
@@ -193,43 +262,43 @@ std::size_t SpringLanes::addCopy(float* rotations) {
   const auto& joints = rig_->joints;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    const std::size_t slot = joint_depth_[j] * lane_capacity_ + first_lane + joint_lane_[j];
-    center_[slot] = static_cast<int>(copy * driver_block_) + joint.center_driver + 1;
+    const std::size_t row = joint_depth_[j], lane = first_lane + joint_lane_[j];
+    const auto set = [&](std::size_t field, float value) { slots_[slotIndex(field, row, lane)] = value; };
+    center_[row * lane_capacity_ + lane] = static_cast<int>(copy * driver_block_) + joint.center_driver + 1;
     const Transform& rest = joint.rest_local;
-    tx_[slot] = rest.translation.x;
-    ty_[slot] = rest.translation.y;
-    tz_[slot] = rest.translation.z;
-    rx_[slot] = rest.rotation.x;
-    ry_[slot] = rest.rotation.y;
-    rz_[slot] = rest.rotation.z;
-    rw_[slot] = rest.rotation.w;
-    rs_[slot] = rest.scale.x;
+    set(kTx, rest.translation.x);
+    set(kTy, rest.translation.y);
+    set(kTz, rest.translation.z);
+    set(kRx, rest.rotation.x);
+    set(kRy, rest.rotation.y);
+    set(kRz, rest.rotation.z);
+    set(kRw, rest.rotation.w);
+    set(kRs, rest.scale.x);
     const float distance = glm::length(joint.tail_local);
     const glm::vec3 axis = distance > kMinLength ? joint.tail_local / distance : glm::vec3(0, 1, 0);
     // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
     // parent's frame, where the rest rotation is already applied.
-    const glm::quat rest_rotation = glm::normalize(rest.rotation);
-    const glm::vec3 axis_in_parent = glm::normalize(rest_rotation * axis);
+    const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(rest.rotation) * axis);
     const glm::vec3 perpendicular = perpendicularTo(axis_in_parent);
-    bx_[slot] = axis_in_parent.x;
-    by_[slot] = axis_in_parent.y;
-    bz_[slot] = axis_in_parent.z;
-    nx_[slot] = perpendicular.x;
-    ny_[slot] = perpendicular.y;
-    nz_[slot] = perpendicular.z;
-    tail_distance_[slot] = distance > kMinLength ? distance : 0.0f;
-    stiffness_[slot] = joint.params.stiffness;
-    gravity_power_[slot] = joint.params.gravity_power;
-    keep_[slot] = 1.0f - joint.params.drag;
-    gx_[slot] = joint.params.gravity_dir.x;
-    gy_[slot] = joint.params.gravity_dir.y;
-    gz_[slot] = joint.params.gravity_dir.z;
-    hit_radius_[slot] = joint.hit_radius;
+    set(kBx, axis_in_parent.x);
+    set(kBy, axis_in_parent.y);
+    set(kBz, axis_in_parent.z);
+    set(kNx, perpendicular.x);
+    set(kNy, perpendicular.y);
+    set(kNz, perpendicular.z);
+    set(kTailDistance, distance > kMinLength ? distance : 0.0f);
+    set(kStiffness, joint.params.stiffness);
+    set(kGravityPower, joint.params.gravity_power);
+    set(kKeep, 1.0f - joint.params.drag);
+    set(kGx, joint.params.gravity_dir.x);
+    set(kGy, joint.params.gravity_dir.y);
+    set(kGz, joint.params.gravity_dir.z);
+    set(kHitRadius, joint.hit_radius);
     std::uint32_t mask = 0;
     for (int c : joint.colliders) {
       if (c >= 0 && c < static_cast<int>(kMaxLaneColliders)) mask |= 1u << c;
     }
-    collider_mask_[slot] = mask;
+    collider_mask_[row * lane_capacity_ + lane] = mask;
   }
   return copy;
 }
@@ -238,29 +307,30 @@ void SpringLanes::releaseCopy(std::size_t copy) {
   if (copy >= copy_capacity_ || copy_rotations_[copy] == nullptr) return;
   copy_rotations_[copy] = nullptr;
   free_copies_.push_back(copy);
-  // Lowest first, so the copies in use stay packed at the front and scenes step long runs.
+  // The lowest free copy is taken first, so the copies in use stay packed at the front and scenes
+  // step long runs.
   std::sort(free_copies_.begin(), free_copies_.end(), std::greater<std::size_t>());
 }
 
 void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
                              float& scale) const {
-  const std::size_t slot =
-      (joint_depth_[joint] + 1) * lane_capacity_ + copy * lanes_per_copy_ + joint_lane_[joint];
-  position = glm::vec3(wpx_[slot], wpy_[slot], wpz_[slot]);
-  rotation = glm::quat(wqw_[slot], wqx_[slot], wqy_[slot], wqz_[slot]);
-  scale = ws_[slot];
+  const std::size_t row = joint_depth_[joint] + 1, lane = copy * lanes_per_copy_ + joint_lane_[joint];
+  const auto at = [&](std::size_t field) { return world_[worldIndex(field, row, lane)]; };
+  position = glm::vec3(at(kPx), at(kPy), at(kPz));
+  rotation = glm::quat(at(kQw), at(kQx), at(kQy), at(kQz));
+  scale = at(kS);
 }
 
 void SpringLanes::writeRotations(std::size_t copy) {
   float* rotations = copy_rotations_[copy];
   const std::size_t first_lane = copy * lanes_per_copy_;
   for (std::size_t j = 0; j < joint_lane_.size(); ++j) {
-    const std::size_t slot = joint_depth_[j] * lane_capacity_ + first_lane + joint_lane_[j];
+    const float* from = slots_.data() + slotIndex(kOutX, joint_depth_[j], first_lane + joint_lane_[j]);
     float* out = rotations + 4 * j;
-    out[0] = out_x_[slot];
-    out[1] = out_y_[slot];
-    out[2] = out_z_[slot];
-    out[3] = out_w_[slot];
+    out[0] = from[0];
+    out[1] = from[kBlockLanes];
+    out[2] = from[2 * kBlockLanes];
+    out[3] = from[3 * kBlockLanes];
   }
 }
 
@@ -288,31 +358,24 @@ void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h,
 // Lanes that begin at this depth hang from a driver or from the joint they branch off (computed
 // at the previous depth): that transform goes into their parent row.
 void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy) {
-  const std::size_t row = depth * lane_capacity_;
+  const std::size_t row = depth;
   for (std::size_t k = first_copy; k < end_copy; ++k) {
     const std::size_t first_lane = k * lanes_per_copy_;
     for (const LaneStart& start : starts_[depth]) {
-      const std::size_t to = row + first_lane + start.lane;
+      float* to = world_.data() + worldIndex(kPx, row, first_lane + start.lane);
       if (start.parent_lane >= 0) {
-        const std::size_t from = row + first_lane + start.parent_lane;
-        wpx_[to] = wpx_[from];
-        wpy_[to] = wpy_[from];
-        wpz_[to] = wpz_[from];
-        wqx_[to] = wqx_[from];
-        wqy_[to] = wqy_[from];
-        wqz_[to] = wqz_[from];
-        wqw_[to] = wqw_[from];
-        ws_[to] = ws_[from];
+        const float* from = world_.data() + worldIndex(kPx, row, first_lane + start.parent_lane);
+        for (std::size_t f = 0; f < kTransformFields; ++f) to[f * kBlockLanes] = from[f * kBlockLanes];
       } else {
         const std::size_t d = k * driver_block_ + 1 + start.parent_driver;
-        wpx_[to] = drivers_.px[d];
-        wpy_[to] = drivers_.py[d];
-        wpz_[to] = drivers_.pz[d];
-        wqx_[to] = drivers_.qx[d];
-        wqy_[to] = drivers_.qy[d];
-        wqz_[to] = drivers_.qz[d];
-        wqw_[to] = drivers_.qw[d];
-        ws_[to] = drivers_.s[d];
+        to[kPx * kBlockLanes] = drivers_.px[d];
+        to[kPy * kBlockLanes] = drivers_.py[d];
+        to[kPz * kBlockLanes] = drivers_.pz[d];
+        to[kQx * kBlockLanes] = drivers_.qx[d];
+        to[kQy * kBlockLanes] = drivers_.qy[d];
+        to[kQz * kBlockLanes] = drivers_.qz[d];
+        to[kQw * kBlockLanes] = drivers_.qw[d];
+        to[kS * kBlockLanes] = drivers_.s[d];
       }
     }
   }
@@ -324,113 +387,67 @@ void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::siz
 template <bool kSeed, bool kCenter, bool kColliders>
 void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h) {
   const std::size_t begin = first_copy * lanes_per_copy_, end = end_copy * lanes_per_copy_;
-  const std::size_t base = depth * lane_capacity_;  // this depth's slots; also its parent row
-  const std::size_t next = base + lane_capacity_;   // the world row of this depth's joints
+  const std::size_t row_blocks = depth * blocks_per_row_;
 
   if (kCenter) {
     for (std::size_t l = begin; l < end; ++l) {
-      const int c = center_[base + l];
-      cpx_[l] = drivers_.px[c];
-      cpy_[l] = drivers_.py[c];
-      cpz_[l] = drivers_.pz[c];
-      cqx_[l] = drivers_.qx[c];
-      cqy_[l] = drivers_.qy[c];
-      cqz_[l] = drivers_.qz[c];
-      cqw_[l] = drivers_.qw[c];
-      cs_[l] = drivers_.s[c];
+      const int c = center_[depth * lane_capacity_ + l];
+      float* to = centers_.data() + (l / kBlockLanes) * kTransformBlock + l % kBlockLanes;
+      to[kPx * kBlockLanes] = drivers_.px[c];
+      to[kPy * kBlockLanes] = drivers_.py[c];
+      to[kPz * kBlockLanes] = drivers_.pz[c];
+      to[kQx * kBlockLanes] = drivers_.qx[c];
+      to[kQy * kBlockLanes] = drivers_.qy[c];
+      to[kQz * kBlockLanes] = drivers_.qz[c];
+      to[kQw * kBlockLanes] = drivers_.qw[c];
+      to[kS * kBlockLanes] = drivers_.s[c];
     }
   }
 
-  // The parents' world transforms (in) and the joints' (out): two rows of the same arrays.
-  const float* __restrict ppx = wpx_.data() + base;
-  const float* __restrict ppy = wpy_.data() + base;
-  const float* __restrict ppz = wpz_.data() + base;
-  const float* __restrict pqx = wqx_.data() + base;
-  const float* __restrict pqy = wqy_.data() + base;
-  const float* __restrict pqz = wqz_.data() + base;
-  const float* __restrict pqw = wqw_.data() + base;
-  const float* __restrict ps = ws_.data() + base;
-  float* __restrict wpx = wpx_.data() + next;
-  float* __restrict wpy = wpy_.data() + next;
-  float* __restrict wpz = wpz_.data() + next;
-  float* __restrict wqx = wqx_.data() + next;
-  float* __restrict wqy = wqy_.data() + next;
-  float* __restrict wqz = wqz_.data() + next;
-  float* __restrict wqw = wqw_.data() + next;
-  float* __restrict ws = ws_.data() + next;
-  const float* __restrict cpx = cpx_.data();
-  const float* __restrict cpy = cpy_.data();
-  const float* __restrict cpz = cpz_.data();
-  const float* __restrict cqx = cqx_.data();
-  const float* __restrict cqy = cqy_.data();
-  const float* __restrict cqz = cqz_.data();
-  const float* __restrict cqw = cqw_.data();
-  const float* __restrict cs = cs_.data();
-  // Per slot constants and state of this depth.
-  const float* __restrict tx = tx_.data() + base;
-  const float* __restrict ty = ty_.data() + base;
-  const float* __restrict tz = tz_.data() + base;
-  const float* __restrict rx = rx_.data() + base;
-  const float* __restrict ry = ry_.data() + base;
-  const float* __restrict rz = rz_.data() + base;
-  const float* __restrict rw = rw_.data() + base;
-  const float* __restrict rs = rs_.data() + base;
-  const float* __restrict bx = bx_.data() + base;
-  const float* __restrict by = by_.data() + base;
-  const float* __restrict bz = bz_.data() + base;
-  const float* __restrict nx = nx_.data() + base;
-  const float* __restrict ny = ny_.data() + base;
-  const float* __restrict nz = nz_.data() + base;
-  const float* __restrict td = tail_distance_.data() + base;
-  const float* __restrict stiffness = stiffness_.data() + base;
-  const float* __restrict gravity_power = gravity_power_.data() + base;
-  const float* __restrict keep = keep_.data() + base;
-  const float* __restrict gx = gx_.data() + base;
-  const float* __restrict gy = gy_.data() + base;
-  const float* __restrict gz = gz_.data() + base;
-  float* __restrict cx = cx_.data() + base;
-  float* __restrict cy = cy_.data() + base;
-  float* __restrict cz = cz_.data() + base;
-  float* __restrict ox = ox_.data() + base;
-  float* __restrict oy = oy_.data() + base;
-  float* __restrict oz = oz_.data() + base;
-  float* __restrict out_x = out_x_.data() + base;
-  float* __restrict out_y = out_y_.data() + base;
-  float* __restrict out_z = out_z_.data() + base;
-  float* __restrict out_w = out_w_.data() + base;
+  float* const slot_row = slots_.data() + row_blocks * kSlotBlock;
+  const float* const parent_row = world_.data() + row_blocks * kTransformBlock;  // the parents' world
+  float* const joint_row = world_.data() + (row_blocks + blocks_per_row_) * kTransformBlock;  // the joints'
+  const float* const center_row = centers_.data();
+  float* const between_row = between_.data();
 
   // First half: the rest transform under the parent, then Verlet inertia (center space) with
   // drag, the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
   // Out: the head, the bone's world length and scale, the new tail (world).
-  const auto integrate = [&](std::size_t l, float& hx, float& hy, float& hz, float& length, float& scale,
-                             float& sx, float& sy, float& sz) SPRINGBONES_ALWAYS_INLINE {
-    rotate(pqx[l], pqy[l], pqz[l], pqw[l], tx[l], ty[l], tz[l], hx, hy, hz);
-    hx = ppx[l] + ps[l] * hx;
-    hy = ppy[l] + ps[l] * hy;
-    hz = ppz[l] + ps[l] * hz;
-    scale = ps[l] * rs[l];
-    length = scale * td[l];
+  const auto integrate = [&](std::size_t block, std::size_t i, float& hx, float& hy, float& hz, float& length,
+                             float& scale, float& sx, float& sy, float& sz) SPRINGBONES_ALWAYS_INLINE {
+    const float* __restrict s = slot_row + block * kSlotBlock + i;
+    const float* __restrict p = parent_row + block * kTransformBlock + i;
+    const float* __restrict c = center_row + block * kTransformBlock + i;
+    constexpr std::size_t B = kBlockLanes;
+    const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B], ps = p[kS * B];
+    rotate(pqx, pqy, pqz, pqw, s[kTx * B], s[kTy * B], s[kTz * B], hx, hy, hz);
+    hx = p[kPx * B] + ps * hx;
+    hy = p[kPy * B] + ps * hy;
+    hz = p[kPz * B] + ps * hz;
+    scale = ps * s[kRs * B];
+    length = scale * s[kTailDistance * B];
     float dx, dy, dz;  // rest direction, world
-    rotate(pqx[l], pqy[l], pqz[l], pqw[l], bx[l], by[l], bz[l], dx, dy, dz);
+    rotate(pqx, pqy, pqz, pqw, s[kBx * B], s[kBy * B], s[kBz * B], dx, dy, dz);
     sx = hx + dx * length;
     sy = hy + dy * length;
     sz = hz + dz * length;
     if (!kSeed) {
-      const float vx = cx[l] + (cx[l] - ox[l]) * keep[l];
-      const float vy = cy[l] + (cy[l] - oy[l]) * keep[l];
-      const float vz = cz[l] + (cz[l] - oz[l]) * keep[l];
+      const float cx = s[kCx * B], cy = s[kCy * B], cz = s[kCz * B], keep = s[kKeep * B];
+      const float vx = cx + (cx - s[kOx * B]) * keep;
+      const float vy = cy + (cy - s[kOy * B]) * keep;
+      const float vz = cz + (cz - s[kOz * B]) * keep;
       float wx = vx, wy = vy, wz = vz;
       if (kCenter) {
-        rotate(cqx[l], cqy[l], cqz[l], cqw[l], vx, vy, vz, wx, wy, wz);
-        wx = cpx[l] + cs[l] * wx;
-        wy = cpy[l] + cs[l] * wy;
-        wz = cpz[l] + cs[l] * wz;
+        rotate(c[kQx * B], c[kQy * B], c[kQz * B], c[kQw * B], vx, vy, vz, wx, wy, wz);
+        wx = c[kPx * B] + c[kS * B] * wx;
+        wy = c[kPy * B] + c[kS * B] * wy;
+        wz = c[kPz * B] + c[kS * B] * wz;
       }
-      const float k = stiffness[l] * h;
-      const float g = gravity_power[l] * h;
-      wx = wx + dx * k + gx[l] * g;
-      wy = wy + dy * k + gy[l] * g;
-      wz = wz + dz * k + gz[l] * g;
+      const float k = s[kStiffness * B] * h;
+      const float g = s[kGravityPower * B] * h;
+      wx = wx + dx * k + s[kGx * B] * g;
+      wy = wy + dy * k + s[kGy * B] * g;
+      wz = wz + dz * k + s[kGz * B] * g;
       // Back onto the sphere of the bone length; a tail lost on the head restarts at rest.
       const float fx = wx - hx, fy = wy - hy, fz = wz - hz;
       const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
@@ -444,85 +461,82 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
 
   // Second half: store the tail (center space), turn the joint toward it, and write the local
   // rotation and the joint's world transform for the next depth.
-  const auto aim = [&](std::size_t l, float hx, float hy, float hz, float length, float scale, float sx, float sy,
-                       float sz) SPRINGBONES_ALWAYS_INLINE {
+  const auto aim = [&](std::size_t block, std::size_t i, float hx, float hy, float hz, float length, float scale,
+                       float sx, float sy, float sz) SPRINGBONES_ALWAYS_INLINE {
+    float* __restrict s = slot_row + block * kSlotBlock + i;
+    const float* __restrict p = parent_row + block * kTransformBlock + i;
+    const float* __restrict c = center_row + block * kTransformBlock + i;
+    float* __restrict w = joint_row + block * kTransformBlock + i;
+    constexpr std::size_t B = kBlockLanes;
     const float fx = sx - hx, fy = sy - hy, fz = sz - hz;
     if (kCenter) {
       float ux, uy, uz;
-      rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
-      sx = ux / cs[l];
-      sy = uy / cs[l];
-      sz = uz / cs[l];
+      rotate(-c[kQx * B], -c[kQy * B], -c[kQz * B], c[kQw * B], sx - c[kPx * B], sy - c[kPy * B], sz - c[kPz * B], ux,
+             uy, uz);
+      sx = ux / c[kS * B];
+      sy = uy / c[kS * B];
+      sz = uz / c[kS * B];
     }
-    ox[l] = kSeed ? sx : cx[l];
-    oy[l] = kSeed ? sy : cy[l];
-    oz[l] = kSeed ? sz : cz[l];
-    cx[l] = sx;
-    cy[l] = sy;
-    cz[l] = sz;
+    s[kOx * B] = kSeed ? sx : s[kCx * B];
+    s[kOy * B] = kSeed ? sy : s[kCy * B];
+    s[kOz * B] = kSeed ? sz : s[kCz * B];
+    s[kCx * B] = sx;
+    s[kCy * B] = sy;
+    s[kCz * B] = sz;
 
     // The bone in the parent's frame, |f| = length: the shortest turn of the rest axis onto it,
     // (b x f, |b||f| + b.f) normalized, applied after the rest rotation.
+    const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B];
     float fpx, fpy, fpz;
-    rotate(-pqx[l], -pqy[l], -pqz[l], pqw[l], fx, fy, fz, fpx, fpy, fpz);
-    const float dot = bx[l] * fpx + by[l] * fpy + bz[l] * fpz;
+    rotate(-pqx, -pqy, -pqz, pqw, fx, fy, fz, fpx, fpy, fpz);
+    const float bx = s[kBx * B], by = s[kBy * B], bz = s[kBz * B];
+    const float dot = bx * fpx + by * fpy + bz * fpz;
     const bool opposite = dot < kOppositeDot * length;
-    const float tqx = opposite ? nx[l] : by[l] * fpz - bz[l] * fpy;
-    const float tqy = opposite ? ny[l] : bz[l] * fpx - bx[l] * fpz;
-    const float tqz = opposite ? nz[l] : bx[l] * fpy - by[l] * fpx;
+    const float tqx = opposite ? s[kNx * B] : by * fpz - bz * fpy;
+    const float tqy = opposite ? s[kNy * B] : bz * fpx - bx * fpz;
+    const float tqz = opposite ? s[kNz * B] : bx * fpy - by * fpx;
     const float tqw = opposite ? 0.0f : length + dot;
     const float inv_turn = 1.0f / std::sqrt(tqx * tqx + tqy * tqy + tqz * tqz + tqw * tqw);
     // Both factors are unit quaternions (the loader normalizes rest rotations), so is the product.
+    const float rx = s[kRx * B], ry = s[kRy * B], rz = s[kRz * B], rw = s[kRw * B];
     float mx, my, mz, mw;
-    multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, rx[l], ry[l], rz[l], rw[l], mx, my, mz,
-             mw);
+    multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, rx, ry, rz, rw, mx, my, mz, mw);
     // Seeding, a zero-length bone or a lost direction (NaN fails the comparison) keep the rest.
     const bool moving = !kSeed && length > kMinLength && inv_turn < 1e30f;
-    const float lqx = moving ? mx : rx[l];
-    const float lqy = moving ? my : ry[l];
-    const float lqz = moving ? mz : rz[l];
-    const float lqw = moving ? mw : rw[l];
-    out_x[l] = lqx;
-    out_y[l] = lqy;
-    out_z[l] = lqz;
-    out_w[l] = lqw;
-    multiply(pqx[l], pqy[l], pqz[l], pqw[l], lqx, lqy, lqz, lqw, wqx[l], wqy[l], wqz[l], wqw[l]);
-    wpx[l] = hx;
-    wpy[l] = hy;
-    wpz[l] = hz;
-    ws[l] = scale;
+    const float lqx = moving ? mx : rx;
+    const float lqy = moving ? my : ry;
+    const float lqz = moving ? mz : rz;
+    const float lqw = moving ? mw : rw;
+    s[kOutX * B] = lqx;
+    s[kOutY * B] = lqy;
+    s[kOutZ * B] = lqz;
+    s[kOutW * B] = lqw;
+    float jx, jy, jz, jw;
+    multiply(pqx, pqy, pqz, pqw, lqx, lqy, lqz, lqw, jx, jy, jz, jw);
+    w[kQx * B] = jx;
+    w[kQy * B] = jy;
+    w[kQz * B] = jz;
+    w[kQw * B] = jw;
+    w[kPx * B] = hx;
+    w[kPy * B] = hy;
+    w[kPz * B] = hz;
+    w[kS * B] = scale;
   };
 
-  if (!kColliders) {
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-    for (std::size_t l = begin; l < end; ++l) {
-      float hx, hy, hz, length, scale, sx, sy, sz;
-      integrate(l, hx, hy, hz, length, scale, sx, sy, sz);
-      aim(l, hx, hy, hz, length, scale, sx, sy, sz);
-    }
-    return;
-  }
 
-  float* __restrict hx = hx_.data();
-  float* __restrict hy = hy_.data();
-  float* __restrict hz = hz_.data();
-  float* __restrict len = len_.data();
-  float* __restrict scl = scale_.data();
-  float* __restrict sx = sx_.data();
-  float* __restrict sy = sy_.data();
-  float* __restrict sz = sz_.data();
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-  for (std::size_t l = begin; l < end; ++l) integrate(l, hx[l], hy[l], hz[l], len[l], scl[l], sx[l], sy[l], sz[l]);
+  // Two loops with the tail handed over in memory, rather than one: the register pressure of a
+  // single loop body made V8 spill more than the hand-over costs (about 15% slower in Node 20).
+  constexpr std::size_t B = kBlockLanes;
+  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
+    float* __restrict t = between_row + block * kBetweenBlock + i;
+    integrate(block, i, t[kHeadX * B], t[kHeadY * B], t[kHeadZ * B], t[kLength * B], t[kScale * B], t[kTailX * B],
+              t[kTailY * B], t[kTailZ * B]);
+  });
 
-  // One loop per copy and collider (so each loop vectorises): push the tail out of the shape
-  // (closest point on the capsule segment, or the sphere center), then restore the bone length.
-  const float* __restrict hit = hit_radius_.data() + base;
-  const std::uint32_t* __restrict mask = collider_mask_.data() + base;
-  for (std::size_t k = first_copy; k < end_copy; ++k) {
+  // Between them, one pass per copy and collider: push the tail out of the shape (closest point
+  // on the capsule segment, or the sphere center), then restore the bone length.
+  const std::uint32_t* const mask_row = collider_mask_.data() + depth * lane_capacity_;
+  for (std::size_t k = first_copy; kColliders && k < end_copy; ++k) {
     for (std::size_t c = 0; c < collider_block_; ++c) {
       const std::size_t shape = k * collider_block_ + c;
       const float ax0 = colliders_.x0[shape], ay0 = colliders_.y0[shape], az0 = colliders_.z0[shape];
@@ -531,34 +545,37 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
       const float inv_segment2 = segment2 > 0.0f ? 1.0f / segment2 : 0.0f;
       const float radius = colliders_.radius[shape];
       const std::uint32_t bit = 1u << c;
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-      for (std::size_t l = k * lanes_per_copy_; l < (k + 1) * lanes_per_copy_; ++l) {
-        const float vx = sx[l] - ax0, vy = sy[l] - ay0, vz = sz[l] - az0;
-        float t = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
-        t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-        const float dx = vx - sgx * t, dy = vy - sgy * t, dz = vz - sgz * t;
+      forEachLane(k * lanes_per_copy_, (k + 1) * lanes_per_copy_, [&](std::size_t block, std::size_t i)
+                                                                       SPRINGBONES_ALWAYS_INLINE {
+        float* __restrict t = between_row + block * kBetweenBlock + i;
+        const float* __restrict s = slot_row + block * kSlotBlock + i;
+        const float tx = t[kTailX * B], ty = t[kTailY * B], tz = t[kTailZ * B];
+        const float vx = tx - ax0, vy = ty - ay0, vz = tz - az0;
+        float along = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
+        along = along < 0.0f ? 0.0f : (along > 1.0f ? 1.0f : along);
+        const float dx = vx - sgx * along, dy = vy - sgy * along, dz = vz - sgz * along;
         const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const float penetration = radius + hit[l] - distance;
-        const bool pushed = (mask[l] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
+        const float penetration = radius + s[kHitRadius * B] - distance;
+        const bool pushed = (mask_row[block * B + i] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
         const float push = pushed ? penetration / distance : 0.0f;
-        const float px = sx[l] + dx * push, py = sy[l] + dy * push, pz = sz[l] + dz * push;
-        const float fx = px - hx[l], fy = py - hy[l], fz = pz - hz[l];
+        const float px = tx + dx * push, py = ty + dy * push, pz = tz + dz * push;
+        const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
+        const float fx = px - hx, fy = py - hy, fz = pz - hz;
         const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
         const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
-        const float to_length = len[l] / offset_length;
-        sx[l] = usable ? hx[l] + fx * to_length : sx[l];
-        sy[l] = usable ? hy[l] + fy * to_length : sy[l];
-        sz[l] = usable ? hz[l] + fz * to_length : sz[l];
-      }
+        const float to_length = t[kLength * B] / offset_length;
+        t[kTailX * B] = usable ? hx + fx * to_length : tx;
+        t[kTailY * B] = usable ? hy + fy * to_length : ty;
+        t[kTailZ * B] = usable ? hz + fz * to_length : tz;
+      });
     }
   }
 
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-  for (std::size_t l = begin; l < end; ++l) aim(l, hx[l], hy[l], hz[l], len[l], scl[l], sx[l], sy[l], sz[l]);
+  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
+    const float* __restrict t = between_row + block * kBetweenBlock + i;
+    aim(block, i, t[kHeadX * B], t[kHeadY * B], t[kHeadZ * B], t[kLength * B], t[kScale * B], t[kTailX * B],
+        t[kTailY * B], t[kTailZ * B]);
+  });
 }
 
 }  // namespace springbones

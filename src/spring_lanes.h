@@ -93,11 +93,19 @@ class SpringLanes {
   void writeRotations(std::size_t copy);
   void growTo(std::size_t copies);
 
+  // Where a value lives. Slots and world transforms are stored in blocks of four lanes, field by
+  // field (every field of four neighbouring lanes in 16 consecutive bytes), so the kernel reaches
+  // all of a block from one address: separate arrays per field cost it more in reloaded pointers
+  // and spilled registers than the arithmetic itself.
+  std::size_t slotIndex(std::size_t field, std::size_t row, std::size_t lane) const;
+  std::size_t worldIndex(std::size_t field, std::size_t row, std::size_t lane) const;
+
   std::shared_ptr<const Rig> rig_;
   std::size_t lanes_per_copy_ = 0;  // R
   std::size_t depth_count_ = 0;     // D
   std::size_t copy_capacity_ = 0;
-  std::size_t lane_capacity_ = 0;   // copy_capacity_ * R
+  std::size_t lane_capacity_ = 0;   // copy_capacity_ * R, rounded up to whole blocks
+  std::size_t blocks_per_row_ = 0;
   std::size_t driver_block_ = 1;    // rig drivers + 1
   std::size_t collider_block_ = 0;  // rig colliders
   bool any_center_ = false;
@@ -105,7 +113,6 @@ class SpringLanes {
   // The rig's layout.
   std::vector<std::vector<LaneStart>> starts_;  // per depth
   std::vector<int> joint_lane_, joint_depth_;   // per rig joint
-  std::vector<int> template_joint_;             // per rig slot (depth * R + lane): joint or -1
 
   // Copies.
   std::vector<float*> copy_rotations_;          // nullptr: a free copy
@@ -113,30 +120,19 @@ class SpringLanes {
   DriverTable drivers_;
   ColliderTable colliders_;
 
-  // Per slot constants (copies of the rig's), depth_count_ rows of lane_capacity_.
+  // Per slot, depth_count_ rows: the joint's constants, its tail state and its local rotation
+  // (fields in spring_lanes.cpp), in blocks.
+  std::vector<float> slots_;
+  // Per slot, plain rows of lane_capacity_: read one lane at a time.
   std::vector<int> center_;                    // driver table slot of the joint's center
-  std::vector<float> tx_, ty_, tz_;            // rest translation
-  std::vector<float> rx_, ry_, rz_, rw_;       // rest rotation
-  std::vector<float> rs_;                      // rest uniform scale
-  std::vector<float> bx_, by_, bz_;            // unit tail axis at rest, in the parent's frame
-  std::vector<float> nx_, ny_, nz_;            // a unit axis perpendicular to it (180-degree turns)
-  std::vector<float> tail_distance_;           // |tail_local|, 0 keeps the joint at rest
-  std::vector<float> stiffness_, gravity_power_, keep_;  // keep = 1 - drag
-  std::vector<float> gx_, gy_, gz_;            // unit gravity direction
-  std::vector<float> hit_radius_;
   std::vector<std::uint32_t> collider_mask_;   // bit c: collides with the rig's collider c
-
-  // Per slot state: current and previous tail, center space (depth_count_ rows).
-  std::vector<float> cx_, cy_, cz_, ox_, oy_, oz_;
-  std::vector<float> out_x_, out_y_, out_z_, out_w_;  // local rotations
-  // World transforms, depth_count_ + 1 rows: row d + 1 holds the joints of depth d, row d the
-  // parents the lanes beginning at depth d hang from (a lane has no joint above its start).
-  std::vector<float> wpx_, wpy_, wpz_, wqx_, wqy_, wqz_, wqw_, ws_;
-
-  // Per lane scratch: the center's transform; between the passes around the colliders, the
-  // head, length, scale and new tail.
-  std::vector<float> cpx_, cpy_, cpz_, cqx_, cqy_, cqz_, cqw_, cs_;
-  std::vector<float> hx_, hy_, hz_, len_, scale_, sx_, sy_, sz_;
+  // World transforms, depth_count_ + 1 rows, in blocks: row d + 1 holds the joints of depth d,
+  // row d the parents the lanes beginning at depth d hang from (a lane has no joint above its
+  // start).
+  std::vector<float> world_;
+  // Per lane, in blocks: the center's transform of the current depth; between the kernel's two
+  // passes (and the colliders'), the head, length, scale and new tail.
+  std::vector<float> centers_, between_;
 };
 
 }  // namespace springbones
