@@ -83,6 +83,43 @@ describe('loadRig', () => {
     assert.throws(() => { rig.warnings[0].code = 'x'; }, TypeError);
   });
 
+  test('the description lists are built once, stay readable after dispose, and keep names and shortest floats', () => {
+    const nodes = [
+      { name: 'Avatar_Head', children: [1] },
+      { name: 'springbone_été_中', translation: [0.1, 2097152.25, -0], children: [2] },
+      { name: 'springbone_tip', translation: [0.30000001192092896, -0.05, 1e-30] },
+    ];
+    const glb = new TextEncoder().encode(JSON.stringify({ asset: { version: '2.0' }, nodes }));
+    const springBones = { version: 1, models: { h: { [nodes[1].name]: {
+      isRoot: true, stiffness: 0.4, gravityPower: 1.1, gravityDir: [0, -3, 0], drag: 0.123456789 } } } };
+    const rig = sb.loadRig(glb, springBones, { contentHash: 'h', hitRadius: 0.07, colliders: [{ node: 'Avatar_Head', radius: 0.2 }] });
+    const first = rig.joints;
+    assert.equal(rig.joints, first, 'the same frozen array on every read');
+    assert.equal(rig.drivers, rig.drivers);
+    assert.equal(rig.warnings, rig.warnings);
+    const [joint] = first;
+    assert.equal(joint.name, nodes[1].name);
+    assert.equal(joint.tail, 'springbone_tip');
+    assert.deepEqual(joint.params, { drag: 0.12345679, gravityDir: [0, -1, 0], gravityPower: 1.1, stiffness: 0.4 });
+    assert.equal(joint.hitRadius, 0.07);
+    assert.deepEqual(joint.tailOffset, [0.3, -0.05, 1e-30], 'the shortest decimal that reads back as the float');
+    assert.deepEqual(Object.keys(joint), ['centerDriver', 'chain', 'hitRadius', 'name', 'node', 'params', 'parent',
+      'parentDriver', 'restLength', 'tail', 'tailNode', 'tailOffset']);
+    assert.deepEqual(rig.drivers, [{ name: 'Avatar_Head', node: 0 }]);
+    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.2, shape: 'sphere' }]);
+    const drivers = rig.drivers;
+    rig.dispose();
+    assert.equal(rig.joints, first);
+    assert.equal(rig.drivers, drivers);
+    assert.deepEqual(rig.chains, [0]);
+    // Never read before dispose: still there.
+    const other = sb.loadRig(glb, springBones, { contentHash: 'h', hitRadius: 0.07, colliders: [{ node: 'Avatar_Head', radius: 0.2 }] });
+    other.dispose();
+    assert.deepEqual(other.joints, first);
+    assert.deepEqual(other.colliders, rig.colliders);
+    assert.equal(other.nodeCount, 3);
+  });
+
   test('takes GLB bytes as Uint8Array, Buffer or ArrayBuffer (a subarray is read from its offset)', () => {
     const { glb, springBones, hash } = springRig();
     const padded = new Uint8Array(glb.length + 8);
