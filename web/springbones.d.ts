@@ -260,7 +260,11 @@ export interface InstanceOptions {
   xpbdIterations?: number;
 }
 
-/** An immutable, shareable wearable rig. Everything on it is frozen plain data. */
+/**
+ * An immutable, shareable wearable rig. Everything on it is frozen plain data. The lists (joints,
+ * chains, drivers, colliders, warnings) are built on their first read, then the same objects on
+ * every read, and stay readable after dispose().
+ */
 export interface Rig {
   /** The springBones models key the rig was built from ('' for loadVrm). */
   readonly contentHash: string;
