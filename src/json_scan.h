@@ -91,6 +91,10 @@ class JsonScan {
 
   /// Consumes `c` (after whitespace) when it is next.
   bool consume(char c) {
+    if (p_ < end_ && *p_ == c) {  // compact JSON, as exporters write it: no whitespace to skip
+      ++p_;
+      return true;
+    }
     if (peek() != c) return false;
     ++p_;
     return true;
