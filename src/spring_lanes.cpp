@@ -181,10 +181,12 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   driver_block_ = rig_->drivers.size() + 1;
   collider_block_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
   starts_.resize(depth_count_);
+  template_joint_.assign(depth_count_ * lanes_per_copy_, -1);
   std::vector<bool> started(lanes_per_copy_, false);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int lane = joint_lane_[j];
+    template_joint_[joint_depth_[j] * lanes_per_copy_ + lane] = static_cast<int>(j);
     any_center_ = any_center_ || joint.center_driver >= 0;
     if (started[lane]) continue;
     started[lane] = true;
@@ -321,16 +323,32 @@ void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& pos
   scale = at(kS);
 }
 
-void SpringLanes::writeRotations(std::size_t copy) {
-  float* rotations = copy_rotations_[copy];
-  const std::size_t first_lane = copy * lanes_per_copy_;
-  for (std::size_t j = 0; j < joint_lane_.size(); ++j) {
-    const float* from = slots_.data() + slotIndex(kOutX, joint_depth_[j], first_lane + joint_lane_[j]);
-    float* out = rotations + 4 * j;
-    out[0] = from[0];
-    out[1] = from[kBlockLanes];
-    out[2] = from[2 * kBlockLanes];
-    out[3] = from[3 * kBlockLanes];
+void SpringLanes::writeRotations(std::size_t first_copy, std::size_t end_copy) {
+  // Slot order, one depth at a time, walking the blocks as the lanes go: no index arithmetic per
+  // joint beyond a step to the next lane.
+  for (std::size_t depth = 0; depth < depth_count_; ++depth) {
+    const float* const row = slots_.data() + depth * blocks_per_row_ * kSlotBlock + kOutX * kBlockLanes;
+    const int* const joint_at = template_joint_.data() + depth * lanes_per_copy_;
+    std::size_t block = first_copy * lanes_per_copy_ / kBlockLanes;
+    std::size_t i = first_copy * lanes_per_copy_ % kBlockLanes;
+    for (std::size_t k = first_copy; k < end_copy; ++k) {
+      float* const rotations = copy_rotations_[k];
+      for (std::size_t lane = 0; lane < lanes_per_copy_; ++lane) {
+        const int j = joint_at[lane];
+        if (j >= 0 && rotations) {
+          const float* from = row + block * kSlotBlock + i;
+          float* out = rotations + 4 * j;
+          out[0] = from[0];
+          out[1] = from[kBlockLanes];
+          out[2] = from[2 * kBlockLanes];
+          out[3] = from[3 * kBlockLanes];
+        }
+        if (++i == kBlockLanes) {
+          i = 0;
+          ++block;
+        }
+      }
+    }
   }
 }
 
@@ -349,9 +367,7 @@ void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h,
         any_center_ ? runDepth<false, true, false>(d, first, end, h) : runDepth<false, false, false>(d, first, end, h);
       }
     }
-    for (std::size_t k = first; k < end; ++k) {
-      if (copy_rotations_[k]) writeRotations(k);
-    }
+    writeRotations(first, end);
   }
 }
 

@@ -90,7 +90,7 @@ class SpringLanes {
   template <bool kSeed, bool kCenter, bool kColliders>
   void runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
-  void writeRotations(std::size_t copy);
+  void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
 
   // Where a value lives. Slots and world transforms are stored in blocks of four lanes, field by
@@ -113,6 +113,7 @@ class SpringLanes {
   // The rig's layout.
   std::vector<std::vector<LaneStart>> starts_;  // per depth
   std::vector<int> joint_lane_, joint_depth_;   // per rig joint
+  std::vector<int> template_joint_;             // per depth and rig lane (depth * R + lane): joint or -1
 
   // Copies.
   std::vector<float*> copy_rotations_;          // nullptr: a free copy
