@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cerrno>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -224,7 +225,64 @@ class JsonScan {
       out.value = negative ? -v : v;
       return true;
     }
+    // Longer significands (JavaScript and Python print doubles with up to 17 digits): exact
+    // integer arithmetic, still without strtod, whose long doubles are software in WebAssembly.
+    double v = 0;
+    if (exact && exactDecimal(digits, exponent, v)) {
+      out.value = negative ? -v : v;
+      return true;
+    }
     return slowDouble(start, out);
+  }
+
+  /// digits * 10^q rounded to the nearest double, ties to even (what strtod returns), for a
+  /// nonzero `digits` and q in [-27, 19]; false outside that range. With 5^27 < 2^64 and
+  /// 10^19 < 2^64 every step is exact in 128 bits: for q >= 0 the product itself; for q < 0 the
+  /// significand shifted to the top of 128 bits divided by 5^-q (the 2^q goes to the binary
+  /// exponent), a quotient of at least 74 bits plus a sticky bit for the remainder.
+  static bool exactDecimal(std::uint64_t digits, int q, double& out) {
+    using u128 = unsigned __int128;
+    static constexpr std::uint64_t kPow5[28] = {
+        1ull, 5ull, 25ull, 125ull, 625ull, 3125ull, 15625ull, 78125ull, 390625ull, 1953125ull,
+        9765625ull, 48828125ull, 244140625ull, 1220703125ull, 6103515625ull, 30517578125ull,
+        152587890625ull, 762939453125ull, 3814697265625ull, 19073486328125ull, 95367431640625ull,
+        476837158203125ull, 2384185791015625ull, 11920928955078125ull, 59604644775390625ull,
+        298023223876953125ull, 1490116119384765625ull, 7450580596923828125ull};
+    if (digits == 0 || q < -27 || q > 19) return false;
+    u128 m = 0;
+    int e2 = 0;  // the value is (m + fraction) * 2^e2, sticky = fraction != 0
+    bool sticky = false;
+    if (q >= 0) {
+      std::uint64_t pow10 = 1;
+      for (int i = 0; i < q; ++i) pow10 *= 10;
+      m = static_cast<u128>(digits) * pow10;
+    } else {
+      const int shift = 64 + __builtin_clzll(digits);  // the top bit of digits to bit 127
+      const u128 numerator = static_cast<u128>(digits) << shift;
+      const u128 divisor = kPow5[-q];
+      m = numerator / divisor;
+      sticky = numerator % divisor != 0;
+      e2 = -shift + q;
+    }
+    const std::uint64_t high = static_cast<std::uint64_t>(m >> 64);
+    const std::uint64_t low = static_cast<std::uint64_t>(m);
+    const int bits = high != 0 ? 128 - __builtin_clzll(high) : 64 - __builtin_clzll(low);  // m != 0
+    if (bits > 53) {
+      const int drop = bits - 53;
+      const u128 dropped = m & ((u128(1) << drop) - 1);
+      const u128 half = u128(1) << (drop - 1);
+      m >>= drop;
+      e2 += drop;
+      if (dropped > half || (dropped == half && (sticky || (m & 1) != 0))) ++m;
+      if (m == (u128(1) << 53)) {
+        m >>= 1;
+        ++e2;
+      }
+    }
+    // m < 2^53 and the value lies within [1e-27, 2^64 * 1e19]: a normal double, so the scaling
+    // by a power of two is exact.
+    out = std::ldexp(static_cast<double>(static_cast<std::uint64_t>(m)), e2);
+    return true;
   }
 
   /// Skips one value of any kind, checking it as strictly as the methods above. Iterative.

@@ -387,3 +387,59 @@ TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
 
 }  // namespace
 }  // namespace springbones
+
+namespace springbones {
+namespace {
+
+double scanned(const std::string& token) {
+  JsonScan scan(token.data(), token.data() + token.size());
+  JsonNumber n;
+  EXPECT_TRUE(scan.number(n) && scan.atEnd()) << token;
+  return n.value;
+}
+
+// The fast reader reads long significands (up to 19 digits, as JavaScript and Python print
+// doubles) with exact integer arithmetic instead of strtod: it must return strtod's double, ties
+// to even included, for every token we try.
+TEST(LoadFastPath, ReadsLongDecimalsAsStrtodDoes) {
+  std::mt19937_64 rng(13);
+  int failures = 0;
+  const auto check = [&](const std::string& token) {
+    const double expected = std::strtod(token.c_str(), nullptr);
+    const double got = scanned(token);
+    if (std::memcmp(&expected, &got, sizeof got) != 0 && ++failures <= 10) {
+      ADD_FAILURE() << token << ": " << got << " vs strtod " << expected;
+    }
+  };
+  for (int i = 0; i < 200000; ++i) {
+    const int length = 1 + static_cast<int>(rng() % 19);
+    std::string digits = std::to_string(1 + rng() % 9);
+    while (static_cast<int>(digits.size()) < length) digits += static_cast<char>('0' + rng() % 10);
+    const int point = static_cast<int>(rng() % (length + 1));
+    std::string token = (rng() & 1 ? "-" : "") + digits.substr(0, point > 0 ? point : 1);
+    if (point < length) token += "." + digits.substr(point > 0 ? point : 1);
+    if (token.back() == '.') token += '0';
+    if (rng() % 3 == 0) token += "e" + std::to_string(static_cast<int>(rng() % 50) - 30);
+    check(token);
+  }
+  // The doubles JavaScript prints, and the halfway points between neighbouring doubles (ties),
+  // written with up to 19 significant digits.
+  std::uniform_real_distribution<double> u(-1e6, 1e6);
+  for (int i = 0; i < 50000; ++i) {
+    char text[64];
+    const double d = u(rng) * std::pow(10.0, static_cast<int>(rng() % 30) - 20);
+    std::snprintf(text, sizeof text, "%.17g", d);
+    check(text);
+    std::snprintf(text, sizeof text, "%.19g", d);
+    check(text);
+  }
+  for (const char* token : {"9007199254740993.0", "9007199254740995.0", "9007199254740993.00000000001",
+                            "0.30000000000000004", "1.2000000000000002", "100.10000000000001",
+                            "4.9406564584124654e-30", "1.7976931348623157e19", "123456789012345678.9e-27",
+                            "18446744073709551615e19", "1844674407370955161.5", "0.1000000000000000055511151231257827"}) {
+    check(token);
+  }
+}
+
+}  // namespace
+}  // namespace springbones
