@@ -93,8 +93,8 @@ class SpringLanes {
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
 
-  // Where a value lives. Slots and world transforms are stored in blocks of four lanes, field by
-  // field (every field of four neighbouring lanes in 16 consecutive bytes), so the kernel reaches
+  // Where a value lives. Slots and world transforms are stored in blocks of eight lanes, field by
+  // field (every field of eight neighbouring lanes in 32 consecutive bytes), so the kernel reaches
   // all of a block from one address: separate arrays per field cost it more in reloaded pointers
   // and spilled registers than the arithmetic itself.
   std::size_t slotIndex(std::size_t field, std::size_t row, std::size_t lane) const;
