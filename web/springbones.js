@@ -565,7 +565,7 @@ class Instance {
   /** Driver world matrices (column-major 4x4, 16 floats per rig.drivers entry), written before step(). */
   get driverMatrices() {
     if (this.#handle === 0) throw disposedError('instance');
-    if (this.#drivers.buffer !== this.#m.HEAPF32.buffer) {
+    if (isStale(this.#m, this.#drivers, this.#driverFloats)) {
       this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
     }
     return this.#drivers;
@@ -574,7 +574,7 @@ class Instance {
   /** Local rotations (x, y, z, w), 4 floats per rig.joints entry, current after step(). */
   get rotations() {
     if (this.#handle === 0) throw disposedError('instance');
-    if (this.#rotations.buffer !== this.#m.HEAPF32.buffer) {
+    if (isStale(this.#m, this.#rotations, this.#rotationFloats)) {
       this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
     }
     return this.#rotations;
@@ -587,7 +587,7 @@ class Instance {
   get worldMatrices() {
     if (this.#handle === 0) throw disposedError('instance');
     this.#m.worldMatricesPtr(this.#handle);  // fills the buffer; its address never changes
-    if (this.#world.buffer !== this.#m.HEAPF32.buffer) {
+    if (isStale(this.#m, this.#world, 4 * this.#rotationFloats)) {
       this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
     }
     return this.#world;
@@ -659,7 +659,7 @@ class Scene {
    */
   get positions() {
     if (this.#handle === 0) throw disposedError('scene');
-    if (this.#positions.buffer !== this.#m.HEAPF32.buffer) {
+    if (isStale(this.#m, this.#positions, 3 * this.#members.length)) {
       this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
     }
     return this.#positions;
@@ -760,6 +760,16 @@ class Scene {
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
+
+/**
+ * Whether a view of `floats` floats on the module's memory has to be made again: memory growth
+ * replaces the ArrayBuffer and detaches every view on the old one, which drops its length to 0.
+ * Comparing lengths is what the per-frame getters can afford (TypedArray.prototype.buffer is a
+ * runtime call in V8, ~35 ns); only an empty view needs the buffer compared.
+ */
+function isStale(m, view, floats) {
+  return view.length !== floats || (floats === 0 && view.buffer !== m.HEAPF32.buffer);
+}
 
 function checkKeys(where, object, allowed) {
   for (const key of Object.keys(object)) {
