@@ -139,13 +139,19 @@ function benchThreeVrm(A, C, J, doc) {
   return { ms, updateMs, loadMs };
 }
 
-function benchSolver(sb, A, C, J, wearable) {
+/**
+ * Our solver path: driver matrices in, one scene.step, rotations read. With a budget, avatar a
+ * stands at x = a metres and only the `budget` nearest to the origin are simulated.
+ */
+function benchSolver(sb, A, C, J, wearable, budget = null) {
   const t0 = performance.now();
   const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
   const loadMs = performance.now() - t0;
   const scene = sb.createScene();
   const instances = [];
   for (let a = 0; a < A; a++) { const inst = rig.createInstance(ONE_STEP_PER_FRAME); scene.add(inst); instances.push(inst); }
+  for (let a = 0; a < A; a++) scene.positions[3 * a] = a;
+  scene.setBudget(budget, 0, 0, 0);
   // The driver matrices of one avatar in driver order (every avatar moves alike): composed once
   // per frame, then copied into each instance, as a page copies each avatar's matrixWorld.
   const chainOfDriver = rig.drivers.map((d) => Number(d.name.slice('chain_'.length)));
@@ -169,13 +175,16 @@ function benchSolver(sb, A, C, J, wearable) {
   return out;
 }
 
-function benchAdapter(sb, A, C, J, wearable) {
+/** The adapter's update; with a budget, as benchSolver (avatar a at x = a). */
+function benchAdapter(sb, A, C, J, wearable, budget = null) {
   const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
   const group = new SpringBonesGroup(sb);  // every avatar's attachment, one scene.step per frame
+  group.scene.setBudget(budget, 0, 0, 0);
   const avatars = [];
   for (let a = 0; a < A; a++) {
     const { gltf, objects } = threeWearable(wearable.doc);
     const avatarRoot = new THREE.Group();
+    avatarRoot.position.x = a;
     const attachment = attachWearable(avatarRoot, gltf, rig, { instance: ONE_STEP_PER_FRAME });
     group.add(attachment);
     const parents = [];
@@ -247,6 +256,15 @@ for (const [A, C, J] of RIGS) {
   });
 }
 
+// The crowd of the in-world renderer: only the nearest avatars simulated (scene.setBudget).
+const [BA, BC, BJ] = [100, 10, 5], BUDGET = 10;
+const budgetWearable = wearableGltf(BC, BJ);
+const budgetRun = {
+  rig: `${BA}x${BC}x${BJ}`, budget: BUDGET,
+  solverMs: benchSolver(sb, BA, BC, BJ, budgetWearable, BUDGET).ms,
+  adapterUpdateMs: benchAdapter(sb, BA, BC, BJ, budgetWearable, BUDGET).updateMs,
+};
+
 const f = (x, d = 3) => x.toFixed(d).padStart(9);
 console.log(`module: wasm ${moduleInfo.wasmBytes} B (${moduleInfo.wasmGzip} B gzip), js ${moduleInfo.jsBytes} B (${moduleInfo.jsGzip} B gzip), ` +
   `total ${((moduleInfo.wasmGzip + moduleInfo.jsGzip) / 1024).toFixed(1)} KB gzip; compile ${moduleInfo.compileMs.toFixed(2)} ms, ` +
@@ -259,12 +277,14 @@ for (const r of results) {
     `${f(r.solver.msPerFrame)}${f(r.solver.nsPerJointStep, 0)} |${f(r.adapter.updateMs)}${f(r.adapter.nsPerJointStep, 0)}${f(r.adapter.frameMs)} |` +
     `${f(r.threeVrm.loadMs, 2)}${f(r.solver.loadMs, 2)}${f(r.solver.warmLoadAllJointsMs, 2)}`);
 }
+console.log(`budget: ${budgetRun.rig} with the nearest ${BUDGET} avatars simulated: solver ${budgetRun.solverMs.toFixed(3)} ms, ` +
+  `adapter update ${budgetRun.adapterUpdateMs.toFixed(3)} ms per frame (the others hold their pose; their rotations are still written)`);
 // The speedups compare updates: three-vrm's VRMSpringBoneManager.update against our solver path
 // (driver matrices in, step, rotations read) and against the adapter's update.
 const at5000 = results.find((r) => r.joints === 5000);
 const solverX = at5000.threeVrm.updateMs / at5000.solver.msPerFrame;
 const adapterX = at5000.threeVrm.updateMs / at5000.adapter.updateMs;
-const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, results, speedupAt5000: { solver: solverX, adapter: adapterX } };
+const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, results, budget: budgetRun, speedupAt5000: { solver: solverX, adapter: adapterX } };
 const outDir = join(root, 'build', 'bench');
 mkdirSync(outDir, { recursive: true });
 const json = JSON.stringify(report, null, 2);
