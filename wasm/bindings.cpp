@@ -130,7 +130,7 @@ SPRINGBONES_NOINLINE void escapeString(const std::string& s, std::string& out) {
 // append is an out-of-line call, which at 1.5 MB of text was most of the time.
 class TextWriter {
  public:
-  TextWriter(std::string& out, std::string& scratch) : out_(out), scratch_(scratch) { grow(1 << 16); }
+  TextWriter(std::string& out, std::string& scratch) : out_(out), scratch_(scratch) { grow(1 << 10); }
 
   void raw(const char* s, std::size_t n) {
     if (static_cast<std::size_t>(end_ - p_) < n) grow(n);
@@ -181,7 +181,8 @@ class TextWriter {
     number(v.z);
     lit("]");
   }
-  void finish() { out_.resize(static_cast<std::size_t>(p_ - out_.data())); }
+  std::size_t size() const { return static_cast<std::size_t>(p_ - out_.data()); }
+  void finish() { out_.resize(size()); }
 
  private:
   static constexpr std::size_t kCacheSize = 256;
@@ -215,7 +216,6 @@ SPRINGBONES_NOINLINE void writeHeadJson(const LoadedRig& loaded, TextWriter& w) 
   w.lit(",\"format\":");
   w.string(loaded.format);
   w.lit("}");
-  w.finish();
 }
 
 SPRINGBONES_NOINLINE void writeListsJson(const Rig& rig, TextWriter& w) {
@@ -257,7 +257,6 @@ SPRINGBONES_NOINLINE void writeListsJson(const Rig& rig, TextWriter& w) {
     w.lit("}");
   }
   w.lit("]}");
-  w.finish();
 }
 
 // The rig description block (rigInfo), read by RigDescription in web/springbones.js. Every
@@ -280,43 +279,49 @@ constexpr std::size_t kJointFloats = 11;
 
 std::size_t padded(std::size_t n) { return (n + 3) & ~std::size_t(3); }
 
-// Fills the numeric sections and the strings; no locals with destructors (see TextWriter).
+// Fills the numeric sections and the strings; no locals with destructors (see TextWriter). The
+// block is malloc'd and every section 4-byte aligned, so the numbers are stored straight (at -Oz
+// a small memcpy per field stays a call).
 SPRINGBONES_NOINLINE void writeRigBlock(const Rig& rig, std::uint8_t* block) {
   const auto& nodes = rig.skeleton.nodes;
-  std::uint8_t* p = block + 4 * kRigBlockHeaderWords;
+  auto* ints = reinterpret_cast<std::int32_t*>(block + 4 * kRigBlockHeaderWords);
   for (const Joint& j : rig.joints) {
     // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
     const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
-    const std::int32_t ints[kJointInts] = {j.node, tail_is_node ? j.tail_node : -1, j.parent_joint,
-                                           j.parent_driver, j.center_driver, j.chain};
-    std::memcpy(p, ints, sizeof ints);
-    p += sizeof ints;
+    ints[0] = j.node;
+    ints[1] = tail_is_node ? j.tail_node : -1;
+    ints[2] = j.parent_joint;
+    ints[3] = j.parent_driver;
+    ints[4] = j.center_driver;
+    ints[5] = j.chain;
+    ints += kJointInts;
   }
+  auto* floats = reinterpret_cast<float*>(ints);
   for (const Joint& j : rig.joints) {
     const BoneParams& q = j.params;
-    const float floats[kJointFloats] = {j.hit_radius, j.rest_length, q.drag, q.gravity_dir.x, q.gravity_dir.y,
-                                        q.gravity_dir.z, q.gravity_power, q.stiffness, j.tail_local.x,
-                                        j.tail_local.y, j.tail_local.z};
-    std::memcpy(p, floats, sizeof floats);
-    p += sizeof floats;
+    floats[0] = j.hit_radius;
+    floats[1] = j.rest_length;
+    floats[2] = q.drag;
+    floats[3] = q.gravity_dir.x;
+    floats[4] = q.gravity_dir.y;
+    floats[5] = q.gravity_dir.z;
+    floats[6] = q.gravity_power;
+    floats[7] = q.stiffness;
+    floats[8] = j.tail_local.x;
+    floats[9] = j.tail_local.y;
+    floats[10] = j.tail_local.z;
+    floats += kJointFloats;
   }
-  for (int root : rig.chain_roots) {
-    const std::int32_t v = root;
-    std::memcpy(p, &v, 4);
-    p += 4;
-  }
-  for (const Driver& d : rig.drivers) {
-    const std::int32_t v = d.node;
-    std::memcpy(p, &v, 4);
-    p += 4;
-  }
-  std::uint8_t* text = p + 4 * (nodes.size() + rig.drivers.size());
+  ints = reinterpret_cast<std::int32_t*>(floats);
+  for (int root : rig.chain_roots) *ints++ = root;
+  for (const Driver& d : rig.drivers) *ints++ = d.node;
+  auto* ends = reinterpret_cast<std::uint32_t*>(ints);
+  char* text = reinterpret_cast<char*>(ends + nodes.size() + rig.drivers.size());
   std::uint32_t end = 0;
   const auto add = [&](const std::string& name) {
     std::memcpy(text + end, name.data(), name.size());
     end += static_cast<std::uint32_t>(name.size());
-    std::memcpy(p, &end, 4);
-    p += 4;
+    *ends++ = end;
   };
   for (const SkeletonNode& n : nodes) add(n.name);
   for (const Driver& d : rig.drivers) add(d.name);
@@ -325,15 +330,18 @@ SPRINGBONES_NOINLINE void writeRigBlock(const Rig& rig, std::uint8_t* block) {
 // The whole block, malloc'd; nullptr when it cannot be allocated.
 std::uint8_t* rigBlock(const LoadedRig& loaded) {
   const Rig& rig = *loaded.rig;
-  std::string head, lists, scratch;
+  // Both JSON texts in one buffer: the head, then the lists.
+  std::string json_text, scratch;
+  std::size_t head_size = 0;
   {
-    auto writer = std::make_unique<TextWriter>(head, scratch);  // 10 KB of float cache: not on the stack
+    auto writer = std::make_unique<TextWriter>(json_text, scratch);  // 10 KB of float cache: not on the stack
     writeHeadJson(loaded, *writer);
-  }
-  {
-    auto writer = std::make_unique<TextWriter>(lists, scratch);
+    head_size = writer->size();
     writeListsJson(rig, *writer);
+    writer->finish();
   }
+  const std::string_view head(json_text.data(), head_size);
+  const std::string_view lists(json_text.data() + head_size, json_text.size() - head_size);
   std::size_t string_bytes = 0;
   for (const SkeletonNode& n : rig.skeleton.nodes) string_bytes += n.name.size();
   for (const Driver& d : rig.drivers) string_bytes += d.name.size();
