@@ -3,8 +3,8 @@
 // Every attachment is in one SpringBonesGroup: one springbones scene.step per frame for all. The
 // creator panel (creator.js) decides which wearable and which parameters; this file owns the
 // scene, the frame loop, the playback controls (animation, turn, shake, pause, reset, integrator,
-// colliders, debug lines) and the read-only debug hook (window.springbonesDemo) the browser test
-// drives.
+// colliders, debug lines, the simulation budget) and the read-only debug hook
+// (window.springbonesDemo) the browser test drives.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -24,6 +24,7 @@ const kShakeSeconds = 1.4;
 const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
+const kViewerScratch = new THREE.Vector3();      // the camera's world position, for the budget
 // Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
 const kViews = {
   body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
@@ -46,6 +47,7 @@ class Preview {
     this.integrator = 'vrm';
     this.colliders = true;     // the avatar's head and torso colliders go into the rig
     this.showColliders = false;
+    this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
     this.springTimes = new Float64Array(120);  // ms per frame in group.update (drivers, scene.step, rotations), a ring
     this.springTimeCount = 0;
@@ -353,6 +355,30 @@ class Preview {
     for (const a of this.avatars) a.colliderHelper?.setVisible(show);
   }
 
+  /**
+   * Simulate only the `n` avatars nearest to the camera (null: all). Applied by every step, so
+   * orbiting or zooming changes which ones move; the core holds the others' pose and restarts
+   * them from rest when they come back.
+   */
+  setBudget(n) {
+    this.budget = n === null ? null : Math.max(0, Math.floor(Number(n)) || 0);
+    $('budget').value = this.budget === null ? 'all' : String(this.budget);
+  }
+
+  /** How many avatars, and how many of their joints, the last scene.step simulated. */
+  simulatedCount() {
+    const scene = this.group.scene;
+    let avatars = 0;
+    let joints = 0;
+    for (const a of this.avatars) {
+      if (a.attachment && scene.isActive(a.attachment.instance)) {
+        avatars++;
+        joints += a.attachment.jointObjects.length;
+      }
+    }
+    return { avatars, joints, of: this.group.attachments.length };
+  }
+
   // ---- the frame
 
   frame(timestamp) {
@@ -399,6 +425,12 @@ class Preview {
         for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
       }
     }
+    if (this.budget === null) {
+      this.group.scene.setBudget(null);
+    } else {
+      this.camera.getWorldPosition(kViewerScratch);
+      this.group.scene.setBudget(this.budget, kViewerScratch.x, kViewerScratch.y, kViewerScratch.z);
+    }
     this.group.update(dt);
     this.springTimes[this.springTimeCount++ % this.springTimes.length] = performance.now() - t0;
   }
@@ -416,9 +448,12 @@ class Preview {
   }
 
   updateReadout() {
-    const joints = this.jointCount;
+    const simulated = this.simulatedCount();
+    const joints = simulated.joints;
     const ms = this.springMsAverage();
     $('readout-joints').textContent = String(joints);
+    $('readout-active').textContent = String(simulated.avatars);
+    $('readout-avatars').textContent = String(simulated.of);
     $('readout-integrator').textContent = this.integrator.toUpperCase();
     $('readout-solver').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
     $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
@@ -480,6 +515,7 @@ function wireControls(preview) {
   $('view-preset').addEventListener('change', (e) => preview.setView(e.target.value));
   $('colliders').addEventListener('change', (e) => preview.setColliders(e.target.checked));
   $('show-colliders').addEventListener('change', (e) => preview.setShowColliders(e.target.checked));
+  $('budget').addEventListener('change', (e) => preview.setBudget(e.target.value === 'all' ? null : Number(e.target.value)));
   $('avatars').addEventListener('change', (e) => {
     preview.setAvatarCount(Number(e.target.value));
     e.target.value = String(preview.avatars.length);
@@ -493,8 +529,11 @@ function debugHook(preview, creator) {
     get ready() { return preview.wearable !== null; },
     /** Joint names of the worn item, in rotation order. */
     jointNames: () => (first() ? first().rig.joints.map((j) => j.name) : []),
-    /** A copy of the first avatar's joint rotations (x, y, z, w per joint). */
-    rotations: () => (first() ? Array.from(first().instance.rotations) : []),
+    /** A copy of an avatar's (default: the first's) joint rotations (x, y, z, w per joint). */
+    rotations: (avatar = 0) => {
+      const attachment = preview.avatars[avatar]?.attachment;
+      return attachment ? Array.from(attachment.instance.rotations) : [];
+    },
     /** World position of a node of the first avatar (e.g. a chain tip). */
     worldPosition: (name) => {
       const o = preview.avatars[0]?.root.getObjectByName(name);
@@ -519,6 +558,8 @@ function debugHook(preview, creator) {
       sceneSize: preview.group.scene.size,
       instances: preview.avatars.filter((a) => a.attachment && preview.group.scene.slotOf(a.attachment.instance) >= 0).length,
       fps: preview.fps(),
+      budget: preview.budget,
+      simulated: preview.simulatedCount().avatars,
       messages: creator.messageList(),
       validation: creator.validationList(),
     }),
@@ -542,6 +583,18 @@ function debugHook(preview, creator) {
       const j = rig?.joints.find((x) => x.name === name);
       return j ? { params: structuredClone(j.params), center: j.centerDriver >= 0 ? rig.drivers[j.centerDriver].name : null } : null;
     },
+    /**
+     * Per avatar: whether the last step simulated it, and its root's distance from the camera
+     * (where the camera is now; the budget used where it was at that step).
+     */
+    activeAvatars: () => {
+      const camera = preview.camera.getWorldPosition(new THREE.Vector3());
+      return preview.avatars.map((a) => ({
+        active: Boolean(a.attachment && preview.group.scene.isActive(a.attachment.instance)),
+        distance: a.root.getWorldPosition(new THREE.Vector3()).distanceTo(camera),
+      }));
+    },
+    setBudget: (n) => preview.setBudget(n),
     setColliders: (on) => preview.setColliders(Boolean(on)),
     setShowColliders: (show) => preview.setShowColliders(Boolean(show)),
     /**
