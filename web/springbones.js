@@ -243,7 +243,8 @@ class SpringBones {
 // The rig description as wasm/bindings.cpp lays it out (rigBlock): a header of counts, per joint
 // 6 int32 and 11 float32, chain roots, driver nodes, string ends, UTF-8 names, then two JSON
 // texts. The frozen plain objects of rig.joints and the other lists are built on first read: a
-// 5,000-joint rig is 70,000 objects and arrays the per-frame path never needs.
+// 5,000-joint rig is 20,000 frozen objects and arrays (about 2 ms) the per-frame path never
+// needs.
 const kJointInts = 6;
 const kJointFloats = 11;
 const kRigHeaderWords = 9;
