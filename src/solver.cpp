@@ -24,6 +24,7 @@
 #include <cstring>
 #include <vector>
 
+#include "driver_poses.h"
 #include "spring_lanes.h"
 #include "springbones.h"
 #include "transform_math.h"
@@ -36,9 +37,6 @@ constexpr double kMinStepHz = 1.0;
 constexpr double kMaxStepHz = 1000.0;
 constexpr int kMaxSubstepsLimit = 64;
 constexpr float kMinLength = 1e-6f;
-// How far from a similarity a driver matrix may be and still take the fast path: well above
-// float rounding of a composed three.js matrixWorld, well below any visible shear.
-constexpr float kSimilarityTolerance = 1e-4f;
 
 // A rotation, translation and uniform scale.
 struct Similarity {
@@ -47,9 +45,6 @@ struct Similarity {
   glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
 
   glm::vec3 apply(const glm::vec3& p) const { return position + scale * (rotation * p); }
-  glm::vec3 applyInverse(const glm::vec3& p) const {
-    return (glm::conjugate(rotation) * (p - position)) / scale;
-  }
   glm::mat4 matrix() const {
     glm::mat4 m = glm::mat4_cast(rotation);
     m[0] *= scale;
@@ -59,73 +54,6 @@ struct Similarity {
     return m;
   }
 };
-
-// One driver's world transform in every form a step needs.
-struct DriverPose {
-  glm::mat4 matrix{1.0f};
-  bool is_similarity = true;
-  Similarity similarity;  // when is_similarity
-  Transform trs;          // otherwise: the decomposition the general path interpolates
-
-  Transform decomposed() const {
-    return is_similarity ? Transform{similarity.position, similarity.rotation, glm::vec3(similarity.scale)} : trs;
-  }
-};
-
-// x - x is 0 for a finite x and NaN for an infinity or a NaN, so the sum is 0 exactly when every
-// entry is finite: one branch per matrix instead of one per entry (every driver, every frame).
-bool isFiniteMatrix(const float* m) {
-  float sum = 0.0f;
-  for (int i = 0; i < 16; ++i) sum += m[i] - m[i];
-  return sum == 0.0f;
-}
-
-// The unit quaternion of the rotation whose axes, each scaled by s, are x, y, z (columns). With
-// M = s R, (1 + trace R) s = s + trace M = 4 s w^2 and, e.g., M21 - M12 = 4 s w x: the components
-// scaled alike come straight from M, and one normalization removes the common factor. The largest
-// of the four candidates is used, as usual, to stay far from cancellation.
-glm::quat rotationOfScaledAxes(const glm::vec3& x, const glm::vec3& y, const glm::vec3& z, float s) {
-  // Mij: row i, column j (x, y, z are the columns).
-  const float m00 = x.x, m10 = x.y, m20 = x.z, m01 = y.x, m11 = y.y, m21 = y.z, m02 = z.x, m12 = z.y, m22 = z.z;
-  const float tw = s + m00 + m11 + m22, tx = s + m00 - m11 - m22, ty = s - m00 + m11 - m22,
-              tz = s - m00 - m11 + m22;
-  glm::quat q;  // glm: (w, x, y, z)
-  if (tw >= tx && tw >= ty && tw >= tz) {
-    q = glm::quat(tw, m21 - m12, m02 - m20, m10 - m01);
-  } else if (tx >= ty && tx >= tz) {
-    q = glm::quat(m21 - m12, tx, m10 + m01, m02 + m20);
-  } else if (ty >= tz) {
-    q = glm::quat(m02 - m20, m10 + m01, ty, m21 + m12);
-  } else {
-    q = glm::quat(m10 - m01, m02 + m20, m21 + m12, tz);
-  }
-  const float inverse = 1.0f / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  return glm::quat(q.w * inverse, q.x * inverse, q.y * inverse, q.z * inverse);
-}
-
-// A positive uniform scale, orthogonal axes and no projective part. Every driver of every avatar
-// goes through this each frame, so the axis lengths are compared squared: |a|^2 - |x|^2 is about
-// 2 |x| (|a| - |x|), hence the doubled tolerance, and no square root is taken until it passes.
-bool similarityOf(const glm::mat4& m, Similarity& out) {
-  if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) return false;
-  const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
-  const float xx = glm::dot(x, x);
-  if (!(xx > 1e-24f)) return false;
-  const float tolerance = kSimilarityTolerance * xx;
-  if (std::fabs(glm::dot(y, y) - xx) > 2.0f * tolerance || std::fabs(glm::dot(z, z) - xx) > 2.0f * tolerance) {
-    return false;
-  }
-  if (std::fabs(glm::dot(x, y)) > tolerance || std::fabs(glm::dot(y, z)) > tolerance ||
-      std::fabs(glm::dot(z, x)) > tolerance) {
-    return false;
-  }
-  if (glm::dot(glm::cross(x, y), z) <= 0.0f) return false;  // mirrored
-  const float s = std::sqrt(xx);
-  out.scale = s;
-  out.rotation = rotationOfScaledAxes(x, y, z, s);
-  out.position = glm::vec3(m[3]);
-  return true;
-}
 
 // Interpolated rotation between two drivers' poses: normalized lerp along the shorter arc. Used
 // instead of slerp because slerp calls acos/sin, whose last bits differ between the native libm
@@ -173,9 +101,14 @@ struct Instance::State {
 
   // Inputs, per driver.
   std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
-  std::vector<DriverPose> previous_drivers, current_drivers;
-  std::vector<glm::mat4> step_drivers, step_driver_inverses;
-  std::vector<Similarity> step_similarities;
+  // The last frame's and this frame's driver poses; they trade places every frame (an index, as
+  // swapping two objects of ~20 vectors each cost more than reading them).
+  DriverPoses poses[2];
+  int current = 0;
+  DriverPoses& currentPoses() { return poses[current]; }
+  const DriverPoses& currentPoses() const { return poses[current]; }
+  const DriverPoses& previousPoses() const { return poses[1 - current]; }
+  std::vector<glm::mat4> step_drivers, step_driver_inverses;  // general path, per step
   ColliderTable collider_table;  // world-space colliders of the current step, general paths
   std::vector<bool> step_inverse_valid;
 
@@ -188,51 +121,19 @@ struct Instance::State {
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
   std::vector<float> rotations;                        // output, x y z w per joint
 
-  void readDrivers() {
-    const std::size_t count = rig->drivers.size();
-    for (std::size_t d = 0; d < count; ++d) {
-      const float* m = driver_input.data() + 16 * d;
-      DriverPose& pose = current_drivers[d];
-      // A non-finite matrix is ignored: the driver keeps its last good pose (current_drivers was
-      // swapped with previous_drivers after the last frame, so that pose is in previous_drivers).
-      if (!isFiniteMatrix(m)) {
-        pose = previous_drivers[d];
-        continue;
-      }
-      std::memcpy(&pose.matrix[0][0], m, sizeof(float) * 16);
-      pose.is_similarity = similarityOf(pose.matrix, pose.similarity);
-      // The general path interpolates decompositions; a similarity already is one.
-      if (!pose.is_similarity) pose.trs = decomposeTransform(pose.matrix);
-    }
-  }
-
-  bool driversAreSimilarities() const {
-    for (std::size_t d = 0; d < current_drivers.size(); ++d) {
-      if (!current_drivers[d].is_similarity || !previous_drivers[d].is_similarity) return false;
-    }
-    return true;
-  }
+  bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
 
   void prepareDrivers(float t) {
-    for (std::size_t d = 0; d < current_drivers.size(); ++d) {
-      const DriverPose& a = previous_drivers[d];
-      const DriverPose& b = current_drivers[d];
-      if (fast_path) {
-        Similarity& s = step_similarities[d];
-        if (t >= 1.0f) {
-          s = b.similarity;
-        } else {
-          s.position = glm::mix(a.similarity.position, b.similarity.position, t);
-          s.rotation = interpolateRotation(a.similarity.rotation, b.similarity.rotation, t);
-          s.scale = a.similarity.scale + (b.similarity.scale - a.similarity.scale) * t;
-        }
-        lanes->drivers().set(lanes->driverSlot(lane_copy, static_cast<int>(d)), s.position, s.rotation, s.scale);
-        continue;
-      }
+    if (fast_path) {
+      DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverSlot(lane_copy, 0));
+      prepareColliders();
+      return;
+    }
+    for (std::size_t d = 0; d < currentPoses().size(); ++d) {
       if (t >= 1.0f) {
-        step_drivers[d] = b.matrix;
+        step_drivers[d] = currentPoses().matrix(d);
       } else {
-        const Transform ta = a.decomposed(), tb = b.decomposed();
+        const Transform ta = previousPoses().transform(d), tb = currentPoses().transform(d);
         Transform r;
         r.translation = glm::mix(ta.translation, tb.translation, t);
         r.rotation = interpolateRotation(ta.rotation, tb.rotation, t);
@@ -255,7 +156,12 @@ struct Instance::State {
       glm::vec3 start, end;
       float scale;
       if (fast_path) {
-        const Similarity& m = step_similarities[collider.driver];
+        const DriverTable& table = lanes->drivers();
+        const std::size_t slot = lanes->driverSlot(lane_copy, collider.driver);
+        Similarity m;
+        m.position = glm::vec3(table.px[slot], table.py[slot], table.pz[slot]);
+        m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);
+        m.scale = table.s[slot];
         start = m.apply(collider.offset);
         end = m.apply(collider.tail);
         scale = m.scale;
@@ -297,17 +203,13 @@ struct Instance::State {
   // Center space. A general-path center without an inverse this step counts as world space.
   glm::vec3 toCenter(const Joint& joint, const glm::vec3& world) const {
     const int c = joint.center_driver;
-    if (c < 0) return world;
-    if (fast_path) return step_similarities[c].applyInverse(world);
-    if (!step_inverse_valid[c]) return world;
+    if (c < 0 || !step_inverse_valid[c]) return world;
     return glm::vec3(step_driver_inverses[c] * glm::vec4(world, 1.0f));
   }
 
   glm::vec3 fromCenter(const Joint& joint, const glm::vec3& local) const {
     const int c = joint.center_driver;
-    if (c < 0) return local;
-    if (fast_path) return step_similarities[c].apply(local);
-    if (!step_inverse_valid[c]) return local;
+    if (c < 0 || !step_inverse_valid[c]) return local;
     return glm::vec3(step_drivers[c] * glm::vec4(local, 1.0f));
   }
 
@@ -410,9 +312,9 @@ struct Instance::State {
   bool beginFrame(double dt) {
     frame_steps = 0;
     if (!(dt > 0.0) || !std::isfinite(dt)) return false;
-    readDrivers();
+    currentPoses().read(driver_input.data(), previousPoses());
     if (!seeded) {
-      previous_drivers = current_drivers;
+      poses[1 - current] = currentPoses();
       fast_path = !xpbd && lanes_usable && driversAreSimilarities();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
@@ -442,8 +344,8 @@ struct Instance::State {
 
   void endFrame() {
     accumulator = frame_dropped ? 0.0 : std::max(0.0, accumulator - frame_steps * step_seconds);
-    // This frame's poses become the previous ones; a swap, not a copy (readDrivers overwrites).
-    std::swap(previous_drivers, current_drivers);
+    // This frame's poses become the previous ones; the next read overwrites the older.
+    current = 1 - current;
   }
 };
 
@@ -479,11 +381,9 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) s.lanes_usable = false;
   }
   s.driver_input.resize(16 * drivers);
-  s.previous_drivers.resize(drivers);
-  s.current_drivers.resize(drivers);
+  for (DriverPoses& poses : s.poses) poses.resize(drivers);
   s.step_drivers.resize(drivers);
   s.step_driver_inverses.resize(drivers);
-  s.step_similarities.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
   s.collider_table.resize(s.rig->colliders.size());
   if (s.rig->colliders.size() > kMaxLaneColliders) s.lanes_usable = false;
