@@ -238,20 +238,25 @@ for (const [A, C, J] of RIGS) {
   const wearable = wearableGltf(C, J);
   const vrm = benchThreeVrm(A, C, J, wearable.doc);
   const solver = benchSolver(sb, A, C, J, wearable);
-  // Warm load: the median of 5 loads of the A avatars' rig after the one above.
-  const loads = [];
+  // Warm load: the median of 5 loads of the A avatars' rig after the one above; the metadata as
+  // an object, and as the JSON text a page fetching the entity has in hand (no JSON.stringify).
+  const loads = [], textLoads = [];
   for (let r = 0; r < 5; r++) {
     const big = wearableGltf(C * A, J);
     const s = performance.now();
     sb.loadRig(big.bytes, big.springBones, { contentHash: 'bench' }).dispose();
     loads.push(performance.now() - s);
+    const text = JSON.stringify(big.springBones);
+    const t = performance.now();
+    sb.loadRig(big.bytes, text, { contentHash: 'bench' }).dispose();
+    textLoads.push(performance.now() - t);
   }
   const adapter = benchAdapter(sb, A, C, J, wearable);
   const ns = (ms) => (ms * 1e6) / joints;
   results.push({
     rig: `${A}x${C}x${J}`, joints,
     threeVrm: { updateMs: vrm.updateMs, nsPerJointStep: ns(vrm.updateMs), frameMs: vrm.ms, loadMs: vrm.loadMs },
-    solver: { msPerFrame: solver.ms, nsPerJointStep: ns(solver.ms), loadMs: solver.loadMs, warmLoadAllJointsMs: median(loads) },
+    solver: { msPerFrame: solver.ms, nsPerJointStep: ns(solver.ms), loadMs: solver.loadMs, warmLoadAllJointsMs: median(loads), warmLoadAllJointsTextMs: median(textLoads) },
     adapter: { updateMs: adapter.updateMs, nsPerJointStep: ns(adapter.updateMs), frameMs: adapter.ms },
   });
 }
@@ -271,11 +276,11 @@ console.log(`module: wasm ${moduleInfo.wasmBytes} B (${moduleInfo.wasmGzip} B gz
   `compile+instantiate ${moduleInfo.compileInstantiateWarmMs.toFixed(2)} ms (first createSpringBones, with the glue import and file read: ${createMs.toFixed(2)} ms)`);
 // Per library: its update alone (ms and ns per joint-step), then the whole frame with the scene
 // work both share (animating the parents, updateMatrixWorld) for three-vrm and the adapter.
-console.log('rig          joints | three-vrm update ms  ns/j  frame ms | solver ms  ns/j | adapter update ms  ns/j  frame ms | load ms: three-vrm  springbones(1 avatar)  springbones(all joints, warm)');
+console.log('rig          joints | three-vrm update ms  ns/j  frame ms | solver ms  ns/j | adapter update ms  ns/j  frame ms | load ms: three-vrm  springbones(1 avatar)  springbones(all joints, warm: object / JSON text)');
 for (const r of results) {
   console.log(`${r.rig.padEnd(12)} ${String(r.joints).padStart(6)} |${f(r.threeVrm.updateMs)}${f(r.threeVrm.nsPerJointStep, 0)}${f(r.threeVrm.frameMs)} |` +
     `${f(r.solver.msPerFrame)}${f(r.solver.nsPerJointStep, 0)} |${f(r.adapter.updateMs)}${f(r.adapter.nsPerJointStep, 0)}${f(r.adapter.frameMs)} |` +
-    `${f(r.threeVrm.loadMs, 2)}${f(r.solver.loadMs, 2)}${f(r.solver.warmLoadAllJointsMs, 2)}`);
+    `${f(r.threeVrm.loadMs, 2)}${f(r.solver.loadMs, 2)}${f(r.solver.warmLoadAllJointsMs, 2)}${f(r.solver.warmLoadAllJointsTextMs, 2)}`);
 }
 console.log(`budget: ${budgetRun.rig} with the nearest ${BUDGET} avatars simulated: solver ${budgetRun.solverMs.toFixed(3)} ms, ` +
   `adapter update ${budgetRun.adapterUpdateMs.toFixed(3)} ms per frame (the others hold their pose; their rotations are still written)`);
