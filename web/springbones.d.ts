@@ -347,7 +347,11 @@ export interface Scene {
    * @throws RangeError for a negative or fractional maxActive or non-finite coordinates
    */
   setBudget(maxActive: number | null, viewerX?: number, viewerY?: number, viewerZ?: number): void;
-  /** Steps every (budgeted) instance by dt seconds, as instance.step does, in one call. Allocates nothing. */
+  /**
+   * Steps every (budgeted) instance by dt seconds, as instance.step does, in one call: the
+   * instances of one rig go through each step together (one SIMD kernel pass over all their
+   * chains), with the same results, bit for bit, as stepping them one by one. Allocates nothing.
+   */
   step(dt: number): void;
   /** Whether the instance was simulated by the last step. */
   isActive(instance: Instance): boolean;
