@@ -131,17 +131,6 @@ void DriverTable::resize(std::size_t slots) {
   s.resize(slots, 1.0f);
 }
 
-void DriverTable::set(std::size_t slot, const glm::vec3& p, const glm::quat& q, float scale) {
-  px[slot] = p.x;
-  py[slot] = p.y;
-  pz[slot] = p.z;
-  qx[slot] = q.x;
-  qy[slot] = q.y;
-  qz[slot] = q.z;
-  qw[slot] = q.w;
-  s[slot] = scale;
-}
-
 // ---------------------------------------------------------------------------------------------
 // The pool
 

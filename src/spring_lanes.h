@@ -4,11 +4,11 @@
 // A lane is a straight run of joints: a chain root followed by its tail joint, that joint's tail
 // joint, and so on; every other child joint starts a lane of its own (a branch). A rig has R
 // lanes and D depths. Every instance of the rig is a copy of those R lanes in one shared pool, so
-// a scene steps all avatars of a rig together: joint (copy k, lane l, depth d) lives at slot
-// d * lane_capacity + k * R + l. The joints of one depth sit side by side for all copies and one
-// branch-free loop over a run of copies computes them together (SIMD lanes in WebAssembly with
-// -msimd128, plain scalar code elsewhere; every lane gets the same bits either way, wherever it
-// sits in the run). Depth-major order is also parents-first.
+// a scene steps all avatars of a rig together: joint (copy k, lane l, depth d) is lane k * R + l
+// of row d (rows are stored in blocks of lanes, see slotIndex). The joints of one depth sit side
+// by side for all copies and one branch-free loop over a run of copies computes them together
+// (SIMD lanes in WebAssembly with -msimd128, plain scalar code elsewhere; every lane gets the same
+// bits either way, wherever it sits in the run). Depth-major order is also parents-first.
 // Transforms are similarities (rotation, translation, uniform scale); the solver only takes this
 // path when every driver and every rest scale is one.
 //
@@ -30,7 +30,6 @@ namespace springbones {
 struct DriverTable {
   std::vector<float> px, py, pz, qx, qy, qz, qw, s;
   void resize(std::size_t slots);
-  void set(std::size_t slot, const glm::vec3& p, const glm::quat& q, float scale);
 };
 
 /// Collider shapes in world space for one step: a segment (x0..x1; a point for a sphere) and a

@@ -225,8 +225,9 @@ class Instance {
 
   /// Advances by a frame of dt seconds. dt <= 0 or non-finite: nothing happens.
   void step(double dt);
-  /// step(dt) for each of `count` instances, with the same results, but the instances of one
-  /// rig on the fast path go through each step together (one kernel run for all of them).
+  /// step(dt) for each of `count` instances (distinct, not null), with the same results, but the
+  /// instances of one rig on the fast path go through each step together (one kernel run for all
+  /// of them).
   /// Instances of one rig share that storage, so, like one instance, they are not thread-safe:
   /// step the instances of a rig from one thread.
   static void stepAll(Instance* const* instances, std::size_t count, double dt);
