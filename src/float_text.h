@@ -33,7 +33,8 @@ namespace float_text_detail {
 
 using u128 = unsigned __int128;
 
-// 5^n for n <= 27 (the largest power that fits 64 bits; the range used needs at most 5^16).
+// 5^n for n <= 27 (the largest power that fits 64 bits; shortest float text needs at most 5^16,
+// the exact decimal reader of json_scan.h up to 5^27).
 inline u128 pow5(int n) {
   static constexpr std::uint64_t kPow5[28] = {
       1ull, 5ull, 25ull, 125ull, 625ull, 3125ull, 15625ull, 78125ull, 390625ull, 1953125ull,

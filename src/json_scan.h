@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "float_text.h"
 #include "springbones.h"
 #include "utf8_append.h"
 
@@ -241,13 +242,7 @@ class JsonScan {
   /// significand shifted to the top of 128 bits divided by 5^-q (the 2^q goes to the binary
   /// exponent), a quotient of at least 74 bits plus a sticky bit for the remainder.
   static bool exactDecimal(std::uint64_t digits, int q, double& out) {
-    using u128 = unsigned __int128;
-    static constexpr std::uint64_t kPow5[28] = {
-        1ull, 5ull, 25ull, 125ull, 625ull, 3125ull, 15625ull, 78125ull, 390625ull, 1953125ull,
-        9765625ull, 48828125ull, 244140625ull, 1220703125ull, 6103515625ull, 30517578125ull,
-        152587890625ull, 762939453125ull, 3814697265625ull, 19073486328125ull, 95367431640625ull,
-        476837158203125ull, 2384185791015625ull, 11920928955078125ull, 59604644775390625ull,
-        298023223876953125ull, 1490116119384765625ull, 7450580596923828125ull};
+    using float_text_detail::u128;
     if (digits == 0 || q < -27 || q > 19) return false;
     u128 m = 0;
     int e2 = 0;  // the value is (m + fraction) * 2^e2, sticky = fraction != 0
@@ -259,7 +254,7 @@ class JsonScan {
     } else {
       const int shift = 64 + __builtin_clzll(digits);  // the top bit of digits to bit 127
       const u128 numerator = static_cast<u128>(digits) << shift;
-      const u128 divisor = kPow5[-q];
+      const u128 divisor = float_text_detail::pow5(-q);
       m = numerator / divisor;
       sticky = numerator % divisor != 0;
       e2 = -shift + q;

@@ -361,6 +361,18 @@ void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h,
   }
 }
 
+// One driver table slot into a lane of a block of transforms (`to`: its first field).
+void SpringLanes::copyDriver(std::size_t slot, float* to) const {
+  to[kPx * kBlockLanes] = drivers_.px[slot];
+  to[kPy * kBlockLanes] = drivers_.py[slot];
+  to[kPz * kBlockLanes] = drivers_.pz[slot];
+  to[kQx * kBlockLanes] = drivers_.qx[slot];
+  to[kQy * kBlockLanes] = drivers_.qy[slot];
+  to[kQz * kBlockLanes] = drivers_.qz[slot];
+  to[kQw * kBlockLanes] = drivers_.qw[slot];
+  to[kS * kBlockLanes] = drivers_.s[slot];
+}
+
 // Lanes that begin at this depth hang from a driver or from the joint they branch off (computed
 // at the previous depth): that transform goes into their parent row.
 void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy) {
@@ -373,15 +385,7 @@ void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::siz
         const float* from = world_.data() + worldIndex(kPx, row, first_lane + start.parent_lane);
         for (std::size_t f = 0; f < kTransformFields; ++f) to[f * kBlockLanes] = from[f * kBlockLanes];
       } else {
-        const std::size_t d = k * driver_block_ + 1 + start.parent_driver;
-        to[kPx * kBlockLanes] = drivers_.px[d];
-        to[kPy * kBlockLanes] = drivers_.py[d];
-        to[kPz * kBlockLanes] = drivers_.pz[d];
-        to[kQx * kBlockLanes] = drivers_.qx[d];
-        to[kQy * kBlockLanes] = drivers_.qy[d];
-        to[kQz * kBlockLanes] = drivers_.qz[d];
-        to[kQw * kBlockLanes] = drivers_.qw[d];
-        to[kS * kBlockLanes] = drivers_.s[d];
+        copyDriver(k * driver_block_ + 1 + start.parent_driver, to);
       }
     }
   }
@@ -397,16 +401,8 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
 
   if (kCenter) {
     for (std::size_t l = begin; l < end; ++l) {
-      const int c = center_[depth * lane_capacity_ + l];
-      float* to = centers_.data() + (l / kBlockLanes) * kTransformBlock + l % kBlockLanes;
-      to[kPx * kBlockLanes] = drivers_.px[c];
-      to[kPy * kBlockLanes] = drivers_.py[c];
-      to[kPz * kBlockLanes] = drivers_.pz[c];
-      to[kQx * kBlockLanes] = drivers_.qx[c];
-      to[kQy * kBlockLanes] = drivers_.qy[c];
-      to[kQz * kBlockLanes] = drivers_.qz[c];
-      to[kQw * kBlockLanes] = drivers_.qw[c];
-      to[kS * kBlockLanes] = drivers_.s[c];
+      copyDriver(static_cast<std::size_t>(center_[depth * lane_capacity_ + l]),
+                 centers_.data() + (l / kBlockLanes) * kTransformBlock + l % kBlockLanes);
     }
   }
 

@@ -89,6 +89,7 @@ class SpringLanes {
   template <bool kSeed, bool kCenter, bool kColliders>
   void runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
+  void copyDriver(std::size_t slot, float* to) const;
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
 
