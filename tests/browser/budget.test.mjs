@@ -4,21 +4,12 @@
 // changes which ones move. The readout counts the simulated avatars. With "all" every avatar
 // moves again, which is what the held ones would do without the budget.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
-import { maxAbsDiff, openDemo, skip } from './demoPage.mjs';
+import { test } from 'node:test';
+import { maxAbsDiff, skip, useDemoPage } from './demoPage.mjs';
 
 let page;
 let consoleErrors;
-let close;
-
-before(async () => {
-  if (skip) return;
-  ({ page, consoleErrors, close } = await openDemo());
-});
-
-after(async () => {
-  await close?.();
-});
+useDemoPage((demo) => ({ page, consoleErrors } = demo));
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 const readout = () => page.locator('#readout-budget').textContent();

@@ -3,21 +3,12 @@
 // avatar is shaken and spun hard, with either integrator. Without them the same motion does put
 // hair inside the head, so the check can fail.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
-import { openDemo, skip } from './demoPage.mjs';
+import { test } from 'node:test';
+import { skip, useDemoPage } from './demoPage.mjs';
 
 let page;
 let consoleErrors;
-let close;
-
-before(async () => {
-  if (skip) return;
-  ({ page, consoleErrors, close } = await openDemo());
-});
-
-after(async () => {
-  await close?.();
-});
+useDemoPage((demo) => ({ page, consoleErrors } = demo));
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 

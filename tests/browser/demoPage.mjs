@@ -7,6 +7,7 @@ import assert from 'node:assert/strict';
 import { existsSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
+import { after, before } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { startServer } from '../../scripts/serve.mjs';
@@ -22,6 +23,25 @@ const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
  */
 export const skip = !existsSync(chromiumPath) && process.env.SPRINGBONES_REQUIRE_BROWSER !== '1'
   ? `no Chromium at ${chromiumPath}` : false;
+
+/**
+ * Opens the demo (openDemo) before a test file's tests and closes it after them; `opened` gets
+ * the page and its console errors once it is open (not called when the browser is skipped):
+ *   let page, consoleErrors;
+ *   useDemoPage((demo) => ({ page, consoleErrors } = demo));
+ */
+export function useDemoPage(opened) {
+  let close;
+  before(async () => {
+    if (skip) return;
+    const demo = await openDemo();
+    close = demo.close;
+    opened(demo);
+  });
+  after(async () => {
+    await close?.();
+  });
+}
 
 /**
  * Serves the repository, opens web/demo/ and waits until the sample wearable is loaded.

@@ -6,23 +6,14 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
-import { maxAbsDiff, openDemo, root, skip } from './demoPage.mjs';
+import { test } from 'node:test';
+import { maxAbsDiff, root, skip, useDemoPage } from './demoPage.mjs';
 
 const sampleHash = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8')).files['hair_wearable.glb'].contentHash;
 
 let page;
 let consoleErrors;
-let close;
-
-before(async () => {
-  if (skip) return;
-  ({ page, consoleErrors, close } = await openDemo());
-});
-
-after(async () => {
-  await close?.();
-});
+useDemoPage((demo) => ({ page, consoleErrors } = demo));
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 const state = () => demo(() => window.springbonesDemo.state());

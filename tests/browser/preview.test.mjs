@@ -8,24 +8,15 @@
 import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
-import { artifacts, maxAbsDiff, openDemo, root, skip } from './demoPage.mjs';
+import { test } from 'node:test';
+import { artifacts, maxAbsDiff, root, skip, useDemoPage } from './demoPage.mjs';
 
 const sampleManifest = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8'));
 const fixtures = JSON.parse(readFileSync(join(root, 'tests/fixtures/manifest.json'), 'utf8')).files;
 
 let page;
 let consoleErrors;
-let close;
-
-before(async () => {
-  if (skip) return;
-  ({ page, consoleErrors, close } = await openDemo());
-});
-
-after(async () => {
-  await close?.();
-});
+useDemoPage((demo) => ({ page, consoleErrors } = demo));
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 
