@@ -131,42 +131,28 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
 }
 
 void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table,
-                        std::size_t first_slot) {
+                        std::size_t first, std::size_t stride) {
   const std::size_t count = to.count_;
   const float *fx = from.column(kPx), *fy = from.column(kPy), *fz = from.column(kPz), *fqx = from.column(kQx),
               *fqy = from.column(kQy), *fqz = from.column(kQz), *fqw = from.column(kQw), *fs = from.column(kScale);
   const float *tx = to.column(kPx), *ty = to.column(kPy), *tz = to.column(kPz), *tqx = to.column(kQx),
               *tqy = to.column(kQy), *tqz = to.column(kQz), *tqw = to.column(kQw), *ts = to.column(kScale);
-  float* __restrict px = table.px.data() + first_slot;
-  float* __restrict py = table.py.data() + first_slot;
-  float* __restrict pz = table.pz.data() + first_slot;
-  float* __restrict qx = table.qx.data() + first_slot;
-  float* __restrict qy = table.qy.data() + first_slot;
-  float* __restrict qz = table.qz.data() + first_slot;
-  float* __restrict qw = table.qw.data() + first_slot;
-  float* __restrict sc = table.s.data() + first_slot;
-  if (t >= 1.0f) {  // one loop rather than eight library copies of ~10 floats each
-    for (std::size_t d = 0; d < count; ++d) {
-      px[d] = tx[d];
-      py[d] = ty[d];
-      pz[d] = tz[d];
-      qx[d] = tqx[d];
-      qy[d] = tqy[d];
-      qz[d] = tqz[d];
-      qw[d] = tqw[d];
-      sc[d] = ts[d];
+  for (std::size_t d = 0, at = first; d < count; ++d, at += stride) {
+    if (t >= 1.0f) {
+      table.px[at] = tx[d];
+      table.py[at] = ty[d];
+      table.pz[at] = tz[d];
+      table.qx[at] = tqx[d];
+      table.qy[at] = tqy[d];
+      table.qz[at] = tqz[d];
+      table.qw[at] = tqw[d];
+      table.s[at] = ts[d];
+      continue;
     }
-    return;
-  }
-  const float u = 1.0f - t;
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
-#endif
-  for (std::size_t d = 0; d < count; ++d) {
-    px[d] = fx[d] * u + tx[d] * t;
-    py[d] = fy[d] * u + ty[d] * t;
-    pz[d] = fz[d] * u + tz[d] * t;
-    sc[d] = fs[d] + (ts[d] - fs[d]) * t;
+    table.px[at] = fx[d] * (1.0f - t) + tx[d] * t;
+    table.py[at] = fy[d] * (1.0f - t) + ty[d] * t;
+    table.pz[at] = fz[d] * (1.0f - t) + tz[d] * t;
+    table.s[at] = fs[d] + (ts[d] - fs[d]) * t;
     // Normalized lerp along the shorter arc rather than slerp: slerp's acos and sin round
     // differently in the native libm and Emscripten's, and between two consecutive frames the
     // angle is small enough that nlerp's speed error is far below float noise.
@@ -176,10 +162,10 @@ void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t,
     const float mx = ax + (bx - ax) * t, my = ay + (by - ay) * t, mz = az + (bz - az) * t, mw = aw + (bw - aw) * t;
     const float length = std::sqrt(mx * mx + my * my + mz * mz + mw * mw);
     const bool usable = length > 0.0f;
-    qx[d] = usable ? mx / length : tqx[d];
-    qy[d] = usable ? my / length : tqy[d];
-    qz[d] = usable ? mz / length : tqz[d];
-    qw[d] = usable ? mw / length : tqw[d];
+    table.qx[at] = usable ? mx / length : tqx[d];
+    table.qy[at] = usable ? my / length : tqy[d];
+    table.qz[at] = usable ? mz / length : tqz[d];
+    table.qw[at] = usable ? mw / length : tqw[d];
   }
 }
 

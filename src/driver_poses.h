@@ -42,10 +42,10 @@ class DriverPoses {
   Transform transform(std::size_t d) const;
 
   /// The similarities at fraction t of the way from `from` to `to` (positions and scales mixed,
-  /// rotations by normalized lerp along the shorter arc), written to table slots
-  /// first_slot + d. Both frames must be allSimilar().
-  static void blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table,
-                    std::size_t first_slot);
+  /// rotations by normalized lerp along the shorter arc), written to the table at
+  /// first + d * stride for driver d. Both frames must be allSimilar().
+  static void blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table, std::size_t first,
+                    std::size_t stride);
 
  private:
   std::size_t count_ = 0;

@@ -126,7 +126,8 @@ struct Instance::State {
 
   void prepareDrivers(float t) {
     if (fast_path) {
-      DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverSlot(lane_copy, 0));
+      DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverIndex(lane_copy, 0),
+                         lanes->driverStride());
       prepareColliders();
       return;
     }
@@ -158,7 +159,7 @@ struct Instance::State {
       float scale;
       if (fast_path) {
         const DriverTable& table = lanes->drivers();
-        const std::size_t slot = lanes->driverSlot(lane_copy, collider.driver);
+        const std::size_t slot = lanes->driverIndex(lane_copy, collider.driver);
         Similarity m;
         m.position = glm::vec3(table.px[slot], table.py[slot], table.pz[slot]);
         m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);
@@ -173,7 +174,7 @@ struct Instance::State {
         scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
       }
       if (fast_path) {
-        lanes->colliders().set(lanes->colliderBase(lane_copy) + c, start, end, collider.radius * scale);
+        lanes->colliders().set(lanes->colliderIndex(lane_copy, c), start, end, collider.radius * scale);
       } else {
         collider_table.set(c, start, end, collider.radius * scale);
       }

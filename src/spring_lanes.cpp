@@ -1,5 +1,5 @@
 // The lane kernel: the spring update of solver.cpp written on plain floats in structure-of-arrays
-// form, one loop over the lanes of a run of copies per depth. The loop bodies have no branches
+// form, one loop over a run of copies per rig slot (depth, rig lane). The loop bodies have no branches
 // (selects only) and no calls, so clang vectorises them for WebAssembly SIMD; every operation is
 // a single IEEE operation with -ffp-contract=off, so vectorised and scalar code produce the same
 // bits, whichever lanes of a vector a joint falls in.
@@ -49,15 +49,6 @@ inline void multiply(float ax, float ay, float az, float aw, float bx, float by,
 // divisions of one then overlap the other's (one vector per block was ~5% slower in Node 20).
 constexpr std::size_t kBlockLanes = 8;
 enum SlotField : std::size_t {
-  kTx, kTy, kTz,               // rest translation
-  kRx, kRy, kRz, kRw,          // rest rotation
-  kRs,                         // rest uniform scale
-  kBx, kBy, kBz,               // unit tail axis at rest, in the parent's frame
-  kNx, kNy, kNz,               // a unit axis perpendicular to it (180-degree turns)
-  kTailDistance,               // |tail_local|, 0 keeps the joint at rest
-  kStiffness, kGravityPower, kKeep,  // keep = 1 - drag
-  kGx, kGy, kGz,               // unit gravity direction
-  kHitRadius,
   kCx, kCy, kCz, kOx, kOy, kOz,  // current and previous tail, center space
   kOutX, kOutY, kOutZ, kOutW,    // local rotation
   kSlotFields
@@ -68,16 +59,9 @@ constexpr std::size_t kSlotBlock = kSlotFields * kBlockLanes;
 constexpr std::size_t kTransformBlock = kTransformFields * kBlockLanes;
 constexpr std::size_t kBetweenBlock = kBetweenFields * kBlockLanes;
 
-// What a lane holds before a copy fills it: a zero-length bone at rest under identities, which
-// computes harmless finite values.
-float paddingSlot(std::size_t field) {
-  switch (field) {
-    case kRw: case kRs: case kBy: case kNz: case kOutW: return 1.0f;
-    case kGy: return -1.0f;
-    default: return 0.0f;
-  }
-}
-float paddingTransform(std::size_t field) { return field == kQw || field == kS ? 1.0f : 0.0f; }
+// What a lane holds before its copy is seeded: rest rotations and identity transforms, finite.
+float restSlot(std::size_t field) { return field == kOutW ? 1.0f : 0.0f; }
+float identityTransform(std::size_t field) { return field == kQw || field == kS ? 1.0f : 0.0f; }
 
 // Calls body(block, lane in block) for the lanes [begin, end). Whole blocks go through a loop
 // the vectoriser turns into straight SIMD code; the partial blocks at the ends of a run of copies
@@ -125,12 +109,6 @@ void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& 
   radius[c] = r;
 }
 
-void DriverTable::resize(std::size_t slots) {
-  for (auto* v : {&px, &py, &pz, &qx, &qy, &qz}) v->resize(slots, 0.0f);
-  qw.resize(slots, 1.0f);
-  s.resize(slots, 1.0f);
-}
-
 // ---------------------------------------------------------------------------------------------
 // The pool
 
@@ -168,23 +146,61 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     depth_count_ = std::max<std::size_t>(depth_count_, joint_depth_[j] + 1);
   }
   lanes_per_copy_ = static_cast<std::size_t>(lanes);
-  driver_block_ = rig_->drivers.size() + 1;
-  collider_block_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
+  collider_count_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
   starts_.resize(depth_count_);
-  template_joint_.assign(depth_count_ * lanes_per_copy_, -1);
+  lanes_at_.resize(depth_count_);
+  constants_.resize(depth_count_ * lanes_per_copy_);
   std::vector<bool> started(lanes_per_copy_, false);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int lane = joint_lane_[j];
-    template_joint_[joint_depth_[j] * lanes_per_copy_ + lane] = static_cast<int>(j);
+    const int depth = joint_depth_[j];
+    lanes_at_[depth].push_back(lane);
     any_center_ = any_center_ || joint.center_driver >= 0;
+
+    SlotConstants& c = constants_[depth * lanes_per_copy_ + lane];
+    const Transform& rest = joint.rest_local;
+    c.tx = rest.translation.x;
+    c.ty = rest.translation.y;
+    c.tz = rest.translation.z;
+    c.rx = rest.rotation.x;
+    c.ry = rest.rotation.y;
+    c.rz = rest.rotation.z;
+    c.rw = rest.rotation.w;
+    c.rs = rest.scale.x;
+    const float distance = glm::length(joint.tail_local);
+    const glm::vec3 axis = distance > kMinLength ? joint.tail_local / distance : glm::vec3(0, 1, 0);
+    // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
+    // parent's frame, where the rest rotation is already applied.
+    const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(rest.rotation) * axis);
+    const glm::vec3 perpendicular = perpendicularTo(axis_in_parent);
+    c.bx = axis_in_parent.x;
+    c.by = axis_in_parent.y;
+    c.bz = axis_in_parent.z;
+    c.nx = perpendicular.x;
+    c.ny = perpendicular.y;
+    c.nz = perpendicular.z;
+    c.tail_distance = distance > kMinLength ? distance : 0.0f;
+    c.stiffness = joint.params.stiffness;
+    c.gravity_power = joint.params.gravity_power;
+    c.keep = 1.0f - joint.params.drag;
+    c.gx = joint.params.gravity_dir.x;
+    c.gy = joint.params.gravity_dir.y;
+    c.gz = joint.params.gravity_dir.z;
+    c.hit_radius = joint.hit_radius;
+    c.center = static_cast<std::size_t>(joint.center_driver + 1);
+    c.collider_mask = 0;
+    for (int k : joint.colliders) {
+      if (k >= 0 && k < static_cast<int>(kMaxLaneColliders)) c.collider_mask |= 1u << k;
+    }
+
     if (started[lane]) continue;
     started[lane] = true;
     LaneStart start;
     start.lane = lane;
     start.parent_lane = joint.parent_joint >= 0 ? joint_lane_[joint.parent_joint] : -1;
     start.parent_driver = joint.parent_joint >= 0 ? -1 : joint.parent_driver;
-    starts_[joint_depth_[j]].push_back(start);
+    starts_[depth].push_back(start);
   }
 }
 
@@ -198,50 +214,55 @@ std::size_t SpringLanes::worldIndex(std::size_t field, std::size_t row, std::siz
 
 void SpringLanes::growTo(std::size_t copies) {
   if (copies <= copy_capacity_) return;
-  const std::size_t capacity = std::max<std::size_t>(copies, 2 * copy_capacity_);
-  const std::size_t old_lanes = lane_capacity_, old_blocks = blocks_per_row_;
-  const std::size_t blocks = (capacity * lanes_per_copy_ + kBlockLanes - 1) / kBlockLanes;
-  const std::size_t lanes = blocks * kBlockLanes;
-  const std::size_t rows = depth_count_;
-  // Every value keeps its (row, lane) in the wider rows; new lanes are padding.
-  const auto widen = [&](std::vector<float>& v, std::size_t row_count, std::size_t fields, float (*fill)(std::size_t)) {
-    std::vector<float> wider(row_count * blocks * fields * kBlockLanes);
-    for (std::size_t row = 0; row < row_count; ++row) {
+  const std::size_t wanted = std::max<std::size_t>(copies, 2 * copy_capacity_);
+  const std::size_t capacity = (wanted + kBlockLanes - 1) / kBlockLanes * kBlockLanes;
+  const std::size_t old_capacity = copy_capacity_, old_blocks = blocks_per_row_;
+  const std::size_t blocks = lanes_per_copy_ * capacity / kBlockLanes;
+  // Every value keeps its (row, rig lane, copy); lane l * capacity + k moves with the capacity.
+  const auto widen = [&](std::vector<float>& v, std::size_t rows, std::size_t fields, float (*fill)(std::size_t)) {
+    const std::size_t block_floats = fields * kBlockLanes;
+    std::vector<float> wider(rows * blocks * block_floats);
+    for (std::size_t row = 0; row < rows; ++row) {
       for (std::size_t block = 0; block < blocks; ++block) {
-        float* to = wider.data() + (row * blocks + block) * fields * kBlockLanes;
-        if (block < old_blocks) {
-          const float* from = v.data() + (row * old_blocks + block) * fields * kBlockLanes;
-          std::copy(from, from + fields * kBlockLanes, to);
-        } else {
-          for (std::size_t f = 0; f < fields; ++f) std::fill(to + f * kBlockLanes, to + (f + 1) * kBlockLanes, fill(f));
+        float* to = wider.data() + (row * blocks + block) * block_floats;
+        for (std::size_t f = 0; f < fields; ++f) std::fill(to + f * kBlockLanes, to + (f + 1) * kBlockLanes, fill(f));
+      }
+      for (std::size_t lane = 0; lane < lanes_per_copy_; ++lane) {
+        for (std::size_t k = 0; k < old_capacity; ++k) {
+          const std::size_t from_lane = lane * old_capacity + k, to_lane = lane * capacity + k;
+          const float* from = v.data() + (row * old_blocks + from_lane / kBlockLanes) * block_floats + from_lane % kBlockLanes;
+          float* to = wider.data() + (row * blocks + to_lane / kBlockLanes) * block_floats + to_lane % kBlockLanes;
+          for (std::size_t f = 0; f < fields; ++f) to[f * kBlockLanes] = from[f * kBlockLanes];
         }
       }
     }
     v.swap(wider);
   };
-  widen(slots_, rows, kSlotFields, paddingSlot);
-  widen(world_, rows + 1, kTransformFields, paddingTransform);
-  widen(centers_, 1, kTransformFields, paddingTransform);
+  widen(slots_, depth_count_, kSlotFields, restSlot);
+  widen(world_, depth_count_ + 1, kTransformFields, identityTransform);
   widen(between_, 1, kBetweenFields, [](std::size_t) { return 0.0f; });
-  const auto widen_plain = [&](auto& v, auto fill) {
-    std::remove_reference_t<decltype(v)> wider(rows * lanes, fill);
+  // Tables: one row per driver (or collider) of one entry per copy.
+  const auto widen_rows = [&](std::vector<float>& v, std::size_t rows, float fill) {
+    std::vector<float> wider(rows * capacity, fill);
     for (std::size_t row = 0; row < rows; ++row) {
-      std::copy(v.begin() + row * old_lanes, v.begin() + (row + 1) * old_lanes, wider.begin() + row * lanes);
+      for (std::size_t k = 0; k < old_capacity; ++k) wider[row * capacity + k] = v[row * old_capacity + k];
     }
     v.swap(wider);
   };
-  widen_plain(center_, 0);
-  widen_plain(collider_mask_, 0u);
-  drivers_.resize(capacity * driver_block_);
-  colliders_.count = capacity * collider_block_;
+  const std::size_t driver_rows = rig_->drivers.size() + 1;
+  for (auto* v : {&drivers_.px, &drivers_.py, &drivers_.pz, &drivers_.qx, &drivers_.qy, &drivers_.qz}) {
+    widen_rows(*v, driver_rows, 0.0f);
+  }
+  for (auto* v : {&drivers_.qw, &drivers_.s}) widen_rows(*v, driver_rows, 1.0f);
   for (auto* v : {&colliders_.x0, &colliders_.y0, &colliders_.z0, &colliders_.x1, &colliders_.y1, &colliders_.z1,
                   &colliders_.radius}) {
-    v->resize(colliders_.count, 0.0f);
+    widen_rows(*v, collider_count_, 0.0f);
   }
+  colliders_.count = collider_count_ * capacity;
   copy_rotations_.resize(capacity, nullptr);
-  for (std::size_t k = capacity; k-- > copy_capacity_;) free_copies_.push_back(k);  // lowest last, taken first
+  for (std::size_t k = capacity; k-- > old_capacity;) free_copies_.push_back(k);  // lowest last, taken first
   copy_capacity_ = capacity;
-  lane_capacity_ = lanes;
+  lane_capacity_ = lanes_per_copy_ * capacity;
   blocks_per_row_ = blocks;
 }
 
@@ -250,48 +271,6 @@ std::size_t SpringLanes::addCopy(float* rotations) {
   const std::size_t copy = free_copies_.back();
   free_copies_.pop_back();
   copy_rotations_[copy] = rotations;
-  const std::size_t first_lane = copy * lanes_per_copy_;
-  const auto& joints = rig_->joints;
-  for (std::size_t j = 0; j < joints.size(); ++j) {
-    const Joint& joint = joints[j];
-    const std::size_t row = joint_depth_[j], lane = first_lane + joint_lane_[j];
-    const auto set = [&](std::size_t field, float value) { slots_[slotIndex(field, row, lane)] = value; };
-    center_[row * lane_capacity_ + lane] = static_cast<int>(copy * driver_block_) + joint.center_driver + 1;
-    const Transform& rest = joint.rest_local;
-    set(kTx, rest.translation.x);
-    set(kTy, rest.translation.y);
-    set(kTz, rest.translation.z);
-    set(kRx, rest.rotation.x);
-    set(kRy, rest.rotation.y);
-    set(kRz, rest.rotation.z);
-    set(kRw, rest.rotation.w);
-    set(kRs, rest.scale.x);
-    const float distance = glm::length(joint.tail_local);
-    const glm::vec3 axis = distance > kMinLength ? joint.tail_local / distance : glm::vec3(0, 1, 0);
-    // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
-    // parent's frame, where the rest rotation is already applied.
-    const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(rest.rotation) * axis);
-    const glm::vec3 perpendicular = perpendicularTo(axis_in_parent);
-    set(kBx, axis_in_parent.x);
-    set(kBy, axis_in_parent.y);
-    set(kBz, axis_in_parent.z);
-    set(kNx, perpendicular.x);
-    set(kNy, perpendicular.y);
-    set(kNz, perpendicular.z);
-    set(kTailDistance, distance > kMinLength ? distance : 0.0f);
-    set(kStiffness, joint.params.stiffness);
-    set(kGravityPower, joint.params.gravity_power);
-    set(kKeep, 1.0f - joint.params.drag);
-    set(kGx, joint.params.gravity_dir.x);
-    set(kGy, joint.params.gravity_dir.y);
-    set(kGz, joint.params.gravity_dir.z);
-    set(kHitRadius, joint.hit_radius);
-    std::uint32_t mask = 0;
-    for (int c : joint.colliders) {
-      if (c >= 0 && c < static_cast<int>(kMaxLaneColliders)) mask |= 1u << c;
-    }
-    collider_mask_[row * lane_capacity_ + lane] = mask;
-  }
   return copy;
 }
 
@@ -306,7 +285,7 @@ void SpringLanes::releaseCopy(std::size_t copy) {
 
 void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
                              float& scale) const {
-  const std::size_t row = joint_depth_[joint] + 1, lane = copy * lanes_per_copy_ + joint_lane_[joint];
+  const std::size_t row = joint_depth_[joint] + 1, lane = joint_lane_[joint] * copy_capacity_ + copy;
   const auto at = [&](std::size_t field) { return world_[worldIndex(field, row, lane)]; };
   position = glm::vec3(at(kPx), at(kPy), at(kPz));
   rotation = glm::quat(at(kQw), at(kQx), at(kQy), at(kQz));
@@ -314,142 +293,134 @@ void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& pos
 }
 
 void SpringLanes::writeRotations(std::size_t first_copy, std::size_t end_copy) {
-  // Slot order, one depth at a time, walking the blocks as the lanes go: no index arithmetic per
-  // joint beyond a step to the next lane.
-  for (std::size_t depth = 0; depth < depth_count_; ++depth) {
-    const float* const row = slots_.data() + depth * blocks_per_row_ * kSlotBlock + kOutX * kBlockLanes;
-    const int* const joint_at = template_joint_.data() + depth * lanes_per_copy_;
-    std::size_t block = first_copy * lanes_per_copy_ / kBlockLanes;
-    std::size_t i = first_copy * lanes_per_copy_ % kBlockLanes;
+  // Joint by joint, the copies in lane order: within a block the slot advances by one.
+  for (std::size_t j = 0; j < joint_lane_.size(); ++j) {
+    const float* const row = slots_.data() + joint_depth_[j] * blocks_per_row_ * kSlotBlock + kOutX * kBlockLanes;
+    const std::size_t base_lane = joint_lane_[j] * copy_capacity_;
     for (std::size_t k = first_copy; k < end_copy; ++k) {
       float* const rotations = copy_rotations_[k];
-      for (std::size_t lane = 0; lane < lanes_per_copy_; ++lane) {
-        const int j = joint_at[lane];
-        if (j >= 0 && rotations) {
-          const float* from = row + block * kSlotBlock + i;
-          float* out = rotations + 4 * j;
-          out[0] = from[0];
-          out[1] = from[kBlockLanes];
-          out[2] = from[2 * kBlockLanes];
-          out[3] = from[3 * kBlockLanes];
-        }
-        if (++i == kBlockLanes) {
-          i = 0;
-          ++block;
-        }
-      }
+      if (!rotations) continue;
+      const std::size_t lane = base_lane + k;
+      const float* from = row + (lane / kBlockLanes) * kSlotBlock + lane % kBlockLanes;
+      float* out = rotations + 4 * j;
+      out[0] = from[0];
+      out[1] = from[kBlockLanes];
+      out[2] = from[2 * kBlockLanes];
+      out[3] = from[3 * kBlockLanes];
     }
   }
 }
 
 void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h, bool seed) {
-  const bool colliders = collider_block_ > 0 && !seed;
   for (std::size_t r = 0; r < range_count; ++r) {
-    const std::size_t first = ranges[r].first, end = std::min(ranges[r].end, copy_capacity_);
+    std::size_t first = ranges[r].first, end = std::min(ranges[r].end, copy_capacity_);
     if (first >= end) continue;
+    // Free copies next to the run, up to whole blocks, are stepped along rather than left for
+    // the lane-by-lane path: nothing reads them, and their values stay finite.
+    while (first % kBlockLanes != 0 && copy_rotations_[first - 1] == nullptr) --first;
+    while (end % kBlockLanes != 0 && copy_rotations_[end] == nullptr) ++end;
     for (std::size_t d = 0; d < depth_count_; ++d) {
       beginLanes(d, first, end);
-      if (seed) {
-        any_center_ ? runDepth<true, true, false>(d, first, end, h) : runDepth<true, false, false>(d, first, end, h);
-      } else if (colliders) {
-        any_center_ ? runDepth<false, true, true>(d, first, end, h) : runDepth<false, false, true>(d, first, end, h);
-      } else {
-        any_center_ ? runDepth<false, true, false>(d, first, end, h) : runDepth<false, false, false>(d, first, end, h);
+      for (int lane : lanes_at_[d]) {
+        const std::size_t l = static_cast<std::size_t>(lane);
+        if (seed) {
+          any_center_ ? runSlot<true, true>(d, l, first, end, h) : runSlot<true, false>(d, l, first, end, h);
+        } else {
+          any_center_ ? runSlot<false, true>(d, l, first, end, h) : runSlot<false, false>(d, l, first, end, h);
+        }
       }
     }
     writeRotations(first, end);
   }
 }
 
-// One driver table slot into a lane of a block of transforms (`to`: its first field).
-void SpringLanes::copyDriver(std::size_t slot, float* to) const {
-  to[kPx * kBlockLanes] = drivers_.px[slot];
-  to[kPy * kBlockLanes] = drivers_.py[slot];
-  to[kPz * kBlockLanes] = drivers_.pz[slot];
-  to[kQx * kBlockLanes] = drivers_.qx[slot];
-  to[kQy * kBlockLanes] = drivers_.qy[slot];
-  to[kQz * kBlockLanes] = drivers_.qz[slot];
-  to[kQw * kBlockLanes] = drivers_.qw[slot];
-  to[kS * kBlockLanes] = drivers_.s[slot];
-}
-
 // Lanes that begin at this depth hang from a driver or from the joint they branch off (computed
 // at the previous depth): that transform goes into their parent row.
 void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy) {
   const std::size_t row = depth;
-  for (std::size_t k = first_copy; k < end_copy; ++k) {
-    const std::size_t first_lane = k * lanes_per_copy_;
-    for (const LaneStart& start : starts_[depth]) {
-      float* to = world_.data() + worldIndex(kPx, row, first_lane + start.lane);
+  for (const LaneStart& start : starts_[depth]) {
+    for (std::size_t k = first_copy; k < end_copy; ++k) {
+      float* to = world_.data() + worldIndex(kPx, row, start.lane * copy_capacity_ + k);
       if (start.parent_lane >= 0) {
-        const float* from = world_.data() + worldIndex(kPx, row, first_lane + start.parent_lane);
+        const float* from = world_.data() + worldIndex(kPx, row, start.parent_lane * copy_capacity_ + k);
         for (std::size_t f = 0; f < kTransformFields; ++f) to[f * kBlockLanes] = from[f * kBlockLanes];
       } else {
-        copyDriver(k * driver_block_ + 1 + start.parent_driver, to);
+        const std::size_t d = driverIndex(k, start.parent_driver);
+        to[kPx * kBlockLanes] = drivers_.px[d];
+        to[kPy * kBlockLanes] = drivers_.py[d];
+        to[kPz * kBlockLanes] = drivers_.pz[d];
+        to[kQx * kBlockLanes] = drivers_.qx[d];
+        to[kQy * kBlockLanes] = drivers_.qy[d];
+        to[kQz * kBlockLanes] = drivers_.qz[d];
+        to[kQw * kBlockLanes] = drivers_.qw[d];
+        to[kS * kBlockLanes] = drivers_.s[d];
       }
     }
   }
 }
 
 // ---------------------------------------------------------------------------------------------
-// The kernel
+// The kernel: one rig slot (depth, rig lane) for a run of copies.
 
-template <bool kSeed, bool kCenter, bool kColliders>
-void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h) {
-  const std::size_t begin = first_copy * lanes_per_copy_, end = end_copy * lanes_per_copy_;
+template <bool kSeed, bool kCenter>
+void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy,
+                          float h) {
+  const SlotConstants c = constants_[depth * lanes_per_copy_ + lane];
+  const std::size_t base_lane = lane * copy_capacity_;  // copy k is lane base_lane + k
+  const std::size_t begin = base_lane + first_copy, end = base_lane + end_copy;
   const std::size_t row_blocks = depth * blocks_per_row_;
-
-  if (kCenter) {
-    for (std::size_t l = begin; l < end; ++l) {
-      copyDriver(static_cast<std::size_t>(center_[depth * lane_capacity_ + l]),
-                 centers_.data() + (l / kBlockLanes) * kTransformBlock + l % kBlockLanes);
-    }
-  }
-
   float* const slot_row = slots_.data() + row_blocks * kSlotBlock;
   const float* const parent_row = world_.data() + row_blocks * kTransformBlock;  // the parents' world
   float* const joint_row = world_.data() + (row_blocks + blocks_per_row_) * kTransformBlock;  // the joints'
-  const float* const center_row = centers_.data();
   float* const between_row = between_.data();
+  // The center's transform per copy: its driver table row, read at the copy (lane - base_lane).
+  const std::size_t center_at = c.center * copy_capacity_;
+  const float* __restrict cpx = drivers_.px.data() + center_at;
+  const float* __restrict cpy = drivers_.py.data() + center_at;
+  const float* __restrict cpz = drivers_.pz.data() + center_at;
+  const float* __restrict cqx = drivers_.qx.data() + center_at;
+  const float* __restrict cqy = drivers_.qy.data() + center_at;
+  const float* __restrict cqz = drivers_.qz.data() + center_at;
+  const float* __restrict cqw = drivers_.qw.data() + center_at;
+  const float* __restrict cs = drivers_.s.data() + center_at;
+  constexpr std::size_t B = kBlockLanes;
 
-  // First half: the rest transform under the parent, then Verlet inertia (center space) with
+  // First pass: the rest transform under the parent, then Verlet inertia (center space) with
   // drag, the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
-  // Out: the head, the bone's world length and scale, the new tail (world).
-  const auto integrate = [&](std::size_t block, std::size_t i, float& hx, float& hy, float& hz, float& length,
-                             float& scale, float& sx, float& sy, float& sz) SPRINGBONES_ALWAYS_INLINE {
+  // Out, between the passes: the head, the bone's world length and scale, the new tail (world).
+  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
     const float* __restrict s = slot_row + block * kSlotBlock + i;
     const float* __restrict p = parent_row + block * kTransformBlock + i;
-    const float* __restrict c = center_row + block * kTransformBlock + i;
-    constexpr std::size_t B = kBlockLanes;
+    float* __restrict t = between_row + block * kBetweenBlock + i;
+    const std::size_t l = block * B + i - base_lane;  // the copy
     const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B], ps = p[kS * B];
-    rotate(pqx, pqy, pqz, pqw, s[kTx * B], s[kTy * B], s[kTz * B], hx, hy, hz);
+    float hx, hy, hz;
+    rotate(pqx, pqy, pqz, pqw, c.tx, c.ty, c.tz, hx, hy, hz);
     hx = p[kPx * B] + ps * hx;
     hy = p[kPy * B] + ps * hy;
     hz = p[kPz * B] + ps * hz;
-    scale = ps * s[kRs * B];
-    length = scale * s[kTailDistance * B];
+    const float scale = ps * c.rs;
+    const float length = scale * c.tail_distance;
     float dx, dy, dz;  // rest direction, world
-    rotate(pqx, pqy, pqz, pqw, s[kBx * B], s[kBy * B], s[kBz * B], dx, dy, dz);
-    sx = hx + dx * length;
-    sy = hy + dy * length;
-    sz = hz + dz * length;
+    rotate(pqx, pqy, pqz, pqw, c.bx, c.by, c.bz, dx, dy, dz);
+    float sx = hx + dx * length, sy = hy + dy * length, sz = hz + dz * length;
     if (!kSeed) {
-      const float cx = s[kCx * B], cy = s[kCy * B], cz = s[kCz * B], keep = s[kKeep * B];
-      const float vx = cx + (cx - s[kOx * B]) * keep;
-      const float vy = cy + (cy - s[kOy * B]) * keep;
-      const float vz = cz + (cz - s[kOz * B]) * keep;
+      const float cx = s[kCx * B], cy = s[kCy * B], cz = s[kCz * B];
+      const float vx = cx + (cx - s[kOx * B]) * c.keep;
+      const float vy = cy + (cy - s[kOy * B]) * c.keep;
+      const float vz = cz + (cz - s[kOz * B]) * c.keep;
       float wx = vx, wy = vy, wz = vz;
       if (kCenter) {
-        rotate(c[kQx * B], c[kQy * B], c[kQz * B], c[kQw * B], vx, vy, vz, wx, wy, wz);
-        wx = c[kPx * B] + c[kS * B] * wx;
-        wy = c[kPy * B] + c[kS * B] * wy;
-        wz = c[kPz * B] + c[kS * B] * wz;
+        rotate(cqx[l], cqy[l], cqz[l], cqw[l], vx, vy, vz, wx, wy, wz);
+        wx = cpx[l] + cs[l] * wx;
+        wy = cpy[l] + cs[l] * wy;
+        wz = cpz[l] + cs[l] * wz;
       }
-      const float k = s[kStiffness * B] * h;
-      const float g = s[kGravityPower * B] * h;
-      wx = wx + dx * k + s[kGx * B] * g;
-      wy = wy + dy * k + s[kGy * B] * g;
-      wz = wz + dz * k + s[kGz * B] * g;
+      const float k = c.stiffness * h;
+      const float g = c.gravity_power * h;
+      wx = wx + dx * k + c.gx * g;
+      wy = wy + dy * k + c.gy * g;
+      wz = wz + dz * k + c.gz * g;
       // Back onto the sphere of the bone length; a tail lost on the head restarts at rest.
       const float fx = wx - hx, fy = wy - hy, fz = wz - hz;
       const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
@@ -459,25 +430,75 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
       sy = usable ? hy + fy * to_length : sy;
       sz = usable ? hz + fz * to_length : sz;
     }
-  };
+    t[kHeadX * B] = hx;
+    t[kHeadY * B] = hy;
+    t[kHeadZ * B] = hz;
+    t[kLength * B] = length;
+    t[kScale * B] = scale;
+    t[kTailX * B] = sx;
+    t[kTailY * B] = sy;
+    t[kTailZ * B] = sz;
+  });
 
-  // Second half: store the tail (center space), turn the joint toward it, and write the local
-  // rotation and the joint's world transform for the next depth.
-  const auto aim = [&](std::size_t block, std::size_t i, float hx, float hy, float hz, float length, float scale,
-                       float sx, float sy, float sz) SPRINGBONES_ALWAYS_INLINE {
+  // Between the passes, one per collider of the slot: push the tail out of the shape (closest
+  // point on the capsule segment, or the sphere center), then restore the bone length. The
+  // shapes are per copy: row `collider` of the collider table, read at the copy.
+  for (std::size_t collider = 0; !kSeed && collider < collider_count_; ++collider) {
+    if ((c.collider_mask & (1u << collider)) == 0) continue;
+    const std::size_t shape_at = collider * copy_capacity_;
+    const float* __restrict x0 = colliders_.x0.data() + shape_at;
+    const float* __restrict y0 = colliders_.y0.data() + shape_at;
+    const float* __restrict z0 = colliders_.z0.data() + shape_at;
+    const float* __restrict x1 = colliders_.x1.data() + shape_at;
+    const float* __restrict y1 = colliders_.y1.data() + shape_at;
+    const float* __restrict z1 = colliders_.z1.data() + shape_at;
+    const float* __restrict radius = colliders_.radius.data() + shape_at;
+    forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
+      float* __restrict t = between_row + block * kBetweenBlock + i;
+      const std::size_t l = block * B + i - base_lane;  // the copy
+      const float sgx = x1[l] - x0[l], sgy = y1[l] - y0[l], sgz = z1[l] - z0[l];
+      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
+      const float tx = t[kTailX * B], ty = t[kTailY * B], tz = t[kTailZ * B];
+      const float vx = tx - x0[l], vy = ty - y0[l], vz = tz - z0[l];
+      float along = segment2 > 0.0f ? (vx * sgx + vy * sgy + vz * sgz) / segment2 : 0.0f;
+      along = along < 0.0f ? 0.0f : (along > 1.0f ? 1.0f : along);
+      const float dx = vx - sgx * along, dy = vy - sgy * along, dz = vz - sgz * along;
+      const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const float penetration = radius[l] + c.hit_radius - distance;
+      const bool pushed = penetration > 0.0f && distance > kMinLength;
+      const float push = pushed ? penetration / distance : 0.0f;
+      const float px = tx + dx * push, py = ty + dy * push, pz = tz + dz * push;
+      const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
+      const float fx = px - hx, fy = py - hy, fz = pz - hz;
+      const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
+      const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
+      const float to_length = t[kLength * B] / offset_length;
+      t[kTailX * B] = usable ? hx + fx * to_length : tx;
+      t[kTailY * B] = usable ? hy + fy * to_length : ty;
+      t[kTailZ * B] = usable ? hz + fz * to_length : tz;
+    });
+  }
+
+  // Second pass: store the tail (center space), turn the joint toward it, and write the local
+  // rotation and the joint's world transform for the next depth. (Two passes with the tail handed
+  // over in memory rather than one: a single loop body made V8 spill more than the hand-over
+  // costs, about 15% slower in Node 20.)
+  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
     float* __restrict s = slot_row + block * kSlotBlock + i;
     const float* __restrict p = parent_row + block * kTransformBlock + i;
-    const float* __restrict c = center_row + block * kTransformBlock + i;
+    const float* __restrict t = between_row + block * kBetweenBlock + i;
     float* __restrict w = joint_row + block * kTransformBlock + i;
-    constexpr std::size_t B = kBlockLanes;
+    const std::size_t l = block * B + i - base_lane;  // the copy
+    const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
+    const float length = t[kLength * B];
+    float sx = t[kTailX * B], sy = t[kTailY * B], sz = t[kTailZ * B];
     const float fx = sx - hx, fy = sy - hy, fz = sz - hz;
     if (kCenter) {
       float ux, uy, uz;
-      rotate(-c[kQx * B], -c[kQy * B], -c[kQz * B], c[kQw * B], sx - c[kPx * B], sy - c[kPy * B], sz - c[kPz * B], ux,
-             uy, uz);
-      sx = ux / c[kS * B];
-      sy = uy / c[kS * B];
-      sz = uz / c[kS * B];
+      rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
+      sx = ux / cs[l];
+      sy = uy / cs[l];
+      sz = uz / cs[l];
     }
     s[kOx * B] = kSeed ? sx : s[kCx * B];
     s[kOy * B] = kSeed ? sy : s[kCy * B];
@@ -491,24 +512,22 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
     const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B];
     float fpx, fpy, fpz;
     rotate(-pqx, -pqy, -pqz, pqw, fx, fy, fz, fpx, fpy, fpz);
-    const float bx = s[kBx * B], by = s[kBy * B], bz = s[kBz * B];
-    const float dot = bx * fpx + by * fpy + bz * fpz;
+    const float dot = c.bx * fpx + c.by * fpy + c.bz * fpz;
     const bool opposite = dot < kOppositeDot * length;
-    const float tqx = opposite ? s[kNx * B] : by * fpz - bz * fpy;
-    const float tqy = opposite ? s[kNy * B] : bz * fpx - bx * fpz;
-    const float tqz = opposite ? s[kNz * B] : bx * fpy - by * fpx;
+    const float tqx = opposite ? c.nx : c.by * fpz - c.bz * fpy;
+    const float tqy = opposite ? c.ny : c.bz * fpx - c.bx * fpz;
+    const float tqz = opposite ? c.nz : c.bx * fpy - c.by * fpx;
     const float tqw = opposite ? 0.0f : length + dot;
     const float inv_turn = 1.0f / std::sqrt(tqx * tqx + tqy * tqy + tqz * tqz + tqw * tqw);
     // Both factors are unit quaternions (the loader normalizes rest rotations), so is the product.
-    const float rx = s[kRx * B], ry = s[kRy * B], rz = s[kRz * B], rw = s[kRw * B];
     float mx, my, mz, mw;
-    multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, rx, ry, rz, rw, mx, my, mz, mw);
+    multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, c.rx, c.ry, c.rz, c.rw, mx, my, mz, mw);
     // Seeding, a zero-length bone or a lost direction (NaN fails the comparison) keep the rest.
     const bool moving = !kSeed && length > kMinLength && inv_turn < 1e30f;
-    const float lqx = moving ? mx : rx;
-    const float lqy = moving ? my : ry;
-    const float lqz = moving ? mz : rz;
-    const float lqw = moving ? mw : rw;
+    const float lqx = moving ? mx : c.rx;
+    const float lqy = moving ? my : c.ry;
+    const float lqz = moving ? mz : c.rz;
+    const float lqw = moving ? mw : c.rw;
     s[kOutX * B] = lqx;
     s[kOutY * B] = lqy;
     s[kOutZ * B] = lqz;
@@ -522,61 +541,7 @@ void SpringLanes::runDepth(std::size_t depth, std::size_t first_copy, std::size_
     w[kPx * B] = hx;
     w[kPy * B] = hy;
     w[kPz * B] = hz;
-    w[kS * B] = scale;
-  };
-
-
-  // Two loops with the tail handed over in memory, rather than one: the register pressure of a
-  // single loop body made V8 spill more than the hand-over costs (about 15% slower in Node 20).
-  constexpr std::size_t B = kBlockLanes;
-  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
-    float* __restrict t = between_row + block * kBetweenBlock + i;
-    integrate(block, i, t[kHeadX * B], t[kHeadY * B], t[kHeadZ * B], t[kLength * B], t[kScale * B], t[kTailX * B],
-              t[kTailY * B], t[kTailZ * B]);
-  });
-
-  // Between them, one pass per copy and collider: push the tail out of the shape (closest point
-  // on the capsule segment, or the sphere center), then restore the bone length.
-  const std::uint32_t* const mask_row = collider_mask_.data() + depth * lane_capacity_;
-  for (std::size_t k = first_copy; kColliders && k < end_copy; ++k) {
-    for (std::size_t c = 0; c < collider_block_; ++c) {
-      const std::size_t shape = k * collider_block_ + c;
-      const float ax0 = colliders_.x0[shape], ay0 = colliders_.y0[shape], az0 = colliders_.z0[shape];
-      const float sgx = colliders_.x1[shape] - ax0, sgy = colliders_.y1[shape] - ay0, sgz = colliders_.z1[shape] - az0;
-      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
-      const float inv_segment2 = segment2 > 0.0f ? 1.0f / segment2 : 0.0f;
-      const float radius = colliders_.radius[shape];
-      const std::uint32_t bit = 1u << c;
-      forEachLane(k * lanes_per_copy_, (k + 1) * lanes_per_copy_, [&](std::size_t block, std::size_t i)
-                                                                       SPRINGBONES_ALWAYS_INLINE {
-        float* __restrict t = between_row + block * kBetweenBlock + i;
-        const float* __restrict s = slot_row + block * kSlotBlock + i;
-        const float tx = t[kTailX * B], ty = t[kTailY * B], tz = t[kTailZ * B];
-        const float vx = tx - ax0, vy = ty - ay0, vz = tz - az0;
-        float along = (vx * sgx + vy * sgy + vz * sgz) * inv_segment2;
-        along = along < 0.0f ? 0.0f : (along > 1.0f ? 1.0f : along);
-        const float dx = vx - sgx * along, dy = vy - sgy * along, dz = vz - sgz * along;
-        const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const float penetration = radius + s[kHitRadius * B] - distance;
-        const bool pushed = (mask_row[block * B + i] & bit) != 0 && penetration > 0.0f && distance > kMinLength;
-        const float push = pushed ? penetration / distance : 0.0f;
-        const float px = tx + dx * push, py = ty + dy * push, pz = tz + dz * push;
-        const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
-        const float fx = px - hx, fy = py - hy, fz = pz - hz;
-        const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
-        const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
-        const float to_length = t[kLength * B] / offset_length;
-        t[kTailX * B] = usable ? hx + fx * to_length : tx;
-        t[kTailY * B] = usable ? hy + fy * to_length : ty;
-        t[kTailZ * B] = usable ? hz + fz * to_length : tz;
-      });
-    }
-  }
-
-  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
-    const float* __restrict t = between_row + block * kBetweenBlock + i;
-    aim(block, i, t[kHeadX * B], t[kHeadY * B], t[kHeadZ * B], t[kLength * B], t[kScale * B], t[kTailX * B],
-        t[kTailY * B], t[kTailZ * B]);
+    w[kS * B] = t[kScale * B];
   });
 }
 

@@ -3,12 +3,14 @@
 //
 // A lane is a straight run of joints: a chain root followed by its tail joint, that joint's tail
 // joint, and so on; every other child joint starts a lane of its own (a branch). A rig has R
-// lanes and D depths. Every instance of the rig is a copy of those R lanes in one shared pool, so
-// a scene steps all avatars of a rig together: joint (copy k, lane l, depth d) is lane k * R + l
-// of row d (rows are stored in blocks of lanes, see slotIndex). The joints of one depth sit side
-// by side for all copies and one branch-free loop over a run of copies computes them together
-// (SIMD lanes in WebAssembly with -msimd128, plain scalar code elsewhere; every lane gets the same
-// bits either way, wherever it sits in the run). Depth-major order is also parents-first.
+// lanes and D depths. Every instance of the rig is a copy in one shared pool, and the copies of
+// one rig lane sit side by side: joint (copy k, rig lane l, depth d) is lane l * copy_capacity + k
+// of row d (rows are stored in blocks of lanes, see slotIndex). So one branch-free loop over a run
+// of copies computes a rig slot for all of them (SIMD lanes in WebAssembly with -msimd128, plain
+// scalar code elsewhere; every lane gets the same bits either way, wherever it sits in the run),
+// the slot's constants (rest pose, parameters) are the same for the whole loop and stored once per
+// rig, and lanes a depth does not have are not computed at all. Depth-major order is also
+// parents-first.
 // Transforms are similarities (rotation, translation, uniform scale); the solver only takes this
 // path when every driver and every rest scale is one.
 //
@@ -25,15 +27,15 @@
 
 namespace springbones {
 
-/// Drivers' transforms for one step, as the kernel reads them: per copy a block of
-/// driver count + 1 slots, the first of which is the identity (no parent driver, no center).
+/// Drivers' transforms for one step, as the kernel reads them: driver count + 1 rows of one entry
+/// per copy (SpringLanes::driverIndex), the first row the identity (no parent driver, no center).
 struct DriverTable {
   std::vector<float> px, py, pz, qx, qy, qz, qw, s;
-  void resize(std::size_t slots);
 };
 
 /// Collider shapes in world space for one step: a segment (x0..x1; a point for a sphere) and a
-/// radius. At most kMaxLaneColliders per rig take part on the lane path (a bit mask per joint).
+/// radius. At most kMaxLaneColliders per rig take part on the lane path (a bit mask per joint);
+/// there, one row per rig collider of one entry per copy (SpringLanes::colliderIndex).
 struct ColliderTable {
   std::size_t count = 0;
   std::vector<float> x0, y0, z0, x1, y1, z1, radius;
@@ -56,16 +58,19 @@ class SpringLanes {
 
   explicit SpringLanes(std::shared_ptr<const Rig> rig);
 
-  /// A new copy at rest under identity drivers; `rotations` (4 floats per rig joint, rig order)
-  /// receives its local rotations after every run that includes it, until releaseCopy().
+  /// A new copy; `rotations` (4 floats per rig joint, rig order) receives its local rotations
+  /// after every run that includes it, until releaseCopy(). Seed it (run with seed) first.
   std::size_t addCopy(float* rotations);
   void releaseCopy(std::size_t copy);
 
-  /// The copy's block of the driver table: slot 1 + d is rig driver d.
-  std::size_t driverSlot(std::size_t copy, int driver) const { return copy * driver_block_ + 1 + driver; }
+  /// Where rig driver d of a copy goes in the driver table; driver d + 1 is driverStride() further.
+  std::size_t driverIndex(std::size_t copy, int driver) const {
+    return (static_cast<std::size_t>(driver) + 1) * copy_capacity_ + copy;
+  }
+  std::size_t driverStride() const { return copy_capacity_; }
   DriverTable& drivers() { return drivers_; }
-  /// The copy's colliders start at collider copy * rig colliders.
-  std::size_t colliderBase(std::size_t copy) const { return copy * collider_block_; }
+  /// Where rig collider c of a copy goes in the collider table.
+  std::size_t colliderIndex(std::size_t copy, std::size_t collider) const { return collider * copy_capacity_ + copy; }
   ColliderTable& colliders() { return colliders_; }
 
   /// Seeds (tails at rest, no velocity) or advances every joint of the copies in `ranges`
@@ -80,16 +85,29 @@ class SpringLanes {
   std::size_t depthCount() const { return depth_count_; }
 
  private:
+  // What a rig slot (depth, rig lane) needs besides its state, the same for every copy.
+  struct SlotConstants {
+    float tx, ty, tz;      // rest translation
+    float rx, ry, rz, rw;  // rest rotation
+    float rs;              // rest uniform scale
+    float bx, by, bz;      // unit tail axis at rest, in the parent's frame
+    float nx, ny, nz;      // a unit axis perpendicular to it (180-degree turns)
+    float tail_distance;   // |tail_local|, 0 keeps the joint at rest
+    float stiffness, gravity_power, keep;  // keep = 1 - drag
+    float gx, gy, gz;      // unit gravity direction
+    float hit_radius;
+    std::size_t center;    // driver table row of the joint's center (0: world space)
+    std::uint32_t collider_mask;  // bit c: collides with the rig's collider c
+  };
   struct LaneStart {
     int lane;          // rig lane that begins at this depth
     int parent_lane;   // rig lane of the joint it branches off (one depth up), -1 for a root
     int parent_driver; // rig driver of a root's parent, -1: the identity
   };
 
-  template <bool kSeed, bool kCenter, bool kColliders>
-  void runDepth(std::size_t depth, std::size_t first_copy, std::size_t end_copy, float h);
+  template <bool kSeed, bool kCenter>
+  void runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
-  void copyDriver(std::size_t slot, float* to) const;
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
 
@@ -103,17 +121,17 @@ class SpringLanes {
   std::shared_ptr<const Rig> rig_;
   std::size_t lanes_per_copy_ = 0;  // R
   std::size_t depth_count_ = 0;     // D
-  std::size_t copy_capacity_ = 0;
-  std::size_t lane_capacity_ = 0;   // copy_capacity_ * R, rounded up to whole blocks
+  std::size_t copy_capacity_ = 0;   // a whole number of blocks
+  std::size_t lane_capacity_ = 0;   // R * copy_capacity_
   std::size_t blocks_per_row_ = 0;
-  std::size_t driver_block_ = 1;    // rig drivers + 1
-  std::size_t collider_block_ = 0;  // rig colliders
+  std::size_t collider_count_ = 0;  // rig colliders on the lane path
   bool any_center_ = false;
 
-  // The rig's layout.
+  // The rig's layout and constants.
   std::vector<std::vector<LaneStart>> starts_;  // per depth
+  std::vector<std::vector<int>> lanes_at_;      // per depth: the rig lanes with a joint there
+  std::vector<SlotConstants> constants_;        // per rig slot, depth * R + lane
   std::vector<int> joint_lane_, joint_depth_;   // per rig joint
-  std::vector<int> template_joint_;             // per depth and rig lane (depth * R + lane): joint or -1
 
   // Copies.
   std::vector<float*> copy_rotations_;          // nullptr: a free copy
@@ -121,19 +139,15 @@ class SpringLanes {
   DriverTable drivers_;
   ColliderTable colliders_;
 
-  // Per slot, depth_count_ rows: the joint's constants, its tail state and its local rotation
-  // (fields in spring_lanes.cpp), in blocks.
+  // Per slot, depth_count_ rows in blocks: the tail state and the local rotation.
   std::vector<float> slots_;
-  // Per slot, plain rows of lane_capacity_: read one lane at a time.
-  std::vector<int> center_;                    // driver table slot of the joint's center
-  std::vector<std::uint32_t> collider_mask_;   // bit c: collides with the rig's collider c
   // World transforms, depth_count_ + 1 rows, in blocks: row d + 1 holds the joints of depth d,
   // row d the parents the lanes beginning at depth d hang from (a lane has no joint above its
   // start).
   std::vector<float> world_;
-  // Per lane, in blocks: the center's transform of the current depth; between the kernel's two
-  // passes (and the colliders'), the head, length, scale and new tail.
-  std::vector<float> centers_, between_;
+  // Per lane, in blocks: between the kernel's two passes (and the colliders'), the head, length,
+  // scale and new tail.
+  std::vector<float> between_;
 };
 
 }  // namespace springbones
