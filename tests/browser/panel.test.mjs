@@ -118,6 +118,14 @@ test('export keeps the edits under the GLB hash and drops stale hashes', { skip 
   assert.deepEqual(Object.keys(exported.models), [sampleHash]);
   assert.equal(exported.models[sampleHash].SpringBone_ponytail.gravityPower, 1.5);
   assert.equal(Object.keys(exported.models[sampleHash]).length, 6);
+  // Each entry lists its fields in the ADR's order (stiffness, gravityPower, gravityDir, drag, center, isRoot).
+  const order = ['stiffness', 'gravityPower', 'gravityDir', 'drag', 'center', 'isRoot'];
+  const entries = Object.values(exported.models[sampleHash]);
+  for (const entry of entries) {
+    const fields = Object.keys(entry);
+    assert.deepEqual(fields, order.filter((f) => fields.includes(f)), `fields in the ADR's order: ${fields}`);
+  }
+  assert.ok(entries.some((e) => Object.keys(e).length > 2), 'some entry has several fields to order');
   assert.match(await page.locator('#export-note').textContent(), /Dropped 1 stale entry/);
   assert.equal(await page.locator('#download-export').isVisible(), true);
   assert.deepEqual((await state()).validation.errors, [], 'the export would deploy');

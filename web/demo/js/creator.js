@@ -16,6 +16,19 @@ const ASSETS = new URL('../assets/', import.meta.url);
 const SAMPLE = { glb: 'hair_wearable.glb', json: 'hair_wearable.metadata.json' };
 
 const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
+
+// data.springBones entry fields in the order ADR-316 lists them: JSON key order means nothing to a
+// program, but creators read the export. Unknown fields follow.
+const ADR_FIELD_ORDER = ['stiffness', 'gravityPower', 'gravityDir', 'drag', 'center', 'isRoot'];
+
+function inAdrOrder(entry) {
+  if (!isObject(entry)) return entry;
+  const ordered = {};
+  for (const field of ADR_FIELD_ORDER) if (field in entry) ordered[field] = entry[field];
+  for (const [field, value] of Object.entries(entry)) if (!(field in ordered)) ordered[field] = value;
+  return ordered;
+}
+
 const isGlb = (bytes) => bytes.length >= 4 && bytes[0] === 0x67 && bytes[1] === 0x6c && bytes[2] === 0x54 && bytes[3] === 0x46;
 const round = (v) => Math.round(v * 1000) / 1000;
 const isNumber = (v) => typeof v === 'number' && Number.isFinite(v);
@@ -544,8 +557,13 @@ export class Creator {
     return { data: { version: data.version, models: data.models }, dropped };
   }
 
-  exportText() {
-    return JSON.stringify(this.exportResult().data, null, 2);
+  /** The export as people read it: each entry's fields in the ADR's order (the API sorts them). */
+  exportText(data = this.exportResult().data) {
+    const models = {};
+    for (const [hash, bones] of Object.entries(data.models)) {
+      models[hash] = isObject(bones) ? Object.fromEntries(Object.entries(bones).map(([name, e]) => [name, inAdrOrder(e)])) : bones;
+    }
+    return JSON.stringify({ version: data.version, models }, null, 2);
   }
 
   refreshValidation() {
@@ -581,7 +599,7 @@ export class Creator {
 
   showExport() {
     const { data, dropped } = this.exportResult();
-    const text = JSON.stringify(data, null, 2);
+    const text = this.exportText(data);
     const area = $('export-json');
     area.hidden = false;
     area.value = text;
