@@ -153,19 +153,8 @@ void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t,
     table.py[at] = fy[d] * (1.0f - t) + ty[d] * t;
     table.pz[at] = fz[d] * (1.0f - t) + tz[d] * t;
     table.s[at] = fs[d] + (ts[d] - fs[d]) * t;
-    // Normalized lerp along the shorter arc rather than slerp: slerp's acos and sin round
-    // differently in the native libm and Emscripten's, and between two consecutive frames the
-    // angle is small enough that nlerp's speed error is far below float noise.
-    const float ax = fqx[d], ay = fqy[d], az = fqz[d], aw = fqw[d];
-    const float flip = ax * tqx[d] + ay * tqy[d] + az * tqz[d] + aw * tqw[d] < 0.0f ? -1.0f : 1.0f;
-    const float bx = flip * tqx[d], by = flip * tqy[d], bz = flip * tqz[d], bw = flip * tqw[d];
-    const float mx = ax + (bx - ax) * t, my = ay + (by - ay) * t, mz = az + (bz - az) * t, mw = aw + (bw - aw) * t;
-    const float length = std::sqrt(mx * mx + my * my + mz * mz + mw * mw);
-    const bool usable = length > 0.0f;
-    table.qx[at] = usable ? mx / length : tqx[d];
-    table.qy[at] = usable ? my / length : tqy[d];
-    table.qz[at] = usable ? mz / length : tqz[d];
-    table.qw[at] = usable ? mw / length : tqw[d];
+    nlerpRotation(fqx[d], fqy[d], fqz[d], fqw[d], tqx[d], tqy[d], tqz[d], tqw[d], t, table.qx[at], table.qy[at],
+                  table.qz[at], table.qw[at]);
   }
 }
 

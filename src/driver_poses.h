@@ -7,6 +7,7 @@
 // structure-of-arrays, four drivers per SIMD vector in WebAssembly (same bits as scalar code).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -20,6 +21,24 @@ struct DriverTable;
 /// How far from a similarity a driver matrix may be and still take the lane path: well above
 /// float rounding of a composed three.js matrixWorld, well below any visible shear.
 inline constexpr float kSimilarityTolerance = 1e-4f;
+
+/// The rotation at fraction t from a to b (x, y, z, w): normalized lerp along the shorter arc,
+/// b itself if the mix vanishes. Not slerp: slerp's acos and sin round differently in the native
+/// libm and Emscripten's, and native and WebAssembly builds must give the same bits; between two
+/// consecutive frames the angle is small and nlerp's speed error is far below float noise.
+/// Branch-free, so the driver loops that call it vectorise.
+inline void nlerpRotation(float ax, float ay, float az, float aw, float bx, float by, float bz, float bw, float t,
+                          float& ox, float& oy, float& oz, float& ow) {
+  const float flip = ax * bx + ay * by + az * bz + aw * bw < 0.0f ? -1.0f : 1.0f;
+  const float cx = flip * bx, cy = flip * by, cz = flip * bz, cw = flip * bw;
+  const float mx = ax + (cx - ax) * t, my = ay + (cy - ay) * t, mz = az + (cz - az) * t, mw = aw + (cw - aw) * t;
+  const float length = std::sqrt(mx * mx + my * my + mz * mz + mw * mw);
+  const bool usable = length > 0.0f;
+  ox = usable ? mx / length : bx;
+  oy = usable ? my / length : by;
+  oz = usable ? mz / length : bz;
+  ow = usable ? mw / length : bw;
+}
 
 class DriverPoses {
  public:

@@ -56,16 +56,11 @@ struct Similarity {
   }
 };
 
-// Interpolated rotation between two drivers' poses: normalized lerp along the shorter arc. Used
-// instead of slerp because slerp calls acos/sin, whose last bits differ between the native libm
-// and Emscripten's, and native and WebAssembly builds must give the same bits. Between the poses
-// of two consecutive frames the angle is small and nlerp's speed error is far below float noise.
+// Interpolated rotation between two drivers' poses, as the lane path interpolates them.
 glm::quat interpolateRotation(const glm::quat& a, const glm::quat& b, float t) {
-  const glm::quat target = glm::dot(a, b) < 0.0f ? -b : b;
-  const glm::quat mixed(a.w + (target.w - a.w) * t, a.x + (target.x - a.x) * t, a.y + (target.y - a.y) * t,
-                        a.z + (target.z - a.z) * t);
-  const float length = glm::length(mixed);
-  return length > 0.0f ? mixed / length : b;
+  glm::quat out;
+  nlerpRotation(a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w, t, out.x, out.y, out.z, out.w);
+  return out;
 }
 
 // The spring update shared by both paths: Verlet inertia (center space) reduced by drag, the

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <type_traits>
 #include <utility>
 
 #if defined(__GNUC__)

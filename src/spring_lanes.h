@@ -81,9 +81,6 @@ class SpringLanes {
   void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
                   float& scale) const;
 
-  std::size_t lanesPerCopy() const { return lanes_per_copy_; }
-  std::size_t depthCount() const { return depth_count_; }
-
  private:
   // What a rig slot (depth, rig lane) needs besides its state, the same for every copy.
   struct SlotConstants {
