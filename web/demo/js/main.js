@@ -439,7 +439,6 @@ class Preview {
     return ringAverage(this.springTimes, this.springTimeCount);
   }
 
-
   fps() {
     const n = Math.min(this.frameCount, this.frameTimes.length);
     let sum = 0;
