@@ -86,7 +86,6 @@ struct Instance::State {
   double step_seconds = 1.0 / 60.0;
   double accumulator = 0.0;
   bool seeded = false;
-  bool lanes_usable = true;  // every rest scale is a positive uniform one and the colliders fit the lanes
   bool fast_path = true;       // what the current frame's steps use
   std::unique_ptr<XpbdSolver> xpbd;  // set when options.integrator is kXpbd
 
@@ -110,7 +109,7 @@ struct Instance::State {
 
   // Simulation state, per joint.
   std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
-  std::shared_ptr<SpringLanes> lanes;  // the rig's lane pool (fast path), null when unusable
+  std::shared_ptr<SpringLanes> lanes;  // the rig's lane pool (fast path); null: the rig or XPBD cannot use it
   std::size_t lane_copy = 0;           // this instance's copy in it
   std::vector<glm::mat4> joint_world;                  // general path world transforms
   bool world_from_similarity = false;                  // which of the two is current
@@ -312,12 +311,12 @@ struct Instance::State {
     currentPoses().read(driver_input.data(), previousPoses());
     if (!seeded) {
       poses[1 - current] = currentPoses();
-      fast_path = !xpbd && lanes_usable && driversAreSimilarities();
+      fast_path = lanes && driversAreSimilarities();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
       seeded = true;
     }
-    fast_path = !xpbd && lanes_usable && driversAreSimilarities();
+    fast_path = lanes && driversAreSimilarities();
     // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
     // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
     const double h = step_seconds;
@@ -368,6 +367,8 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.rest_local_matrix.resize(joints);
   s.tail_axis.resize(joints);
   s.tail_distance.resize(joints);
+  // The lane path takes every rest scale a positive uniform one and at most kMaxLaneColliders.
+  bool lanes_usable = true;
   for (std::size_t j = 0; j < joints; ++j) {
     const Joint& joint = s.rig->joints[j];
     s.rest_local_matrix[j] = composeTransform(joint.rest_local);
@@ -375,7 +376,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.tail_distance[j] = len;
     s.tail_axis[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
     const glm::vec3 scale = joint.rest_local.scale;
-    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) s.lanes_usable = false;
+    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) lanes_usable = false;
   }
   s.driver_input.resize(16 * drivers);
   for (DriverPoses& poses : s.poses) poses.resize(drivers);
@@ -383,7 +384,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_driver_inverses.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
   s.collider_table.resize(s.rig->colliders.size());
-  if (s.rig->colliders.size() > kMaxLaneColliders) s.lanes_usable = false;
+  if (s.rig->colliders.size() > kMaxLaneColliders) lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
   for (std::size_t d = 0; d < drivers; ++d) {
     const int node = s.rig->drivers[d].node;  // -1: an avatar bone outside the GLB
@@ -400,11 +401,10 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.joint_world[j] = s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world;
   }
   // The lane path needs a copy in the rig's pool; the XPBD integrator never takes it.
-  if (s.lanes_usable && !s.xpbd) {
+  if (lanes_usable && !s.xpbd) {
     s.lanes = SpringLanes::acquire(s.rig);
     s.lane_copy = s.lanes->addCopy(s.rotations.data());
   }
-  s.lanes_usable = s.lanes != nullptr;
 }
 
 Instance::~Instance() = default;
