@@ -193,6 +193,11 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
       if (k >= 0 && k < static_cast<int>(kMaxLaneColliders)) c.collider_mask |= 1u << k;
     }
 
+    // A joint continuing its parent's lane is the parent's tail node, but only where the parent's
+    // tail is this joint's rest translation does it sit on the parent's simulated tail (a VRM
+    // joint held at rest has a zero tail toward its next joint).
+    c.continues = started[lane] && joints[joint.parent_joint].tail_local == rest.translation &&
+                  glm::length(rest.translation) > kMinLength;
     if (started[lane]) continue;
     started[lane] = true;
     LaneStart start;
@@ -321,12 +326,8 @@ void SpringLanes::run(const CopyRange* ranges, std::size_t range_count, float h,
     for (std::size_t d = 0; d < depth_count_; ++d) {
       beginLanes(d, first, end);
       for (int lane : lanes_at_[d]) {
-        const std::size_t l = static_cast<std::size_t>(lane);
-        if (seed) {
-          any_center_ ? runSlot<true, true>(d, l, first, end, h) : runSlot<true, false>(d, l, first, end, h);
-        } else {
-          any_center_ ? runSlot<false, true>(d, l, first, end, h) : runSlot<false, false>(d, l, first, end, h);
-        }
+        runSlotFor(seed, any_center_, constants_[d * lanes_per_copy_ + lane].continues, d,
+                   static_cast<std::size_t>(lane), first, end, h);
       }
     }
     writeRotations(first, end);
@@ -361,7 +362,23 @@ void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::siz
 // ---------------------------------------------------------------------------------------------
 // The kernel: one rig slot (depth, rig lane) for a run of copies.
 
-template <bool kSeed, bool kCenter>
+// Seeding happens once per copy, so it takes the joint's head from the parent's transform always
+// (one kernel less in the module) rather than from the parent's tail.
+void SpringLanes::runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane,
+                             std::size_t first_copy, std::size_t end_copy, float h) {
+  if (seed) {
+    center ? runSlot<true, true, false>(depth, lane, first_copy, end_copy, h)
+           : runSlot<true, false, false>(depth, lane, first_copy, end_copy, h);
+  } else if (continues) {
+    center ? runSlot<false, true, true>(depth, lane, first_copy, end_copy, h)
+           : runSlot<false, false, true>(depth, lane, first_copy, end_copy, h);
+  } else {
+    center ? runSlot<false, true, false>(depth, lane, first_copy, end_copy, h)
+           : runSlot<false, false, false>(depth, lane, first_copy, end_copy, h);
+  }
+}
+
+template <bool kSeed, bool kCenter, bool kContinues>
 void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy,
                           float h) {
   const SlotConstants c = constants_[depth * lanes_per_copy_ + lane];
@@ -394,10 +411,19 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     const std::size_t l = block * B + i - base_lane;  // the copy
     const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B], ps = p[kS * B];
     float hx, hy, hz;
-    rotate(pqx, pqy, pqz, pqw, c.tx, c.ty, c.tz, hx, hy, hz);
-    hx = p[kPx * B] + ps * hx;
-    hy = p[kPy * B] + ps * hy;
-    hz = p[kPz * B] + ps * hz;
+    if (kContinues) {
+      // The parent turned its rest axis, the direction of this joint's rest translation, onto
+      // its new tail at this bone's length: the joint sits on that tail (the lane's previous
+      // depth left it here). Equal to the transform below up to rounding, a quarter of the work.
+      hx = t[kTailX * B];
+      hy = t[kTailY * B];
+      hz = t[kTailZ * B];
+    } else {
+      rotate(pqx, pqy, pqz, pqw, c.tx, c.ty, c.tz, hx, hy, hz);
+      hx = p[kPx * B] + ps * hx;
+      hy = p[kPy * B] + ps * hy;
+      hz = p[kPz * B] + ps * hz;
+    }
     const float scale = ps * c.rs;
     const float length = scale * c.tail_distance;
     float dx, dy, dz;  // rest direction, world

@@ -95,6 +95,7 @@ class SpringLanes {
     float hit_radius;
     std::size_t center;    // driver table row of the joint's center (0: world space)
     std::uint32_t collider_mask;  // bit c: collides with the rig's collider c
+    bool continues;        // the joint is its parent's tail, so its head is the parent's new tail
   };
   struct LaneStart {
     int lane;          // rig lane that begins at this depth
@@ -102,8 +103,10 @@ class SpringLanes {
     int parent_driver; // rig driver of a root's parent, -1: the identity
   };
 
-  template <bool kSeed, bool kCenter>
+  template <bool kSeed, bool kCenter, bool kContinues>
   void runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h);
+  void runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane, std::size_t first_copy,
+                  std::size_t end_copy, float h);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
