@@ -43,6 +43,24 @@ Error parseSpringBonesTextChecked(const std::string& text, const std::string& ha
 /// memory: copying half a megabyte into a std::string cost a tenth of the load).
 Error parseSpringBonesTextView(std::string_view text, const std::string& hash, ModelEntry& out,
                                std::vector<Warning>& warnings);
+/// The entries of springBones.models[hash] as web/springbones.js hands them over when the caller
+/// gave an object (encodeEntries there) instead of JSON text, sparing JSON.stringify and the
+/// parse. Layout, little-endian (the JS writes typed arrays): a header of 4 u32 (entry count,
+/// bytes of the names, bytes of the centers, 0), then 6 doubles per entry (stiffness,
+/// gravityPower, drag, gravityDir x y z; 8-aligned after the header), then per entry the end of
+/// its name in the names, the end of its center in the centers (both u32, cumulative), its flags
+/// (u32, kEntry*), then the UTF-8 names and the UTF-8 centers, each section back to back.
+/// Accepts exactly what the fast text reader accepts (every value present readable and in range,
+/// no repeated name) and gives the same entries and warnings; false otherwise, including for any
+/// inconsistent layout, with `out` empty and no warning added: the caller then goes through the
+/// text, which gives the real warnings or error.
+inline constexpr std::uint32_t kEntryStiffness = 1, kEntryGravityPower = 2, kEntryGravityDir = 4, kEntryDrag = 8,
+                               kEntryCenter = 16,      ///< the entry has "center" (null or a name)
+                               kEntryCenterName = 32,  ///< ... and it is a name (its bytes in the centers)
+                               kEntryIsRoot = 64;      ///< isRoot is true (false and null read the same)
+inline constexpr std::size_t kEntriesHeaderBytes = 16, kEntryBytes = 48 + 3 * 4;
+bool readSpringBonesEntries(const std::uint8_t* data, std::size_t size, const std::string& hash, ModelEntry& out,
+                            std::vector<Warning>& warnings);
 /// Whether the fast readers take an input themselves (true) or leave it to the nlohmann path.
 /// For the same tests, to make sure the fast path is exercised.
 bool fastGltfReaderAccepts(const std::uint8_t* data, std::size_t size);

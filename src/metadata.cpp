@@ -184,11 +184,21 @@ struct ScannedBone {
   unsigned missing = 0;  ///< MissingParam bits: each one is a param-missing warning
 };
 
+// The values both fast readers (text and entries) take: those parseSpringBones reads without a
+// warning. Anything else is left to it.
+bool acceptParam(double value, const ParamRange& range, float& out) {
+  if (!std::isfinite(value) || !inRange(value, range)) return false;
+  out = static_cast<float>(value);
+  return true;
+}
+
+bool acceptGravityDirComponent(double value) {
+  return std::isfinite(value) && std::fabs(value) <= kGravityDirComponentLimit;
+}
+
 bool scanParam(JsonScan& scan, const ParamRange& range, float& out) {
   JsonNumber n;
-  if (!scan.number(n) || !std::isfinite(n.value) || !inRange(n.value, range)) return false;
-  out = static_cast<float>(n.value);
-  return true;
+  return scan.number(n) && acceptParam(n.value, range, out);
 }
 
 bool scanGravityDir(JsonScan& scan, glm::vec3& out) {
@@ -196,10 +206,7 @@ bool scanGravityDir(JsonScan& scan, glm::vec3& out) {
   if (!scan.consume('[')) return false;
   for (int i = 0; i < 3; ++i) {
     JsonNumber n;
-    if ((i > 0 && !scan.consume(',')) || !scan.number(n) || !std::isfinite(n.value) ||
-        std::fabs(n.value) > kGravityDirComponentLimit) {
-      return false;
-    }
+    if ((i > 0 && !scan.consume(',')) || !scan.number(n) || !acceptGravityDirComponent(n.value)) return false;
     v[i] = n.value;
   }
   return scan.consume(']') && unitGravityDir(v, out);
@@ -396,6 +403,95 @@ SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std
   }
 }
 
+// Entries handed over already decoded (readSpringBonesEntries, whose comment in json_scan.h has
+// the layout): the same acceptance as scanEntry, on values instead of text.
+bool readEntry(const std::uint8_t* values, std::uint32_t flags, ScannedBone& bone) {
+  double v[6];
+  std::memcpy(v, values, sizeof v);
+  BoneEntry& entry = bone.entry;
+  if ((flags & kEntryStiffness) && !acceptParam(v[0], kStiffnessRange, entry.params.stiffness)) return false;
+  if ((flags & kEntryGravityPower) && !acceptParam(v[1], kGravityPowerRange, entry.params.gravity_power)) {
+    return false;
+  }
+  if ((flags & kEntryDrag) && !acceptParam(v[2], kDragRange, entry.params.drag)) return false;
+  if (flags & kEntryGravityDir) {
+    double dir[3] = {v[3], v[4], v[5]};
+    for (double c : dir) {
+      if (!acceptGravityDirComponent(c)) return false;
+    }
+    if (!unitGravityDir(dir, entry.params.gravity_dir)) return false;
+  }
+  entry.has_center = (flags & kEntryCenter) != 0;
+  entry.is_root = (flags & kEntryIsRoot) != 0;
+  bone.missing = ((flags & kEntryStiffness) ? 0 : kMissStiffness) | ((flags & kEntryGravityPower) ? 0 : kMissGravityPower) |
+                 ((flags & kEntryGravityDir) ? 0 : kMissGravityDir) | ((flags & kEntryDrag) ? 0 : kMissDrag);
+  return true;
+}
+
+// The sections of readSpringBonesEntries' layout, located and bounds-checked by entriesLayout.
+struct EntriesLayout {
+  std::size_t count = 0;
+  const std::uint8_t* values = nullptr;       ///< 6 doubles per entry
+  const std::uint8_t* name_ends = nullptr;    ///< u32 per entry
+  const std::uint8_t* center_ends = nullptr;  ///< u32 per entry
+  const std::uint8_t* flags = nullptr;        ///< u32 per entry
+  const char* names = nullptr;
+  const char* centers = nullptr;
+  std::uint32_t name_bytes = 0, center_bytes = 0;
+};
+
+std::uint32_t u32At(const std::uint8_t* p, std::size_t index) {
+  std::uint32_t v;
+  std::memcpy(&v, p + 4 * index, sizeof v);
+  return v;
+}
+
+// False unless `size` is exactly what the header announces. In 64 bits: the announced sizes are
+// untrusted and would wrap around a 32-bit size_t (WebAssembly).
+bool entriesLayout(const std::uint8_t* data, std::size_t size, EntriesLayout& out) {
+  if (size < kEntriesHeaderBytes) return false;
+  const std::uint32_t count = u32At(data, 0);
+  out.name_bytes = u32At(data, 1);
+  out.center_bytes = u32At(data, 2);
+  if (u32At(data, 3) != 0 || count > kMaxMetadataBytes) return false;
+  const std::uint64_t expected = std::uint64_t{kEntriesHeaderBytes} + std::uint64_t{kEntryBytes} * count +
+                                 out.name_bytes + out.center_bytes;
+  if (expected != size) return false;
+  out.count = count;
+  out.values = data + kEntriesHeaderBytes;
+  out.name_ends = out.values + 48 * out.count;
+  out.center_ends = out.name_ends + 4 * out.count;
+  out.flags = out.center_ends + 4 * out.count;
+  out.names = reinterpret_cast<const char*>(out.flags + 4 * out.count);
+  out.centers = out.names + out.name_bytes;
+  return true;
+}
+
+// The entries into `bones` (sized to layout.count). Every end must follow the previous one and the
+// last must close its section; a center's bytes only with kEntryCenterName, which needs
+// kEntryCenter. No locals with destructors (see SPRINGBONES_NOINLINE).
+SPRINGBONES_NOINLINE bool readEntries(const EntriesLayout& layout, std::vector<ScannedBone>& bones) {
+  constexpr std::uint32_t kKnownFlags = kEntryStiffness | kEntryGravityPower | kEntryGravityDir | kEntryDrag |
+                                        kEntryCenter | kEntryCenterName | kEntryIsRoot;
+  std::uint32_t name_start = 0, center_start = 0;
+  for (std::size_t i = 0; i < layout.count; ++i) {
+    const std::uint32_t name_end = u32At(layout.name_ends, i), center_end = u32At(layout.center_ends, i);
+    const std::uint32_t flags = u32At(layout.flags, i);
+    if ((flags & ~kKnownFlags) != 0 || ((flags & kEntryCenterName) && !(flags & kEntryCenter))) return false;
+    if (name_end < name_start || name_end > layout.name_bytes || center_end < center_start ||
+        center_end > layout.center_bytes || (center_end != center_start && !(flags & kEntryCenterName))) {
+      return false;
+    }
+    ScannedBone& bone = bones[i];
+    bone.entry.name.assign(layout.names + name_start, name_end - name_start);
+    if (!readEntry(layout.values + 48 * i, flags, bone)) return false;
+    if (flags & kEntryCenterName) bone.entry.center.assign(layout.centers + center_start, center_end - center_start);
+    name_start = name_end;
+    center_start = center_end;
+  }
+  return name_start == layout.name_bytes && center_start == layout.center_bytes;
+}
+
 bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelEntry& out,
                 std::vector<Warning>& warnings) {
   std::vector<std::size_t> order(bones.size());
@@ -475,6 +571,22 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
     out.bones.push_back(std::move(bone));
   }
   return {};
+}
+
+bool readSpringBonesEntries(const std::uint8_t* data, std::size_t size, const std::string& hash, ModelEntry& out,
+                            std::vector<Warning>& warnings) {
+  out = ModelEntry{};
+  EntriesLayout layout;
+  if (!entriesLayout(data, size, layout)) return false;
+  std::vector<ScannedBone> bones(layout.count);
+  std::vector<Warning> entry_warnings;
+  if (!readEntries(layout, bones) || !finishScan(bones, hash, out, entry_warnings)) {
+    out = ModelEntry{};
+    return false;
+  }
+  warnings.insert(warnings.end(), std::make_move_iterator(entry_warnings.begin()),
+                  std::make_move_iterator(entry_warnings.end()));
+  return true;
 }
 
 namespace {

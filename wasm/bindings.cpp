@@ -418,16 +418,15 @@ RigOptions rigOptionsFrom(const std::string& text) {
   return options;
 }
 
-/// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text as `metadata_size`
-/// UTF-8 bytes at `metadata_data` (the text "null" for none; bytes, not a JS string, because
-/// embind converts strings with a per-character JavaScript loop), the models key (empty: the GLB's own content hash) and the rig options as JSON
-/// (empty for none). Returns the rig handle, or 0 with the error pending. The caller keeps
-/// ownership of `data`.
-int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data, std::size_t metadata_size,
-            const std::string& hash, const std::string& options_text) {
+/// The steps of loading a rig after the arguments: the rig options, the skeleton, then the model
+/// entry from `readModel(bytes, size, hash, model, warnings)`, the rig; in this order, which is
+/// the order of their errors. `hash` is the models key (empty: the GLB's own content hash).
+/// Returns the rig handle, or 0 with the error pending. The caller keeps ownership of `data`.
+template <typename ReadModel>
+int loadRigWith(std::uintptr_t data, std::size_t size, const std::string& hash, const std::string& options_text,
+                ReadModel&& readModel) {
   return guarded([&] {
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
-    const std::string_view metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
     RigOptions options;
     try {
       options = rigOptionsFrom(options_text);
@@ -440,14 +439,52 @@ int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data,
     loaded.hash = hash.empty() ? contentHash(bytes, size) : hash;
     ModelEntry model;
     std::vector<Warning> warnings;
-    if (Error e = parseSpringBonesTextView(metadata, loaded.hash, model, warnings)) {
-      return fail(e);
-    }
+    if (Error e = readModel(loaded.hash, model, warnings)) return fail(e);
     loaded.rig = buildRig(std::move(skeleton), model, std::move(warnings), options);
     const int handle = newHandle();
     g_rigs.emplace(handle, std::move(loaded));
     return handle;
   });
+}
+
+/// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text as `metadata_size`
+/// UTF-8 bytes at `metadata_data` (the text "null" for none; bytes, not a JS string, because
+/// embind converts strings with a per-character JavaScript loop), the models key (empty: the
+/// GLB's own content hash) and the rig options as JSON (empty for none). Returns the rig handle,
+/// or 0 with the error pending. The caller keeps ownership of `data`.
+int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data, std::size_t metadata_size,
+            const std::string& hash, const std::string& options_text) {
+  const std::string_view metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
+  return loadRigWith(data, size, hash, options_text,
+                     [&](const std::string& key, ModelEntry& model, std::vector<Warning>& warnings) {
+                       return parseSpringBonesTextView(metadata, key, model, warnings);
+                     });
+}
+
+/// loadRig with the entries of models[hash] handed over decoded (readSpringBonesEntries,
+/// json_scan.h) instead of the springBones JSON text: what the JS API does for a springBones
+/// object, sparing JSON.stringify and the parse. `hash` is not empty. Returns -1, with nothing
+/// done and no error pending, when the entries are not ones the fast reader takes; the caller then
+/// uses loadRig with the text, which gives the real warnings or error. Read before the skeleton
+/// (unlike loadRig's text) so a refusal costs nothing; readSpringBonesEntries has no errors, so
+/// the order of errors is loadRig's.
+int loadRigEntries(std::uintptr_t data, std::size_t size, std::uintptr_t entries_data, std::size_t entries_size,
+                   const std::string& hash, const std::string& options_text) {
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  const int read = guarded([&] {
+    return readSpringBonesEntries(reinterpret_cast<const std::uint8_t*>(entries_data), entries_size, hash, model,
+                                  warnings)
+               ? 1
+               : -1;
+  });
+  if (read != 1) return read;  // -1, or 0 when it ran out of memory
+  return loadRigWith(data, size, hash, options_text,
+                     [&](const std::string&, ModelEntry& out, std::vector<Warning>& out_warnings) {
+                       out = std::move(model);
+                       out_warnings = std::move(warnings);
+                       return Error{};
+                     });
 }
 
 /// Loads the spring bones of a .vrm (VRMC_springBone 1.0 or VRM 0.x secondaryAnimation) into a
@@ -789,6 +826,7 @@ EMSCRIPTEN_BINDINGS(springbones) {
   using namespace springbones;
   emscripten::function("takeError", &takeError);
   emscripten::function("loadRig", &loadRig);
+  emscripten::function("loadRigEntries", &loadRigEntries);
   emscripten::function("loadVrm", &loadVrm);
   emscripten::function("mainFileHash", &mainFileHash);
   emscripten::function("hashBytes", &hashBytes);

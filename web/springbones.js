@@ -100,14 +100,36 @@ class SpringBones {
    */
   loadRig(glbBytes, springBones, options) {
     const bytes = toBytes('loadRig: glbBytes', glbBytes);
-    const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
+    // A plain springBones object in the usual shape goes in decoded (springBonesEntries), without
+    // JSON.stringify and the core's parse; anything else as JSON text, stringified here so that
+    // its TypeErrors (cycles, BigInt) come first, as for every argument check.
+    const entries = springBonesEntries(springBones);
+    const metadataText = entries === null ? toJsonText('loadRig: springBones', springBones, /* allowNull */ true) : null;
     const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius']);
     const rigOptionsText = rigOptionsJson(opts);
     const m = this.#m;
     const hash = resolveHash(m, 'loadRig', opts);
-    // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
-    const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
-      (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
+    const handle = withBytes(m, bytes, (ptr, size) => {
+      if (entries !== null) {
+        // Without a hash the models key is the GLB's content hash, which the core computes: here
+        // first, to pick the model (the hash loadRig would compute itself). If that fails (out of
+        // memory), its error is dropped and the text path meets the failure again.
+        const key = hash !== '' ? hash : m.hashBytes(ptr, size);
+        if (key === '') m.takeError();
+        const modelEntries = key !== '' ? entries.get(key) : undefined;
+        if (modelEntries !== undefined) {
+          const h = withEntries(m, modelEntries,
+            (entriesPtr, entriesSize) => m.loadRigEntries(ptr, size, entriesPtr, entriesSize, key, rigOptionsText));
+          // -1: a value the core's fast readers do not take (out of range, a repeated name...):
+          // the text path reads it, with its warnings. Stringifying cannot throw here: springBones
+          // is made of plain values only (springBonesEntries).
+          if (h !== -1) return h;
+        }
+      }
+      // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
+      return withUtf8(m, metadataText ?? JSON.stringify(springBones),
+        (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText));
+    });
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -916,8 +938,7 @@ function toJsonText(what, value, allowNull) {
 // is written as its 3-byte WTF-8 form instead of TextEncoder's U+FFFD, so the core still sees
 // text that is not UTF-8 and reports metadata-bad-json rather than reading a replaced name.
 function utf8Bytes(text) {
-  const wellFormed = typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
-  if (wellFormed) return kTextEncoder.encode(text);
+  if (isWellFormed(text)) return kTextEncoder.encode(text);
   const out = [];
   for (const ch of text) {  // by code point: pairs stay together, lone surrogates come alone
     const cp = ch.codePointAt(0);
@@ -930,11 +951,235 @@ function utf8Bytes(text) {
   return Uint8Array.from(out);
 }
 
+// springBones as the core's readSpringBonesEntries takes it (src/json_scan.h): a Map from each
+// models key to its encodeEntries, when JSON.stringify would write text that the core reads to
+// the same result. That is: plain objects (prototype Object.prototype, no toJSON) and arrays,
+// only version 1 and models at the top, each model an object of entries holding only the known
+// keys, with finite numbers, 3-number gravityDirs, well-formed strings, booleans or null, and a
+// text certainly under the core's size limit. Anything else gives null and the caller sends the
+// JSON text, which is also where its errors and warnings come from (so every model is checked,
+// not only the one the hash picks: another model's lone surrogate is metadata-bad-json there).
+// Ranges are left to the core, which declines (-1) what it would warn about.
+//
+// The values are read as JSON.stringify reads them: own enumerable string keys (for...in, with
+// Object.prototype checked to add none), each property read once. A getter or proxy that throws
+// makes this null, and JSON.stringify then throws the error to the caller as before; when the
+// core declines, the text path reads (and runs getters) a second time.
+function springBonesEntries(value) {
+  if (value === null || typeof value !== 'object') return null;
+  try {
+    return encodeSpringBones(value);
+  } catch {
+    return null;
+  }
+}
+
+function encodeSpringBones(value) {
+  for (const inherited in Object.prototype) return null;  // eslint-disable-line no-unused-vars
+  if (!isPlainObject(value)) return null;
+  let version;
+  let models;
+  for (const key in value) {
+    if (key === 'version') version = value[key];
+    else if (key === 'models') models = value[key];
+    else return null;
+  }
+  if (version !== 1 || !isPlainObject(models)) return null;
+  const out = new Map();
+  let textBound = 64;  // an upper bound of the UTF-8 length of JSON.stringify(value)
+  for (const key in models) {
+    if (!isWellFormed(key)) return null;
+    const encoded = encodeEntries(models[key]);
+    if (encoded === null) return null;
+    out.set(key, encoded);
+    textBound += 6 * key.length + 8 + encoded.textBound;
+  }
+  return textBound <= kMaxMetadataBytes ? out : null;
+}
+
+const kMaxMetadataBytes = 16 * 1024 * 1024;  // src/springbones.h
+// src/json_scan.h: kEntry* flags, kEntriesHeaderBytes, kEntryBytes.
+const kEntryStiffness = 1;
+const kEntryGravityPower = 2;
+const kEntryGravityDir = 4;
+const kEntryDrag = 8;
+const kEntryCenter = 16;
+const kEntryCenterName = 32;
+const kEntryIsRoot = 64;
+const kEntriesHeaderBytes = 16;
+const kEntryBytes = 60;
+
+// toJSON is looked up as JSON.stringify does (own or inherited); any value declines.
+function isPlainObject(v) {
+  return v !== null && typeof v === 'object' && Object.getPrototypeOf(v) === Object.prototype && v.toJSON === undefined;
+}
+
+function isFiniteNumber(v) {
+  return typeof v === 'number' && Number.isFinite(v);
+}
+
+// One model in the layout of readSpringBonesEntries: { fixed, names, centers, textBound }, the
+// header, values, ends and flags in `fixed`, the UTF-8 names and centers apart (withEntries puts
+// them together in WASM memory); or null. Numbers are stored + 0: JSON has no -0, the text path
+// reads 0.
+function encodeEntries(model) {
+  if (!isPlainObject(model)) return null;
+  const names = Object.keys(model);  // what JSON.stringify writes (a for...in over model is slower)
+  const count = names.length;
+  const fixed = new ArrayBuffer(kEntriesHeaderBytes + kEntryBytes * count);
+  const values = new Float64Array(fixed, kEntriesHeaderBytes, 6 * count);
+  const words = new Uint32Array(fixed, kEntriesHeaderBytes + 48 * count, 3 * count);  // name ends, center ends, flags
+  const centers = [];
+  let nameEnd = 0;
+  let centerEnd = 0;
+  let textBound = 2;
+  for (let i = 0; i < count; ++i) {
+    const name = names[i];
+    const entry = model[name];
+    if (!isPlainObject(entry)) return null;
+    const at = 6 * i;
+    let flags = 0;
+    // One pass over the keys the entry has (a read of each known key plus a count of the keys
+    // was slower); an unknown key, or a value JSON.stringify would write otherwise (undefined,
+    // NaN, a Number object...), declines.
+    for (const key in entry) {
+      const v = entry[key];
+      switch (key) {
+        case 'stiffness':
+          if (!isFiniteNumber(v)) return null;
+          values[at] = v + 0;
+          flags |= kEntryStiffness;
+          break;
+        case 'gravityPower':
+          if (!isFiniteNumber(v)) return null;
+          values[at + 1] = v + 0;
+          flags |= kEntryGravityPower;
+          break;
+        case 'drag':
+          if (!isFiniteNumber(v)) return null;
+          values[at + 2] = v + 0;
+          flags |= kEntryDrag;
+          break;
+        case 'gravityDir': {
+          if (!Array.isArray(v) || v.toJSON !== undefined || v.length !== 3) return null;
+          const x = v[0];
+          const y = v[1];
+          const z = v[2];
+          if (!isFiniteNumber(x) || !isFiniteNumber(y) || !isFiniteNumber(z)) return null;
+          values[at + 3] = x + 0;
+          values[at + 4] = y + 0;
+          values[at + 5] = z + 0;
+          flags |= kEntryGravityDir;
+          break;
+        }
+        case 'center':
+          if (typeof v === 'string') {
+            centers.push(v);
+            centerEnd += v.length;
+            textBound += 6 * v.length;
+            flags |= kEntryCenter | kEntryCenterName;
+          } else if (v === null) {
+            flags |= kEntryCenter;
+          } else {
+            return null;
+          }
+          break;
+        case 'isRoot':
+          if (v === true) flags |= kEntryIsRoot;
+          else if (v !== false && v !== null) return null;
+          break;
+        default:
+          return null;
+      }
+    }
+    nameEnd += name.length;  // in UTF-16 units: bytes when all is ASCII, else redone below
+    words[i] = nameEnd;
+    words[count + i] = centerEnd;
+    words[2 * count + i] = flags;
+    // Each string escaped at most 6 bytes per unit; keys, numbers (at most 25 characters) and
+    // punctuation well under 300.
+    textBound += 6 * name.length + 300;
+  }
+  const nameText = names.join('');
+  const centerText = centers.join('');
+  const nameBytes = kTextEncoder.encode(nameText);
+  const centerBytes = kTextEncoder.encode(centerText);
+  if (nameBytes.length !== nameText.length || centerBytes.length !== centerText.length) {
+    // Not all ASCII: the ends in bytes, string by string, which also finds lone surrogates
+    // (TextEncoder would write U+FFFD; in the JSON text they are metadata-bad-json).
+    if (!utf8Ends(names, words, 0, count, -1) || !utf8Ends(centers, words, count, count, 2 * count)) return null;
+  }
+  new Uint32Array(fixed, 0, 4).set([count, nameBytes.length, centerBytes.length, 0]);
+  return { fixed, names: nameBytes, centers: centerBytes, textBound };
+}
+
+// words[endsAt + i] = the UTF-8 end of strings[...] for each of `count` entries: with flagsAt < 0
+// one string per entry, else only for entries whose flags (words[flagsAt + i]) have
+// kEntryCenterName. False for a string that is not well formed.
+function utf8Ends(strings, words, endsAt, count, flagsAt) {
+  let end = 0;
+  let next = 0;
+  for (let i = 0; i < count; ++i) {
+    if (flagsAt < 0 || (words[flagsAt + i] & kEntryCenterName) !== 0) {
+      const length = utf8Length(strings[next++]);
+      if (length < 0) return false;
+      end += length;
+    }
+    words[endsAt + i] = end;
+  }
+  return true;
+}
+
+// The UTF-8 length of a string, or -1 when it has a lone surrogate.
+function utf8Length(text) {
+  let length = 0;
+  for (let i = 0; i < text.length; ++i) {
+    const c = text.charCodeAt(i);
+    if (c < 0x80) {
+      length += 1;
+    } else if (c < 0x800) {
+      length += 2;
+    } else if (c >= 0xd800 && c <= 0xdfff) {
+      const next = text.charCodeAt(i + 1);  // NaN past the end
+      if (c > 0xdbff || !(next >= 0xdc00 && next <= 0xdfff)) return -1;
+      length += 4;
+      ++i;
+    } else {
+      length += 3;
+    }
+  }
+  return length;
+}
+
+// String.prototype.isWellFormed is recent (2023); the regex is the fallback for older engines.
+function isWellFormed(text) {
+  return typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
+}
+
+// An encodeEntries result in WASM memory for the duration of fn(ptr, size): its three parts back
+// to back, without assembling them in JavaScript first.
+function withEntries(m, encoded, fn) {
+  const { fixed, names, centers } = encoded;
+  const size = fixed.byteLength + names.length + centers.length;
+  const ptr = m._malloc(size);
+  if (ptr === 0) {
+    throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
+  }
+  try {
+    const heap = m.HEAPU8;  // read after malloc: it may have grown the memory
+    heap.set(new Uint8Array(fixed), ptr);
+    heap.set(names, ptr + fixed.byteLength);
+    heap.set(centers, ptr + fixed.byteLength + names.length);
+    return call(() => fn(ptr, size));
+  } finally {
+    m._free(ptr);
+  }
+}
+
 // Text as UTF-8 bytes in WASM memory for the duration of fn(ptr, size): encoded straight into
 // the heap when it is well formed (no intermediate array), else through utf8Bytes.
 function withUtf8(m, text, fn) {
-  const wellFormed = typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
-  if (!wellFormed) return withBytes(m, utf8Bytes(text), fn);
+  if (!isWellFormed(text)) return withBytes(m, utf8Bytes(text), fn);
   const capacity = Math.max(1, 3 * text.length);  // UTF-8 takes at most 3 bytes per UTF-16 unit
   const ptr = m._malloc(capacity);
   if (ptr === 0) {
