@@ -196,12 +196,34 @@ bool acceptGravityDirComponent(double value) {
   return std::isfinite(value) && std::fabs(value) <= kGravityDirComponentLimit;
 }
 
+// unitGravityDir for the fast readers, remembering the last input: the entries of a wearable
+// nearly always share one gravityDir, and its division and square root were a tenth of reading
+// them. Same bits in, same bits out, so the result is unitGravityDir's.
+class GravityDirs {
+ public:
+  bool unit(double v[3], glm::vec3& out) {
+    if (known_ && std::memcmp(v, last_, sizeof last_) == 0) {
+      out = unit_;
+      return true;
+    }
+    std::memcpy(last_, v, sizeof last_);
+    known_ = unitGravityDir(v, unit_);  // v is scaled in place: last_ keeps the input
+    out = unit_;
+    return known_;
+  }
+
+ private:
+  double last_[3] = {0, 0, 0};
+  glm::vec3 unit_{0.0f};
+  bool known_ = false;  ///< last_ had a direction, unit_ is it
+};
+
 bool scanParam(JsonScan& scan, const ParamRange& range, float& out) {
   JsonNumber n;
   return scan.number(n) && acceptParam(n.value, range, out);
 }
 
-bool scanGravityDir(JsonScan& scan, glm::vec3& out) {
+bool scanGravityDir(JsonScan& scan, GravityDirs& dirs, glm::vec3& out) {
   double v[3];
   if (!scan.consume('[')) return false;
   for (int i = 0; i < 3; ++i) {
@@ -209,10 +231,10 @@ bool scanGravityDir(JsonScan& scan, glm::vec3& out) {
     if ((i > 0 && !scan.consume(',')) || !scan.number(n) || !acceptGravityDirComponent(n.value)) return false;
     v[i] = n.value;
   }
-  return scan.consume(']') && unitGravityDir(v, out);
+  return scan.consume(']') && dirs.unit(v, out);
 }
 
-bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
+bool scanEntry(JsonScan& scan, ScannedBone& bone, GravityDirs& dirs, std::string& scratch) {
   enum : unsigned { kStiffness = 1, kGravityPower = 2, kGravityDir = 4, kDrag = 8, kCenter = 16, kIsRoot = 32 };
   unsigned seen = 0;
   BoneEntry& entry = bone.entry;
@@ -234,7 +256,7 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
         ok = scanParam(scan, kDragRange, entry.params.drag);
       } else if (keyIs(key, "gravityDir")) {
         field = kGravityDir;
-        ok = scanGravityDir(scan, entry.params.gravity_dir);
+        ok = scanGravityDir(scan, dirs, entry.params.gravity_dir);
       } else if (keyIs(key, "center")) {
         field = kCenter;
         entry.has_center = true;
@@ -266,6 +288,7 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, std::string& scratch) {
 SPRINGBONES_NOINLINE bool scanSpringBones(std::string_view text, const std::string& hash,
                                           std::vector<ScannedBone>& bones, std::string& scratch) {
   JsonScan scan(text.data(), text.data() + text.size());
+  GravityDirs dirs;
   // An entry takes at least 7 bytes ("x":{}, plus a key); one in 64 bytes is usual. Reserving
   // spares the moves of growth (each an out-of-line call at -Oz).
   bones.reserve(std::min<std::size_t>(text.size() / 64, 1 << 16));
@@ -300,7 +323,7 @@ SPRINGBONES_NOINLINE bool scanSpringBones(std::string_view text, const std::stri
               if (!scan.string(name, scratch) || !scan.consume(':')) return false;
               bones.emplace_back();
               bones.back().entry.name.assign(name.data(), name.size());
-              if (!scanEntry(scan, bones.back(), scratch)) return false;
+              if (!scanEntry(scan, bones.back(), dirs, scratch)) return false;
             } while (scan.consume(','));
             if (!scan.consume('}')) return false;
           } while (scan.consume(','));
@@ -405,7 +428,7 @@ SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std
 
 // Entries handed over already decoded (readSpringBonesEntries, whose comment in json_scan.h has
 // the layout): the same acceptance as scanEntry, on values instead of text.
-bool readEntry(const std::uint8_t* values, std::uint32_t flags, ScannedBone& bone) {
+bool readEntry(const std::uint8_t* values, std::uint32_t flags, GravityDirs& dirs, ScannedBone& bone) {
   double v[6];
   std::memcpy(v, values, sizeof v);
   BoneEntry& entry = bone.entry;
@@ -419,7 +442,7 @@ bool readEntry(const std::uint8_t* values, std::uint32_t flags, ScannedBone& bon
     for (double c : dir) {
       if (!acceptGravityDirComponent(c)) return false;
     }
-    if (!unitGravityDir(dir, entry.params.gravity_dir)) return false;
+    if (!dirs.unit(dir, entry.params.gravity_dir)) return false;
   }
   entry.has_center = (flags & kEntryCenter) != 0;
   entry.is_root = (flags & kEntryIsRoot) != 0;
@@ -474,6 +497,7 @@ SPRINGBONES_NOINLINE bool readEntries(const EntriesLayout& layout, std::vector<S
   constexpr std::uint32_t kKnownFlags = kEntryStiffness | kEntryGravityPower | kEntryGravityDir | kEntryDrag |
                                         kEntryCenter | kEntryCenterName | kEntryIsRoot;
   std::uint32_t name_start = 0, center_start = 0;
+  GravityDirs dirs;
   for (std::size_t i = 0; i < layout.count; ++i) {
     const std::uint32_t name_end = u32At(layout.name_ends, i), center_end = u32At(layout.center_ends, i);
     const std::uint32_t flags = u32At(layout.flags, i);
@@ -484,7 +508,7 @@ SPRINGBONES_NOINLINE bool readEntries(const EntriesLayout& layout, std::vector<S
     }
     ScannedBone& bone = bones[i];
     bone.entry.name.assign(layout.names + name_start, name_end - name_start);
-    if (!readEntry(layout.values + 48 * i, flags, bone)) return false;
+    if (!readEntry(layout.values + 48 * i, flags, dirs, bone)) return false;
     if (flags & kEntryCenterName) bone.entry.center.assign(layout.centers + center_start, center_end - center_start);
     name_start = name_end;
     center_start = center_end;

@@ -162,6 +162,17 @@ TEST(SpringBonesEntries, SameEntriesAndWarningsAsTheText) {
     }
   }
   expectSameAsText(many, "1500 entries");
+  // Runs of one gravityDir (remembered between entries) broken by others, -0 apart from 0.
+  const double dirs[][3] = {{0, -1, 0}, {0, -1, 0}, {-0.0, -1, 0}, {0, -1, -0.0}, {0, -1, 0}, {3, 4, 1.2},
+                            {3, 4, 1.2}, {1e-5, 0, 0}, {0, -1, 0}};
+  std::vector<Entry> runs;
+  for (const auto& dir : dirs) {
+    Entry e;
+    e.name = "springbone_" + std::to_string(runs.size());
+    std::memcpy(&e.values[3], dir, sizeof dir);
+    runs.push_back(e);
+  }
+  expectSameAsText(runs, "runs of gravityDirs");
   std::vector<Entry> bounds(1);
   bounds[0].name = "springbone_bounds";
   for (double stiffness : {0.0, 4.0}) {
@@ -190,6 +201,12 @@ TEST(SpringBonesEntries, RefusesWhatTheTextReadersWarnAbout) {
   std::vector<Entry> zero = sample();
   zero[0].values[3] = zero[0].values[4] = zero[0].values[5] = 0;
   expectRefused(encode(zero), "gravityDir without a direction");
+  zero[1].values[3] = zero[1].values[4] = zero[1].values[5] = 0;
+  expectRefused(encode(zero), "the same gravityDir without a direction twice");
+  std::vector<Entry> after_good = sample();  // entry 0 has [0,-1,0]; entry 1 a zero one after it
+  after_good[1].flags |= kEntryGravityDir;
+  after_good[1].values[3] = after_good[1].values[4] = after_good[1].values[5] = 0;
+  expectRefused(encode(after_good), "a gravityDir without a direction after one with");
   std::vector<Entry> repeated = sample();
   repeated[1].name = repeated[0].name;
   expectRefused(encode(repeated), "a repeated name (the text reader keeps the last)");
