@@ -111,23 +111,34 @@ void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& 
 // ---------------------------------------------------------------------------------------------
 // The pool
 
+namespace {
+
+// The pools alive, one per rig. A pool takes its entry out when it dies (see acquire), so nothing
+// of it stays allocated: an entry left until a later acquire kept the pool's own storage, and a
+// dead pool's memory then depended on when the next rig happened to be instanced.
+// Never destroyed: pools owned by other static objects may die after it at exit.
+std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>>& livePools() {
+  static auto* pools = new std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>>();
+  return *pools;
+}
+
+}  // namespace
+
 std::shared_ptr<SpringLanes> SpringLanes::acquire(const std::shared_ptr<const Rig>& rig) {
-  // One pool per rig alive; entries of freed pools are dropped as we go.
-  static std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>> pools;
-  std::shared_ptr<SpringLanes> found;
-  for (std::size_t i = 0; i < pools.size();) {
-    std::shared_ptr<SpringLanes> pool = pools[i].second.lock();
-    if (!pool) {
-      pools[i] = pools.back();
-      pools.pop_back();
-      continue;
-    }
-    if (pools[i].first == rig.get()) found = std::move(pool);
-    ++i;
+  auto& pools = livePools();
+  for (const auto& entry : pools) {
+    if (entry.first != rig.get()) continue;
+    if (std::shared_ptr<SpringLanes> pool = entry.second.lock()) return pool;
   }
-  if (found) return found;
-  auto pool = std::make_shared<SpringLanes>(rig);
-  pools.emplace_back(rig.get(), pool);
+  // Not make_shared: its single allocation would outlive the pool for as long as a weak_ptr does.
+  const Rig* key = rig.get();
+  std::shared_ptr<SpringLanes> pool(new SpringLanes(rig), [key](SpringLanes* dying) {
+    auto& all = livePools();
+    all.erase(std::remove_if(all.begin(), all.end(), [key](const auto& entry) { return entry.first == key; }),
+              all.end());
+    delete dying;
+  });
+  pools.emplace_back(key, pool);
   return pool;
 }
 
