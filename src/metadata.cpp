@@ -180,7 +180,7 @@ class EntryReader {
 constexpr unsigned kMissStiffness = 1, kMissGravityPower = 2, kMissGravityDir = 4, kMissDrag = 8;
 
 struct ScannedBone {
-  BoneEntry entry;       ///< name, params, center, is_root; path is set after sorting
+  BoneEntry entry;       ///< name, params, center, is_root
   unsigned missing = 0;  ///< MissingParam bits: each one is a param-missing warning
 };
 
@@ -385,43 +385,34 @@ SPRINGBONES_NOINLINE bool sortScanned(const std::vector<ScannedBone>& bones, std
   return true;
 }
 
-// The entries in that order, each with its path and its param-missing warnings, as
-// parseSpringBones would produce them. (No locals with destructors: see SPRINGBONES_NOINLINE.)
-SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std::vector<std::size_t>& order,
-                                      const std::string& model_path, ModelEntry& out,
+// An entry's param-missing warnings, in the order parseSpringBones reads the params: stiffness,
+// gravityPower, gravityDir, drag.
+SPRINGBONES_NOINLINE void warnMissing(const ModelEntry& model, const ScannedBone& bone,
                                       std::vector<Warning>& warnings) {
+  const std::string path = model.entryPath(bone.entry);
+  if (bone.missing & kMissStiffness) {
+    warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + "/stiffness"});
+  }
+  if (bone.missing & kMissGravityPower) {
+    warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + "/gravityPower"});
+  }
+  if (bone.missing & kMissGravityDir) {
+    warnings.push_back(Warning{"param-missing", kGravityDirMissing, path + "/gravityDir"});
+  }
+  if (bone.missing & kMissDrag) {
+    warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + "/drag"});
+  }
+}
+
+// The entries in that order, with their param-missing warnings, as parseSpringBones would produce
+// them. (No locals with destructors: see SPRINGBONES_NOINLINE.)
+SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std::vector<std::size_t>& order,
+                                      ModelEntry& out, std::vector<Warning>& warnings) {
   out.enabled = true;
   out.bones.reserve(bones.size());
   for (std::size_t index : order) {
     ScannedBone& bone = bones[index];
-    std::string& path = bone.entry.path;
-    // model_path + pointerToken(name), in bulk when the name needs no escaping (at -Oz every
-    // character appended alone is a call).
-    const std::string& name = bone.entry.name;
-    bool plain = true;  // no '~' or '/' to escape
-    for (char c : name) plain = plain && c != '~' && c != '/';
-    if (plain) {
-      path.resize(model_path.size() + 1 + name.size());
-      char* p = &path[0];
-      std::memcpy(p, model_path.data(), model_path.size());
-      p[model_path.size()] = '/';
-      std::memcpy(p + model_path.size() + 1, name.data(), name.size());
-    } else {
-      path = model_path + pointerToken(name);
-    }
-    // The order parseSpringBones reads them in: stiffness, gravityPower, gravityDir, drag.
-    if (bone.missing & kMissStiffness) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + "/stiffness"});
-    }
-    if (bone.missing & kMissGravityPower) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + "/gravityPower"});
-    }
-    if (bone.missing & kMissGravityDir) {
-      warnings.push_back(Warning{"param-missing", kGravityDirMissing, path + "/gravityDir"});
-    }
-    if (bone.missing & kMissDrag) {
-      warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + "/drag"});
-    }
+    if (bone.missing != 0) warnMissing(out, bone, warnings);
     out.bones.push_back(std::move(bone.entry));
   }
 }
@@ -521,7 +512,8 @@ bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelE
   std::vector<std::size_t> order(bones.size());
   std::vector<SortKey> keys;
   if (!sortScanned(bones, keys, order)) return false;
-  emitScanned(bones, order, "/models" + pointerToken(hash), out, warnings);
+  out.path = "/models" + pointerToken(hash);
+  emitScanned(bones, order, out, warnings);
   return true;
 }
 
@@ -574,6 +566,7 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
                  model_path};
   }
   out.enabled = true;
+  out.path = model_path;
   out.bones.reserve(model->size());
   for (auto it = model->begin(); it != model->end(); ++it) {
     const std::string path = model_path + pointerToken(it.key());
@@ -585,7 +578,6 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
     }
     BoneEntry bone;
     bone.name = it.key();
-    bone.path = path;
     bone.params.stiffness = reader.readScalar(*it, kStiffnessRange, path);
     bone.params.gravity_power = reader.readScalar(*it, kGravityPowerRange, path);
     bone.params.gravity_dir = reader.readGravityDir(*it, path);
@@ -596,6 +588,8 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
   }
   return {};
 }
+
+std::string ModelEntry::entryPath(const BoneEntry& bone) const { return path + pointerToken(bone.name); }
 
 bool readSpringBonesEntries(const std::uint8_t* data, std::size_t size, const std::string& hash, ModelEntry& out,
                             std::vector<Warning>& warnings) {

@@ -177,15 +177,16 @@ class RigBuilder {
     const BoneEntry& entry = model_.bones[e];
     const int matches = matches_[e];
     if (matches == 0) {
-      warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node", entry.path);
+      warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node",
+           model_.entryPath(entry));
     } else if (!containsSpringBoneToken(entry.name)) {
       warn("bone-not-spring",
            "metadata names '" + entry.name + "', whose name lacks the 'springbone' token; the entry is ignored",
-           entry.path);
+           model_.entryPath(entry));
     } else if (matches > 1) {
       warn("duplicate-node-name",
            "the GLB has " + std::to_string(matches) + " nodes named '" + entry.name + "'; the entry applies to each",
-           entry.path);
+           model_.entryPath(entry));
     }
   }
 
@@ -213,7 +214,7 @@ class RigBuilder {
     warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
                             all[parent_chain].name +
                             "'; it is simulated as a member of that chain with its own parameters",
-         model_.bones[entry].path);
+         model_.entryPath(model_.bones[entry]));
   }
 
   int driverFor(int node) {
@@ -240,11 +241,11 @@ class RigBuilder {
       if (node < 0) {
         warn("center-not-found", "center '" + entry.center + "' of '" + entry.name +
                                      "' is not a node of the GLB; using world space",
-             entry.path + "/center");
+             model_.entryPath(entry) + "/center");
       } else if (is_candidate_[node] || chain_of_node_[node] >= 0) {
         warn("center-is-spring-bone", "center '" + entry.center + "' of '" + entry.name +
                                           "' is a spring bone itself; using world space",
-             entry.path + "/center");
+             model_.entryPath(entry) + "/center");
       } else {
         driver = driverFor(node);
       }
@@ -318,7 +319,7 @@ class RigBuilder {
     warn("tip-entry-ignored", "'" + nodes()[n].name +
                                   "' is a chain tip (no children): it only marks where its parent bone ends, so "
                                   "its parameters are ignored",
-         model_.bones[entry].path);
+         model_.entryPath(model_.bones[entry]));
   }
 
   SPRINGBONES_NOINLINE void warnZeroLength(int n, int tail) {

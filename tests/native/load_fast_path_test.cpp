@@ -75,12 +75,14 @@ std::string compareMetadata(const std::string& text, const std::string& hash) {
       return "warning " + std::to_string(i) + " differs: " + x.message + " vs " + y.message;
     }
   }
-  if (fast.enabled != checked.enabled || fast.bones.size() != checked.bones.size()) return "entries differ";
+  if (fast.enabled != checked.enabled || fast.path != checked.path || fast.bones.size() != checked.bones.size()) {
+    return "entries differ";
+  }
   for (std::size_t i = 0; i < fast.bones.size(); ++i) {
     const BoneEntry& x = fast.bones[i];
     const BoneEntry& y = checked.bones[i];
     const std::string where = "entry " + std::to_string(i) + " ('" + y.name + "'): ";
-    if (x.name != y.name || x.path != y.path) return where + "name or path differs";
+    if (x.name != y.name || fast.entryPath(x) != checked.entryPath(y)) return where + "name or path differs";
     if (x.is_root != y.is_root || x.has_center != y.has_center || x.center != y.center) {
       return where + "isRoot or center differs";
     }

@@ -82,7 +82,7 @@ TEST(Metadata, ReadsEveryFieldOfACompleteEntryWithoutWarnings) {
   EXPECT_TRUE(p.warnings.empty()) << test::describeWarnings(p.warnings);
   const BoneEntry& b = p.model.bones[0];
   EXPECT_EQ(b.name, kBone);
-  EXPECT_EQ(b.path, kBonePath);
+  EXPECT_EQ(p.model.entryPath(b), kBonePath);
   EXPECT_FLOAT_EQ(b.params.stiffness, 1.25f);
   EXPECT_FLOAT_EQ(b.params.gravity_power, 0.75f);
   EXPECT_TRUE(vecNear(b.params.gravity_dir, {0, -1, 0}, 0));
@@ -573,7 +573,8 @@ TEST(Metadata, WarningPathsAreJsonPointersWithEscapedKeys) {
   const Parsed p = parse(sb, hash);
   ASSERT_FALSE(p.error);
   ASSERT_EQ(p.model.bones.size(), 1u);
-  EXPECT_EQ(p.model.bones[0].path, "/models/weird~1hash~01/SpringBone~1a~0b");
+  EXPECT_EQ(p.model.path, "/models/weird~1hash~01");
+  EXPECT_EQ(p.model.entryPath(p.model.bones[0]), "/models/weird~1hash~01/SpringBone~1a~0b");
   findWarning(p.warnings, "param-missing", "/models/weird~1hash~01/SpringBone~1a~0b/stiffness");
   // Every path must resolve in the document it describes.
   for (const Warning& w : p.warnings) {

@@ -110,12 +110,13 @@ void expectSameAsText(const std::vector<Entry>& entries, const char* why) {
   ASSERT_TRUE(read(encode(entries), from_entries, entry_warnings, "h")) << why;
   ASSERT_FALSE(parseSpringBonesText(asText(entries, "h"), "h", from_text, text_warnings)) << why;
   EXPECT_EQ(from_entries.enabled, from_text.enabled) << why;
+  EXPECT_EQ(from_entries.path, from_text.path) << why;
   ASSERT_EQ(from_entries.bones.size(), from_text.bones.size()) << why;
   for (std::size_t i = 0; i < from_text.bones.size(); ++i) {
     const BoneEntry& a = from_entries.bones[i];
     const BoneEntry& b = from_text.bones[i];
     EXPECT_EQ(a.name, b.name) << why;
-    EXPECT_EQ(a.path, b.path) << why;
+    EXPECT_EQ(from_entries.entryPath(a), from_text.entryPath(b)) << why;
     EXPECT_EQ(a.is_root, b.is_root) << why;
     EXPECT_EQ(a.has_center, b.has_center) << why;
     EXPECT_EQ(a.center, b.center) << why;
