@@ -142,18 +142,27 @@ class RigBuilder {
   SPRINGBONES_NOINLINE void indexNodes() {
     const auto& all = nodes();
     is_candidate_.resize(all.size());
-    first_node_by_name_.reserve(all.size());
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      is_candidate_[i] = containsSpringBoneToken(all[i].name);
-      first_node_by_name_.insertFirst(all[i].name, static_cast<int>(i));
+    for (std::size_t i = 0; i < all.size(); ++i) is_candidate_[i] = containsSpringBoneToken(all[i].name);
+  }
+
+  // The first node named `name`, or -1. Only centers and colliders look nodes up by name, and most
+  // wearables have neither: the index is built on the first lookup (for 7,000 nodes it was a
+  // tenth of the build).
+  SPRINGBONES_NOINLINE int nodeNamed(std::string_view name) {
+    if (!nodes_indexed_) {
+      const auto& all = nodes();
+      first_node_by_name_.reserve(all.size());
+      for (std::size_t i = 0; i < all.size(); ++i) first_node_by_name_.insertFirst(all[i].name, static_cast<int>(i));
+      nodes_indexed_ = true;
     }
+    return first_node_by_name_.find(name);
   }
 
   // Entry per node, by exact (case-sensitive) name. Entries that cannot apply are reported.
   void matchEntries() {
     matchNodes();
     for (std::size_t e = 0; e < model_.bones.size(); ++e) {
-      if (matches_[e] != 1 || !containsSpringBoneToken(model_.bones[e].name)) warnEntry(e);
+      if (matches_[e] != 1 || !entry_is_spring_[e]) warnEntry(e);
     }
   }
 
@@ -161,11 +170,17 @@ class RigBuilder {
     const auto& all = nodes();
     entry_of_node_.assign(all.size(), -1);
     entry_by_name_.reserve(model_.bones.size());
+    entry_is_spring_.resize(model_.bones.size());
+    bool every_entry_spring = true;
     for (std::size_t e = 0; e < model_.bones.size(); ++e) {
       entry_by_name_.insertFirst(model_.bones[e].name, static_cast<int>(e));
+      entry_is_spring_[e] = containsSpringBoneToken(model_.bones[e].name);
+      every_entry_spring = every_entry_spring && entry_is_spring_[e];
     }
     matches_.assign(model_.bones.size(), 0);
     for (std::size_t i = 0; i < all.size(); ++i) {
+      // A node named without the token can only match an entry named without it.
+      if (every_entry_spring && !is_candidate_[i]) continue;
       const int entry = entry_by_name_.find(all[i].name);
       if (entry < 0) continue;
       ++matches_[entry];
@@ -237,7 +252,7 @@ class RigBuilder {
     const BoneEntry& entry = model_.bones[entry_index];
     int driver = -1;
     if (!entry.center.empty()) {
-      const int node = first_node_by_name_.find(entry.center);
+      const int node = nodeNamed(entry.center);
       if (node < 0) {
         warn("center-not-found", "center '" + entry.center + "' of '" + entry.name +
                                      "' is not a node of the GLB; using world space",
@@ -345,7 +360,7 @@ class RigBuilder {
         continue;
       }
       int driver = -1;
-      const int node = first_node_by_name_.find(spec.node);
+      const int node = nodeNamed(spec.node);
       if (node >= 0) {
         if (is_candidate_[node] || chain_of_node_[node] >= 0) {
           warn("collider-on-spring-bone", "collider node '" + spec.node + "' is a spring bone; ignored");
@@ -380,11 +395,13 @@ class RigBuilder {
   std::vector<int> root_nodes_;
   // Views of the skeleton's names (the rig owns the skeleton and never changes it), so indexing
   // 7,000 nodes copies no strings.
-  NameIndex first_node_by_name_;
+  NameIndex first_node_by_name_;  ///< filled by nodeNamed
+  bool nodes_indexed_ = false;
   std::unordered_map<int, int> center_of_entry_;
   // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
   NameIndex entry_by_name_;
   std::vector<int> matches_;
+  std::vector<bool> entry_is_spring_;  ///< the entry's name has the token
   std::vector<int> joint_of_node_;
   std::vector<int> queue_;
   std::vector<int> driver_of_node_;  ///< node -> driver, -1 (sized on first use)
