@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -381,6 +382,24 @@ TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
     EXPECT_FALSE(fastSpringBonesReaderAccepts(repeated, "h"));
     EXPECT_EQ(compareMetadata(repeated, "h"), "");
   }
+  // Random names (the sort goes byte by byte through whichever of the 8 bytes differ): 2,000
+  // of 0 to 12 letters after the prefix, so that every byte varies and many names tie on all 8.
+  std::uniform_int_distribution<int> length(0, 12), letter('a', 'd');
+  std::set<std::string> unique;
+  while (unique.size() < 2000) {
+    std::string name = "springbone_";
+    for (int k = length(rng); k > 0; --k) name += static_cast<char>(letter(rng));
+    unique.insert(name);
+  }
+  std::vector<std::string> random_names(unique.begin(), unique.end());
+  std::shuffle(random_names.begin(), random_names.end(), rng);
+  std::string text = R"({"version":1,"models":{"h":{)";
+  for (std::size_t i = 0; i < random_names.size(); ++i) {
+    text += (i ? ",\"" : "\"") + random_names[i] + R"(":{"stiffness":1,"drag":0.5})";
+  }
+  text += "}}}";
+  EXPECT_TRUE(fastSpringBonesReaderAccepts(text, "h"));
+  EXPECT_EQ(compareMetadata(text, "h"), "");
   // No common prefix at all, and a single entry.
   EXPECT_EQ(compareMetadata(R"({"version":1,"models":{"h":{"b":{},"a":{},"":{},"ab":{}}}})", "h"), "");
   EXPECT_TRUE(fastSpringBonesReaderAccepts(R"({"version":1,"models":{"h":{"b":{},"a":{},"":{},"ab":{}}}})", "h"));
