@@ -6,7 +6,8 @@
 
 /** Error codes of SpringBonesError. Codes from the core are listed first. */
 export type SpringBonesErrorCode =
-  | 'invalid-argument'            // e.g. the entity has no representation for the body shape
+  | 'invalid-argument'            // e.g. the entity has no representation for the body shape, or an
+                                  // object argument nests too deeply for JSON.stringify (thousands of levels)
   | 'glb-truncated'               // header or chunk extends past the end of the bytes
   | 'glb-bad-magic'               // neither a GLB nor glTF JSON text
   | 'glb-bad-chunk'               // GLB version or chunk layout not readable
@@ -171,7 +172,7 @@ export interface SpringBones {
    * Entries under hashes no representation uses are dropped; version becomes 1. The inputs and
    * the GLB are not modified.
    * @throws RangeError for non-finite numbers in params; SpringBonesError 'invalid-argument' for a
-   * node name without "springbone" or an unknown body shape
+   * node name without "springbone", an unknown body shape, or params nested more than 64 levels
    */
   setSpringBoneParams(springBones: SpringBonesData | object | string | null | undefined, entity: object | string,
                       bodyShape: string, nodeName: string, params: SpringBoneParamsInput | null): SpringBonesData;

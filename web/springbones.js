@@ -168,7 +168,7 @@ class SpringBones {
     } else if (entity !== null && typeof entity === 'object') {
       // JSON has no NaN/Infinity; they go across as marked strings the core turns back into numbers.
       marker = nonFiniteMarker();
-      text = JSON.stringify(entity, (_key, value) =>
+      text = stringifyArgument('validateSpringBones: entity', entity, (_key, value) =>
         typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value);
     } else {
       throw new TypeError('validateSpringBones: entity must be an object or JSON text');
@@ -220,8 +220,9 @@ class SpringBones {
       throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
     }
     if (params !== null) checkFiniteParams(params);
+    const paramsText = stringifyArgument('setSpringBoneParams: params', params);
     const m = this.#m;
-    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, JSON.stringify(params)));
+    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, paramsText));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }
@@ -931,7 +932,46 @@ function toJsonText(what, value, allowNull) {
   if (typeof value !== 'object') {
     throw new TypeError(`${what} must be an object, JSON text${allowNull ? ', null or undefined' : ''}`);
   }
-  return JSON.stringify(value);  // throws TypeError itself for cycles and BigInt
+  return stringifyArgument(what, value);
+}
+
+// JSON.stringify of a caller's value. One nested too deeply for the engine's stack (thousands of
+// levels: V8 and JavaScriptCore throw a RangeError, Firefox an InternalError) is an invalid
+// argument, reported as the core reports params nested deeper than it edits, rather than an
+// engine error escaping the API. Cycles and BigInt still throw JSON.stringify's TypeError, and
+// an error thrown by a toJSON or a getter goes through as it is.
+function stringifyArgument(what, value, replacer) {
+  try {
+    return JSON.stringify(value, replacer);
+  } catch (error) {
+    if ((error instanceof RangeError || error?.name === 'InternalError') && nestsDeeperThan(value, kMaxArgumentDepth)) {
+      throw withCause(new SpringBonesError('invalid-argument',
+        `${what} nests too deeply to serialize as JSON (more than ${kMaxArgumentDepth} levels)`), error);
+    }
+    throw error;
+  }
+}
+
+// Far deeper than any springBones, entity or params (the core edits 64 levels), far shallower
+// than where JSON.stringify runs out of stack.
+const kMaxArgumentDepth = 1000;
+
+// Whether objects and arrays nest more than `limit` levels deep, walked without recursion over
+// own enumerable values (what JSON.stringify writes, toJSON aside). On the error path only: it
+// reads the properties a second time, and gives false if that throws.
+function nestsDeeperThan(value, limit) {
+  try {
+    const stack = [[value, 0]];
+    while (stack.length > 0) {
+      const [v, depth] = stack.pop();
+      if (v === null || typeof v !== 'object') continue;
+      if (depth >= limit) return true;
+      for (const child of Object.values(v)) stack.push([child, depth + 1]);
+    }
+  } catch {
+    // a getter or proxy that throws
+  }
+  return false;
 }
 
 // JSON text as UTF-8 bytes for the core. A lone surrogate (possible in a string, never in UTF-8)

@@ -50,6 +50,13 @@ function entry(stiffness, gravityPower, gravityDir, drag) {
   return { stiffness, gravityPower, gravityDir, drag, isRoot: true };
 }
 
+// [[[...1]]], `levels` arrays deep.
+function deepArrays(levels) {
+  let value = 1;
+  for (let i = 0; i < levels; ++i) value = [value];
+  return value;
+}
+
 function hairMetadata(hairEntry) {
   return {
     version: 1,
@@ -331,12 +338,51 @@ describe('Builder edits', () => {
     // Existing metadata carried over by the edit: the same limit, metadata-invalid.
     const deepText = `{"version":1,"models":{"${kHash}":{"SpringBone_hair":{"custom":${'['.repeat(200000)}${']'.repeat(200000)}}}}}`;
     expectCode('metadata-invalid', () => sb.setSpringBoneParams(deepText, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
-    // A JavaScript object nested 200,000 deep cannot even be serialized: JSON.stringify throws
-    // a RangeError before anything reaches WebAssembly, and the module keeps working.
-    let value = 1;
-    for (let i = 0; i < 200000; ++i) value = [value];
-    assert.throws(() => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { custom: value }), RangeError);
+    // A JavaScript object nested 200,000 deep cannot even be serialized (JSON.stringify runs out
+    // of stack): invalid-argument like the 64 levels above, naming the argument, with the engine's
+    // error as the cause; nothing reaches WebAssembly and the module keeps working.
+    const deep = deepArrays(200000);
+    const expectTooDeep = (what, fn) => {
+      assert.throws(fn, (e) => {
+        assert.ok(e instanceof SpringBonesError, `${e}`);
+        assert.equal(e.code, 'invalid-argument');
+        assert.ok(e.message.startsWith(`${what} nests too deeply to serialize as JSON`), e.message);
+        assert.ok(e.cause instanceof Error);
+        return true;
+      });
+    };
+    expectTooDeep('setSpringBoneParams: params', () => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { custom: deep }));
+    expectTooDeep('setSpringBoneParams: springBones', () =>
+      sb.setSpringBoneParams({ version: 1, models: { [kHash]: { SpringBone_hair: { custom: deep } } } }, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
+    expectTooDeep('setSpringBoneParams: entity', () => sb.setSpringBoneParams(null, { ...entity, deep }, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
     assert.equal(sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 3 }).models[kHash].SpringBone_hair.stiffness, 3);
+  });
+
+  test('objects nested too deeply for JSON.stringify are invalid-argument in every call that serializes them', () => {
+    const deep = deepArrays(200000);
+    const springBones = { version: 1, models: { [kHash]: { springbone_a: { stiffness: 1, custom: deep } } } };
+    const entity = { content: [{ file: 'a.glb', hash: kHash }], deep };
+    const calls = [
+      ['loadRig: springBones', () => sb.loadRig(hairGlb, springBones, { contentHash: kHash })],
+      ['loadRig: entity', () => sb.loadRig(hairGlb, null, { entity, bodyShape: 'BaseMale' })],
+      ['detectSpringBones: springBones', () => sb.detectSpringBones(hairGlb, springBones, { contentHash: kHash })],
+      ['validateSpringBones: entity', () => sb.validateSpringBones(entity)],
+    ];
+    for (const [what, fn] of calls) {
+      expectCode('invalid-argument', fn);
+      assert.throws(fn, (e) => e.message.startsWith(`${what} nests too deeply to serialize as JSON`), what);
+    }
+    // What JSON.stringify throws for other reasons is unchanged: a cycle is its TypeError, and an
+    // error thrown by a getter (here a RangeError) goes through as it is.
+    const cyclic = { version: 1, models: {} };
+    cyclic.models.self = cyclic;
+    assert.throws(() => sb.loadRig(hairGlb, cyclic), TypeError);
+    const own = new RangeError('from a getter');
+    const getter = { version: 1, models: { get [kHash]() { throw own; } } };
+    assert.throws(() => sb.loadRig(hairGlb, getter, { contentHash: kHash }), (e) => e === own);
+    // A value 1,000 levels deep still serializes, and goes to the core as text.
+    withRig(hairGlb, { version: 1, models: { [kHash]: { SpringBone_hair: { ...entry(1, 1, [0, -1, 0], 0.5), custom: deepArrays(1000) } } } },
+      (rig) => assert.equal(rig.joints.length, 2));
   });
 });
 
