@@ -376,22 +376,22 @@ void radixSortKeys(std::vector<SortKey>& keys, std::vector<SortKey>& spare) {
   if (from != keys.data()) std::memcpy(keys.data(), from, count * sizeof(SortKey));
 }
 
-SPRINGBONES_NOINLINE bool sortScanned(const std::vector<ScannedBone>& bones, std::vector<SortKey>& keys,
-                                      std::vector<SortKey>& spare, std::vector<std::size_t>& order) {
-  const std::size_t count = bones.size();
-  std::size_t prefix = count > 0 ? bones[0].entry.name.size() : 0;
-  const char* first = count > 0 ? bones[0].entry.name.data() : nullptr;
+SPRINGBONES_NOINLINE bool sortNames(const std::vector<std::string_view>& names, std::vector<SortKey>& keys,
+                                    std::vector<SortKey>& spare, std::vector<std::size_t>& order) {
+  const std::size_t count = names.size();
+  std::size_t prefix = count > 0 ? names[0].size() : 0;
+  const char* first = count > 0 ? names[0].data() : nullptr;
   for (std::size_t i = 1; i < count && prefix > 0; ++i) {
-    const char* name = bones[i].entry.name.data();
-    const std::size_t limit = std::min(prefix, bones[i].entry.name.size());
+    const char* name = names[i].data();
+    const std::size_t limit = std::min(prefix, names[i].size());
     std::size_t k = 0;
     while (k < limit && first[k] == name[k]) ++k;
     prefix = k;
   }
   keys.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const char* name = bones[i].entry.name.data();
-    const std::size_t size = bones[i].entry.name.size();
+    const char* name = names[i].data();
+    const std::size_t size = names[i].size();
     std::uint64_t key = 0;
     for (std::size_t k = 0; k < 8; ++k) {
       const std::size_t at = prefix + k;
@@ -400,12 +400,7 @@ SPRINGBONES_NOINLINE bool sortScanned(const std::vector<ScannedBone>& bones, std
     keys[i] = SortKey{key, static_cast<std::uint32_t>(i)};
   }
   radixSortKeys(keys, spare);
-  const auto less = [&](const SortKey& a, const SortKey& b) {
-    const std::string& x = bones[a.index].entry.name;
-    const std::string& y = bones[b.index].entry.name;
-    const int c = std::memcmp(x.data(), y.data(), std::min(x.size(), y.size()));
-    return c < 0 || (c == 0 && x.size() < y.size());
-  };
+  const auto less = [&](const SortKey& a, const SortKey& b) { return names[a.index] < names[b.index]; };
   // Runs of equal keys in name order.
   for (std::size_t i = 0; i < count;) {
     std::size_t end = i + 1;
@@ -415,26 +410,26 @@ SPRINGBONES_NOINLINE bool sortScanned(const std::vector<ScannedBone>& bones, std
   }
   for (std::size_t i = 0; i < count; ++i) order[i] = keys[i].index;
   for (std::size_t i = 1; i < count; ++i) {
-    if (keys[i - 1].key == keys[i].key && bones[order[i - 1]].entry.name == bones[order[i]].entry.name) return false;
+    if (keys[i - 1].key == keys[i].key && names[order[i - 1]] == names[order[i]]) return false;
   }
   return true;
 }
 
 // An entry's param-missing warnings, in the order parseSpringBones reads the params: stiffness,
 // gravityPower, gravityDir, drag.
-SPRINGBONES_NOINLINE void warnMissing(const ModelEntry& model, const ScannedBone& bone,
+SPRINGBONES_NOINLINE void warnMissing(const ModelEntry& model, const BoneEntry& bone, unsigned missing,
                                       std::vector<Warning>& warnings) {
-  const std::string path = model.entryPath(bone.entry);
-  if (bone.missing & kMissStiffness) {
+  const std::string path = model.entryPath(bone);
+  if (missing & kMissStiffness) {
     warnings.push_back(Warning{"param-missing", missingMessage(kStiffnessRange), path + "/stiffness"});
   }
-  if (bone.missing & kMissGravityPower) {
+  if (missing & kMissGravityPower) {
     warnings.push_back(Warning{"param-missing", missingMessage(kGravityPowerRange), path + "/gravityPower"});
   }
-  if (bone.missing & kMissGravityDir) {
+  if (missing & kMissGravityDir) {
     warnings.push_back(Warning{"param-missing", kGravityDirMissing, path + "/gravityDir"});
   }
-  if (bone.missing & kMissDrag) {
+  if (missing & kMissDrag) {
     warnings.push_back(Warning{"param-missing", missingMessage(kDragRange), path + "/drag"});
   }
 }
@@ -447,17 +442,17 @@ SPRINGBONES_NOINLINE void emitScanned(std::vector<ScannedBone>& bones, const std
   out.bones.reserve(bones.size());
   for (std::size_t index : order) {
     ScannedBone& bone = bones[index];
-    if (bone.missing != 0) warnMissing(out, bone, warnings);
+    if (bone.missing != 0) warnMissing(out, bone.entry, bone.missing, warnings);
     out.bones.push_back(std::move(bone.entry));
   }
 }
 
 // Entries handed over already decoded (readSpringBonesEntries, whose comment in json_scan.h has
 // the layout): the same acceptance as scanEntry, on values instead of text.
-bool readEntry(const std::uint8_t* values, std::uint32_t flags, GravityDirs& dirs, ScannedBone& bone) {
+bool readEntry(const std::uint8_t* values, std::uint32_t flags, GravityDirs& dirs, BoneEntry& entry,
+               unsigned& missing) {
   double v[6];
   std::memcpy(v, values, sizeof v);
-  BoneEntry& entry = bone.entry;
   if ((flags & kEntryStiffness) && !acceptParam(v[0], kStiffnessRange, entry.params.stiffness)) return false;
   if ((flags & kEntryGravityPower) && !acceptParam(v[1], kGravityPowerRange, entry.params.gravity_power)) {
     return false;
@@ -472,8 +467,8 @@ bool readEntry(const std::uint8_t* values, std::uint32_t flags, GravityDirs& dir
   }
   entry.has_center = (flags & kEntryCenter) != 0;
   entry.is_root = (flags & kEntryIsRoot) != 0;
-  bone.missing = ((flags & kEntryStiffness) ? 0 : kMissStiffness) | ((flags & kEntryGravityPower) ? 0 : kMissGravityPower) |
-                 ((flags & kEntryGravityDir) ? 0 : kMissGravityDir) | ((flags & kEntryDrag) ? 0 : kMissDrag);
+  missing = ((flags & kEntryStiffness) ? 0 : kMissStiffness) | ((flags & kEntryGravityPower) ? 0 : kMissGravityPower) |
+            ((flags & kEntryGravityDir) ? 0 : kMissGravityDir) | ((flags & kEntryDrag) ? 0 : kMissDrag);
   return true;
 }
 
@@ -516,14 +511,13 @@ bool entriesLayout(const std::uint8_t* data, std::size_t size, EntriesLayout& ou
   return true;
 }
 
-// The entries into `bones` (sized to layout.count). Every end must follow the previous one and the
-// last must close its section; a center's bytes only with kEntryCenterName, which needs
-// kEntryCenter. No locals with destructors (see SPRINGBONES_NOINLINE).
-SPRINGBONES_NOINLINE bool readEntries(const EntriesLayout& layout, std::vector<ScannedBone>& bones) {
+// Checks the ends and flags of the entries and gives each one's name (a view of the layout). Every
+// end must follow the previous one and the last must close its section; a center's bytes only with
+// kEntryCenterName, which needs kEntryCenter. No locals with destructors (see SPRINGBONES_NOINLINE).
+SPRINGBONES_NOINLINE bool checkEntries(const EntriesLayout& layout, std::vector<std::string_view>& names) {
   constexpr std::uint32_t kKnownFlags = kEntryStiffness | kEntryGravityPower | kEntryGravityDir | kEntryDrag |
                                         kEntryCenter | kEntryCenterName | kEntryIsRoot;
   std::uint32_t name_start = 0, center_start = 0;
-  GravityDirs dirs;
   for (std::size_t i = 0; i < layout.count; ++i) {
     const std::uint32_t name_end = u32At(layout.name_ends, i), center_end = u32At(layout.center_ends, i);
     const std::uint32_t flags = u32At(layout.flags, i);
@@ -532,21 +526,45 @@ SPRINGBONES_NOINLINE bool readEntries(const EntriesLayout& layout, std::vector<S
         center_end > layout.center_bytes || (center_end != center_start && !(flags & kEntryCenterName))) {
       return false;
     }
-    ScannedBone& bone = bones[i];
-    bone.entry.name.assign(layout.names + name_start, name_end - name_start);
-    if (!readEntry(layout.values + 48 * i, flags, dirs, bone)) return false;
-    if (flags & kEntryCenterName) bone.entry.center.assign(layout.centers + center_start, center_end - center_start);
+    names[i] = std::string_view(layout.names + name_start, name_end - name_start);
     name_start = name_end;
     center_start = center_end;
   }
   return name_start == layout.name_bytes && center_start == layout.center_bytes;
 }
 
+// The checked entries straight into `out` in key order (`order`), with their param-missing
+// warnings; false for a value the fast readers do not take. Sorting views of the names first
+// spares building every entry twice (a ScannedBone, then a move into `out`).
+SPRINGBONES_NOINLINE bool emitEntries(const EntriesLayout& layout, const std::vector<std::string_view>& names,
+                                      const std::vector<std::size_t>& order, ModelEntry& out,
+                                      std::vector<Warning>& warnings) {
+  out.enabled = true;
+  out.bones.resize(layout.count);
+  GravityDirs dirs;
+  for (std::size_t k = 0; k < layout.count; ++k) {
+    const std::size_t i = order[k];
+    const std::uint32_t flags = u32At(layout.flags, i);
+    BoneEntry& entry = out.bones[k];
+    unsigned missing = 0;
+    if (!readEntry(layout.values + 48 * i, flags, dirs, entry, missing)) return false;
+    entry.name.assign(names[i].data(), names[i].size());
+    if (flags & kEntryCenterName) {
+      const std::uint32_t start = i > 0 ? u32At(layout.center_ends, i - 1) : 0;
+      entry.center.assign(layout.centers + start, u32At(layout.center_ends, i) - start);
+    }
+    if (missing != 0) warnMissing(out, entry, missing, warnings);
+  }
+  return true;
+}
+
 bool finishScan(std::vector<ScannedBone>& bones, const std::string& hash, ModelEntry& out,
                 std::vector<Warning>& warnings) {
+  std::vector<std::string_view> names(bones.size());
+  for (std::size_t i = 0; i < bones.size(); ++i) names[i] = bones[i].entry.name;
   std::vector<std::size_t> order(bones.size());
   std::vector<SortKey> keys, spare;
-  if (!sortScanned(bones, keys, spare, order)) return false;
+  if (!sortNames(names, keys, spare, order)) return false;
   out.path = "/models" + pointerToken(hash);
   emitScanned(bones, order, out, warnings);
   return true;
@@ -631,9 +649,13 @@ bool readSpringBonesEntries(const std::uint8_t* data, std::size_t size, const st
   out = ModelEntry{};
   EntriesLayout layout;
   if (!entriesLayout(data, size, layout)) return false;
-  std::vector<ScannedBone> bones(layout.count);
+  std::vector<std::string_view> names(layout.count);
+  std::vector<std::size_t> order(layout.count);
+  std::vector<SortKey> keys, spare;
+  if (!checkEntries(layout, names) || !sortNames(names, keys, spare, order)) return false;
   std::vector<Warning> entry_warnings;
-  if (!readEntries(layout, bones) || !finishScan(bones, hash, out, entry_warnings)) {
+  out.path = "/models" + pointerToken(hash);
+  if (!emitEntries(layout, names, order, out, entry_warnings)) {
     out = ModelEntry{};
     return false;
   }
