@@ -265,7 +265,7 @@ bool scanEntry(JsonScan& scan, ScannedBone& bone, GravityDirs& dirs, std::string
         if (scan.peek() == 'n') {
           ok = scan.word("null");
         } else if ((ok = scan.string(center, scratch))) {
-          entry.center.assign(center.data(), center.size());
+          entry.center = std::string(center.data(), center.size());
         }
       } else if (keyIs(key, "isRoot")) {
         field = kIsRoot;
@@ -323,7 +323,8 @@ SPRINGBONES_NOINLINE bool scanSpringBones(std::string_view text, const std::stri
               std::string_view name;
               if (!scan.string(name, scratch) || !scan.consume(':')) return false;
               bones.emplace_back();
-              bones.back().entry.name.assign(name.data(), name.size());
+              // Constructed, not assign()ed: see scanNode in glb_loader.cpp.
+              bones.back().entry.name = std::string(name.data(), name.size());
               if (!scanEntry(scan, bones.back(), dirs, scratch)) return false;
             } while (scan.consume(','));
             if (!scan.consume('}')) return false;
@@ -548,10 +549,10 @@ SPRINGBONES_NOINLINE bool emitEntries(const EntriesLayout& layout, const std::ve
     BoneEntry& entry = out.bones[k];
     unsigned missing = 0;
     if (!readEntry(layout.values + 48 * i, flags, dirs, entry, missing)) return false;
-    entry.name.assign(names[i].data(), names[i].size());
+    entry.name = std::string(names[i].data(), names[i].size());  // not assign(): see scanNode in glb_loader.cpp
     if (flags & kEntryCenterName) {
       const std::uint32_t start = i > 0 ? u32At(layout.center_ends, i - 1) : 0;
-      entry.center.assign(layout.centers + start, u32At(layout.center_ends, i) - start);
+      entry.center = std::string(layout.centers + start, u32At(layout.center_ends, i) - start);
     }
     if (missing != 0) warnMissing(out, entry, missing, warnings);
   }
