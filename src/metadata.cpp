@@ -203,18 +203,21 @@ bool acceptGravityDirComponent(double value) {
 class GravityDirs {
  public:
   bool unit(double v[3], glm::vec3& out) {
-    if (known_ && std::memcmp(v, last_, sizeof last_) == 0) {
+    // Compared as integers: a memcmp stays a byte loop call in WebAssembly.
+    std::uint64_t bits[3];
+    std::memcpy(bits, v, sizeof bits);
+    if (known_ && bits[0] == last_[0] && bits[1] == last_[1] && bits[2] == last_[2]) {
       out = unit_;
       return true;
     }
-    std::memcpy(last_, v, sizeof last_);
+    std::memcpy(last_, bits, sizeof last_);
     known_ = unitGravityDir(v, unit_);  // v is scaled in place: last_ keeps the input
     out = unit_;
     return known_;
   }
 
  private:
-  double last_[3] = {0, 0, 0};
+  std::uint64_t last_[3] = {0, 0, 0};  ///< the bits of the last input
   glm::vec3 unit_{0.0f};
   bool known_ = false;  ///< last_ had a direction, unit_ is it
 };
@@ -389,7 +392,8 @@ SPRINGBONES_NOINLINE bool sortNames(const std::vector<std::string_view>& names, 
     while (k < limit && first[k] == name[k]) ++k;
     prefix = k;
   }
-  keys.resize(count);
+  keys.clear();
+  keys.reserve(count);  // filled by push_back: resize() would zero them first
   for (std::size_t i = 0; i < count; ++i) {
     const char* name = names[i].data();
     const std::size_t size = names[i].size();
@@ -398,7 +402,7 @@ SPRINGBONES_NOINLINE bool sortNames(const std::vector<std::string_view>& names, 
       const std::size_t at = prefix + k;
       key = (key << 8) | (at < size ? static_cast<unsigned char>(name[at]) : 0u);
     }
-    keys[i] = SortKey{key, static_cast<std::uint32_t>(i)};
+    keys.push_back(SortKey{key, static_cast<std::uint32_t>(i)});
   }
   radixSortKeys(keys, spare);
   const auto less = [&](const SortKey& a, const SortKey& b) { return names[a.index] < names[b.index]; };
