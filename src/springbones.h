@@ -271,6 +271,8 @@ class Scene {
   void step(double dt);
   /// Whether the instance in `slot` was simulated by the last step.
   bool isActive(std::size_t slot) const { return slot < active_.size() && active_[slot] != 0; }
+  /// isActive for every slot at once, 1 or 0 per slot in slot order (moves with add and remove).
+  const unsigned char* activeFlags() const { return active_.data(); }
 
  private:
   std::vector<Instance*> members_;

@@ -704,6 +704,12 @@ bool sceneStep(int scene, double dt) {
   return true;
 }
 
+/// Moves when instances are added or removed, as scenePositionsPtr.
+std::uintptr_t sceneActivePtr(int scene) {
+  Scene* s = findScene(scene);
+  return s ? reinterpret_cast<std::uintptr_t>(s->activeFlags()) : 0;
+}
+
 bool sceneIsActive(int scene, int slot) {
   Scene* s = findScene(scene);
   return s != nullptr && slot >= 0 && s->isActive(static_cast<std::size_t>(slot));
@@ -864,6 +870,7 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("sceneSetBudget", &sceneSetBudget);
   emscripten::function("sceneStep", &sceneStep);
   emscripten::function("sceneIsActive", &sceneIsActive);
+  emscripten::function("sceneActivePtr", &sceneActivePtr);
   emscripten::function("disposeScene", &disposeScene);
   emscripten::function("validateEntity", &validateEntity);
   emscripten::function("detectCandidates", &detectCandidates);

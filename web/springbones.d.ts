@@ -356,6 +356,11 @@ export interface Scene {
   step(dt: number): void;
   /** Whether the instance was simulated by the last step. */
   isActive(instance: Instance): boolean;
+  /**
+   * isActive for every instance at once: 1 or 0 per slot in slot order, as the last step left
+   * them (1 before any step). Read-only; a view replaced like positions: read the property.
+   */
+  readonly active: Uint8Array;
   /** Frees the scene (not its instances). Idempotent; other use afterwards throws 'disposed'. */
   dispose(): void;
 }

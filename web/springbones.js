@@ -653,6 +653,8 @@ class Scene {
   #members = [];  // instances in slot order, as the core holds them
   #positionsPtr = 0;
   #positions;
+  #activePtr = 0;
+  #active;
 
   static {
     sceneInternals = {
@@ -687,6 +689,19 @@ class Scene {
       this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
     }
     return this.#positions;
+  }
+
+  /**
+   * isActive for every instance at once: 1 or 0 per slot, in slot order, as the last step left
+   * them (1 before any step). For pages that handle many avatars a frame (the three.js group
+   * writes only the active ones' bones). Read-only; same view rules as positions.
+   */
+  get active() {
+    if (this.#handle === 0) throw disposedError('scene');
+    if (isStale(this.#m, this.#active, this.#members.length)) {
+      this.#active = new Uint8Array(this.#m.HEAPU8.buffer, this.#activePtr, this.#members.length);
+    }
+    return this.#active;
   }
 
   /** Adds an instance (of this module) and returns its slot; adding it again returns the same slot. */
@@ -779,6 +794,8 @@ class Scene {
   #refresh() {
     this.#positionsPtr = this.#m.scenePositionsPtr(this.#handle);
     this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
+    this.#activePtr = this.#m.sceneActivePtr(this.#handle);
+    this.#active = new Uint8Array(this.#m.HEAPU8.buffer, this.#activePtr, this.#members.length);
   }
 }
 
@@ -786,13 +803,13 @@ class Scene {
 // Helpers
 
 /**
- * Whether a view of `floats` floats on the module's memory has to be made again: memory growth
+ * Whether a view of `length` elements on the module's memory has to be made again: memory growth
  * replaces the ArrayBuffer and detaches every view on the old one, which drops its length to 0.
  * Comparing lengths is what the per-frame getters can afford (TypedArray.prototype.buffer is a
  * runtime call in V8, ~35 ns); only an empty view needs the buffer compared.
  */
-function isStale(m, view, floats) {
-  return view.length !== floats || (floats === 0 && view.buffer !== m.HEAPF32.buffer);
+function isStale(m, view, length) {
+  return view.length !== length || (length === 0 && view.buffer !== m.HEAPU8.buffer);
 }
 
 function checkCoordinate(name, v) {

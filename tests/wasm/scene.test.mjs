@@ -94,8 +94,10 @@ describe('budget', () => {
       if (referenceSteps) reference.step(1 / 60);
       scene.step(1 / 60);
     };
+    assert.deepEqual(Array.from(scene.active), [1, 1, 1], 'every slot is active before a step');
     for (let i = 0; i < 30; ++i) frame(false);
     assert.deepEqual([scene.isActive(members[0]), scene.isActive(members[1]), scene.isActive(members[2])], [true, true, false]);
+    assert.deepEqual(Array.from(scene.active), [1, 1, 0], 'the flags agree with isActive');
     // The far one never stepped: still the rest rotations.
     assert.deepEqual(members[2].rotations, reference.rotations);
     const held = Float32Array.from(members[1].rotations);
@@ -106,6 +108,7 @@ describe('budget', () => {
     reference.reset();
     for (let i = 0; i < 30; ++i) frame(true);
     assert.deepEqual([scene.isActive(members[0]), scene.isActive(members[1]), scene.isActive(members[2])], [true, false, true]);
+    assert.deepEqual(Array.from(scene.active), [1, 0, 1]);
     assert.deepEqual(members[1].rotations, held, 'the far one holds its last pose');
     assert.deepEqual(members[2].rotations, reference.rotations, 're-seeded: same as a reset instance stepped alone');
 
@@ -194,6 +197,30 @@ describe('memory and lifetime', () => {
     a.dispose();
     assert.deepEqual(sb.stats(), before);
     hair.dispose();
+  });
+
+  test('the active view follows add and remove and is rebuilt after memory growth', () => {
+    const [hair] = rigs();
+    const scene = sb.createScene();
+    const [a, b, c] = [0, 1, 2].map(() => hair.createInstance());
+    assert.equal(scene.active.length, 0);
+    for (const x of [a, b, c]) scene.add(x);
+    scene.positions.set([0, 0, 0, 5, 0, 0, 1, 0, 0]);
+    scene.setBudget(1, 0, 0, 0);
+    scene.step(1 / 60);
+    assert.deepEqual(Array.from(scene.active), [1, 0, 0]);
+    scene.remove(a);  // b and c shift down; the flags go with them
+    assert.deepEqual(Array.from(scene.active), [0, 0]);
+    scene.step(1 / 60);
+    assert.deepEqual(Array.from(scene.active), [0, 1], 'c (at x = 1) is now the nearest');
+    const old = scene.active;
+    const bytes = new Uint8Array(sb.stats().heapBytes + (8 << 20));
+    sb.contentHash(bytes);  // grows the memory
+    assert.equal(old.byteLength, 0, 'the old view is detached');
+    assert.deepEqual(Array.from(scene.active), [0, 1]);
+    scene.dispose();
+    assert.throws(() => scene.active, (e) => e instanceof SpringBonesError && e.code === 'disposed');
+    for (const x of [a, b, c, hair]) x.dispose();
   });
 
   test('the positions view is rebuilt after memory growth, with its contents', () => {
