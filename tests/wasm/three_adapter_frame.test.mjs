@@ -193,6 +193,42 @@ describe('SpringBonesGroup', () => {
     for (const w of walkers) w.attachment.dispose();
   });
 
+  test('the joints of avatars the budget holds are not written; they keep their pose and move again when back', () => {
+    const scene = new Scene();
+    const walkers = [0, 10, 3].map((x) => walker(scene, { x }));
+    const group = new SpringBonesGroup(sb);
+    for (const w of walkers) group.add(w.attachment);
+    group.scene.setBudget(2, 0, 0, 0);
+    const quaternions = (w) => w.attachment.jointObjects.map((o) => o.quaternion.toArray());
+    for (let f = 0; f < 30; f++) {
+      animate(scene, walkers, f);
+      group.update(DT);
+    }
+    assert.deepEqual(Array.from(group.scene.active), [1, 0, 1]);
+    // A marker in a held avatar's joint stays: the group does not write that avatar's joints.
+    const far = walkers[1].attachment.jointObjects[1];
+    far.quaternion._x = 0.25;
+    const heldPose = quaternions(walkers[1]);
+    const near = quaternions(walkers[2]);
+    animate(scene, walkers, 30);
+    group.update(DT);
+    assert.deepEqual(quaternions(walkers[1]), heldPose);
+    assert.notDeepEqual(quaternions(walkers[2]), near, 'the active ones are written');
+    // Back in the budget: written again, from its instance.
+    walkers[1].avatarRoot.position.x = 0.5;
+    for (let f = 31; f < 40; f++) {
+      animate(scene, walkers, f);
+      group.update(DT);
+    }
+    assert.equal(group.scene.active[1], 1);
+    const rotations = walkers[1].attachment.instance.rotations;
+    walkers[1].attachment.jointObjects.forEach((o, j) => {
+      if (o) assert.deepEqual(o.quaternion.toArray(), Array.from(rotations.subarray(4 * j, 4 * j + 4)), `joint ${j}`);
+    });
+    group.dispose();
+    for (const w of walkers) w.attachment.dispose();
+  });
+
   test('setRig, remove and dispose keep the group and the scene in step', () => {
     const scene = new Scene();
     const walkers = [0, 1, 2].map((x) => walker(scene, { x }));

@@ -111,7 +111,8 @@ export function attachWearable(
 /**
  * Many attachments stepped with one call into WebAssembly: update(dt) reads every attachment's
  * drivers, runs one springbones scene.step for all of their instances (the scene's distance budget
- * applies, with each avatar root's world position) and writes every attachment's rotations.
+ * applies, with each avatar root's world position) and writes the rotations of every attachment
+ * that step simulated.
  */
 export class SpringBonesGroup {
   /**
@@ -143,7 +144,10 @@ export class SpringBonesGroup {
    */
   readDrivers(): void;
   /**
-   * The last part of update(): every attachment's rotations into its joints' quaternions.
+   * The last part of update(): the rotations of every attachment the last step simulated into its
+   * joints' quaternions. Attachments the budget held (scene.active 0) are skipped: their joints
+   * keep the pose written when they last stepped, the pose their instance holds (unless other
+   * code, e.g. an animation mixer, writes those joints meanwhile).
    * @throws SpringBonesError 'disposed' when an attachment's instance is disposed of
    */
   writeRotations(): void;

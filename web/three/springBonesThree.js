@@ -134,14 +134,20 @@ class FrameCopies {
    * therefore stale until attachment.syncEulers(). (A getter converting on read was tried:
    * redefining `rotation` on the joints turns them into dictionary-mode objects and made
    * three.js's updateMatrixWorld 1.6x slower for the whole tree.)
+   * With `active` (a scene's flags, one per member), members with a 0 are skipped: their
+   * instance held its pose, which their joints already show.
    */
-  writeRotations() {
+  writeRotations(active = null) {
     const instances = this._instances;
     const counts = this._jointCounts;
     const views = this._rotationViews;
     const quaternions = this._quaternions;
     for (let i = 0, j = 0; i < instances.length; i++) {
       const count = counts[i];
+      if (active !== null && active[i] === 0) {
+        j += count;
+        continue;
+      }
       let r = views[i];
       if (instances[i].disposed || r.length !== 4 * count) r = views[i] = instances[i].rotations;
       for (let k = 0, end = j + count; j < end; j++, k += 4) {
@@ -376,9 +382,14 @@ export class SpringBonesGroup {
     }
   }
 
-  /** The last part of update(): every attachment's rotations into its joints' quaternions. */
+  /**
+   * The last part of update(): the rotations of every attachment the last step simulated into
+   * its joints' quaternions. Attachments the budget held are not written: their joints keep the
+   * pose written when they last stepped, which is the pose their instance holds (unless other
+   * code, e.g. an animation mixer, writes those joints meanwhile).
+   */
   writeRotations() {
-    this._copies.writeRotations();
+    this._copies.writeRotations(this.scene.active);
   }
 
   /** Frees the scene; the attachments stay usable on their own (their update()). */
