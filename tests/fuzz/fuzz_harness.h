@@ -43,6 +43,14 @@
 namespace springbones {
 namespace fuzz {
 
+/// The libFuzzer entry points' ending: a broken invariant is printed and aborts, so libFuzzer
+/// keeps and reports the input.
+inline int abortIfBroken(const std::string& failure) {
+  if (failure.empty()) return 0;
+  std::fprintf(stderr, "springbones invariant broken: %s\n", failure.c_str());
+  std::abort();
+}
+
 using nlohmann::json;
 
 // Splits input (a) into a GLB part and springBones text: the text follows the last separator;

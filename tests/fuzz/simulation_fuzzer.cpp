@@ -1,17 +1,8 @@
 // libFuzzer entry point for the simulation: the input is a byte program (skeleton, parameters,
 // options, then 100 frames of driver matrices and dt). The body is runSimulation in
 // fuzz_harness.h, shared with tests/native/fuzz_regressions_test.cpp.
-// A broken invariant aborts, so libFuzzer keeps and reports the input.
-#include <cstdio>
-#include <cstdlib>
-
 #include "fuzz_harness.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string failure = springbones::fuzz::runSimulation(data, size);
-  if (!failure.empty()) {
-    std::fprintf(stderr, "springbones invariant broken: %s\n", failure.c_str());
-    std::abort();
-  }
-  return 0;
+  return springbones::fuzz::abortIfBroken(springbones::fuzz::runSimulation(data, size));
 }

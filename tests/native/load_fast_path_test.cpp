@@ -359,6 +359,15 @@ namespace {
 // only on a tie: names that differ only past those 8 bytes, are prefixes of one another, hold
 // bytes above 0x7f or a \u0000, in shuffled order, must come out in nlohmann's (byte-wise) order,
 // and a repeated name must still be left to the checked reader.
+// springBones text with one entry per name, in the given order.
+std::string metadataWithEntries(const std::vector<std::string>& names) {
+  std::string text = R"({"version":1,"models":{"h":{)";
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    text += (i ? ",\"" : "\"") + names[i] + R"(":{"stiffness":1,"drag":0.5})";
+  }
+  return text + "}}}";
+}
+
 TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
   std::vector<std::string> names = {"springbone_", "springbone_a", "springbone_a\\u0000", "springbone_a\\u0001",
                                     "springbone_\\u00e9", "springbone_\\u00ff", "springbone_~1", "springbone_a/b"};
@@ -370,11 +379,7 @@ TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
   std::mt19937 rng(11);
   for (int round = 0; round < 5; ++round) {
     std::shuffle(names.begin(), names.end(), rng);
-    std::string text = R"({"version":1,"models":{"h":{)";
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      text += (i ? ",\"" : "\"") + names[i] + R"(":{"stiffness":1,"drag":0.5})";
-    }
-    text += "}}}";
+    const std::string text = metadataWithEntries(names);
     EXPECT_TRUE(fastSpringBonesReaderAccepts(text, "h"));
     EXPECT_EQ(compareMetadata(text, "h"), "");
     // The same with one name twice: the checked reader decides (nlohmann keeps the last).
@@ -393,11 +398,7 @@ TEST(LoadFastPath, SortsEntryNamesAsNlohmannDoes) {
   }
   std::vector<std::string> random_names(unique.begin(), unique.end());
   std::shuffle(random_names.begin(), random_names.end(), rng);
-  std::string text = R"({"version":1,"models":{"h":{)";
-  for (std::size_t i = 0; i < random_names.size(); ++i) {
-    text += (i ? ",\"" : "\"") + random_names[i] + R"(":{"stiffness":1,"drag":0.5})";
-  }
-  text += "}}}";
+  const std::string text = metadataWithEntries(random_names);
   EXPECT_TRUE(fastSpringBonesReaderAccepts(text, "h"));
   EXPECT_EQ(compareMetadata(text, "h"), "");
   // No common prefix at all, and a single entry.
