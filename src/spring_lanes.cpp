@@ -425,7 +425,8 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     if (kContinues) {
       // The parent turned its rest axis, the direction of this joint's rest translation, onto
       // its new tail at this bone's length: the joint sits on that tail (the lane's previous
-      // depth left it here). Equal to the transform below up to rounding, a quarter of the work.
+      // depth left it here). Equal to the transform below up to rounding, which would be about a
+      // quarter of this pass's arithmetic.
       hx = t[kTailX * B];
       hy = t[kTailY * B];
       hz = t[kTailZ * B];
