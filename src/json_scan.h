@@ -51,7 +51,8 @@ Error parseSpringBonesTextView(std::string_view text, const std::string& hash, M
 /// its name in the names, the end of its center in the centers (both u32, cumulative), its flags
 /// (u32, kEntry*), then the UTF-8 names and the UTF-8 centers, each section back to back.
 /// Accepts exactly what the fast text reader accepts (every value present readable and in range,
-/// no repeated name) and gives the same entries and warnings; false otherwise, including for any
+/// every name and center well-formed UTF-8, no repeated name) and gives the same entries and
+/// warnings; false otherwise, including for any
 /// inconsistent layout, with `out` empty and no warning added: the caller then goes through the
 /// text, which gives the real warnings or error.
 inline constexpr std::uint32_t kEntryStiffness = 1, kEntryGravityPower = 2, kEntryGravityDir = 4, kEntryDrag = 8,
@@ -96,6 +97,54 @@ struct JsonNumber {
   bool negative = false;  ///< integer < 0 (only meaningful with `integer`)
   std::uint64_t magnitude = 0;  ///< |integer value| (only meaningful with `integer`)
 };
+
+/// The length of the well-formed UTF-8 sequence (RFC 3629, nlohmann's lexer table) that starts with
+/// a byte >= 0x80 at p, or 0 when it is malformed or runs past end.
+inline int utf8SequenceLength(const char* p, const char* end) {
+  const unsigned char c = static_cast<unsigned char>(*p);
+  unsigned char lo = 0x80, hi = 0xBF;
+  int continuation = 0;
+  if (c >= 0xC2 && c <= 0xDF) {
+    continuation = 1;
+  } else if (c == 0xE0) {
+    continuation = 2, lo = 0xA0;
+  } else if ((c >= 0xE1 && c <= 0xEC) || c == 0xEE || c == 0xEF) {
+    continuation = 2;
+  } else if (c == 0xED) {
+    continuation = 2, hi = 0x9F;
+  } else if (c == 0xF0) {
+    continuation = 3, lo = 0x90;
+  } else if (c >= 0xF1 && c <= 0xF3) {
+    continuation = 3;
+  } else if (c == 0xF4) {
+    continuation = 3, hi = 0x8F;
+  } else {
+    return 0;
+  }
+  if (end - p <= continuation) return 0;
+  for (int i = 1; i <= continuation; ++i) {
+    const unsigned char b = static_cast<unsigned char>(p[i]);
+    if (b < lo || b > hi) return 0;
+    lo = 0x80, hi = 0xBF;
+  }
+  return continuation + 1;
+}
+
+/// Whether bytes are well-formed UTF-8 (what a JSON string holds once read).
+inline bool wellFormedUtf8(std::string_view bytes) {
+  const char* p = bytes.data();
+  const char* const end = p + bytes.size();
+  while (p < end) {
+    if (static_cast<unsigned char>(*p) < 0x80) {
+      ++p;
+      continue;
+    }
+    const int length = utf8SequenceLength(p, end);
+    if (length == 0) return false;
+    p += length;
+  }
+  return true;
+}
 
 class JsonScan {
  public:
@@ -371,34 +420,9 @@ class JsonScan {
 
   // A multi-byte UTF-8 sequence at p_, well formed by RFC 3629 (nlohmann's lexer table).
   bool utf8Sequence() {
-    const unsigned char c = static_cast<unsigned char>(*p_);
-    unsigned char lo = 0x80, hi = 0xBF;
-    int continuation = 0;
-    if (c >= 0xC2 && c <= 0xDF) {
-      continuation = 1;
-    } else if (c == 0xE0) {
-      continuation = 2, lo = 0xA0;
-    } else if ((c >= 0xE1 && c <= 0xEC) || c == 0xEE || c == 0xEF) {
-      continuation = 2;
-    } else if (c == 0xED) {
-      continuation = 2, hi = 0x9F;
-    } else if (c == 0xF0) {
-      continuation = 3, lo = 0x90;
-    } else if (c >= 0xF1 && c <= 0xF3) {
-      continuation = 3;
-    } else if (c == 0xF4) {
-      continuation = 3, hi = 0x8F;
-    } else {
-      return false;
-    }
-    if (end_ - p_ <= continuation) return false;
-    for (int i = 1; i <= continuation; ++i) {
-      const unsigned char b = static_cast<unsigned char>(p_[i]);
-      if (b < lo || b > hi) return false;
-      lo = 0x80, hi = 0xBF;
-    }
-    p_ += continuation + 1;
-    return true;
+    const int length = utf8SequenceLength(p_, end_);
+    p_ += length;
+    return length != 0;
   }
 
   static int hex4(const char* p) {

@@ -518,7 +518,9 @@ bool entriesLayout(const std::uint8_t* data, std::size_t size, EntriesLayout& ou
 
 // Checks the ends and flags of the entries and gives each one's name (a view of the layout). Every
 // end must follow the previous one and the last must close its section; a center's bytes only with
-// kEntryCenterName, which needs kEntryCenter. No locals with destructors (see SPRINGBONES_NOINLINE).
+// kEntryCenterName, which needs kEntryCenter; names and centers well-formed UTF-8, as any string
+// of the JSON text is (the JS writer never makes others: TextEncoder, lone surrogates declined).
+// No locals with destructors (see SPRINGBONES_NOINLINE).
 SPRINGBONES_NOINLINE bool checkEntries(const EntriesLayout& layout, std::vector<std::string_view>& names) {
   constexpr std::uint32_t kKnownFlags = kEntryStiffness | kEntryGravityPower | kEntryGravityDir | kEntryDrag |
                                         kEntryCenter | kEntryCenterName | kEntryIsRoot;
@@ -532,6 +534,10 @@ SPRINGBONES_NOINLINE bool checkEntries(const EntriesLayout& layout, std::vector<
       return false;
     }
     names[i] = std::string_view(layout.names + name_start, name_end - name_start);
+    if (!wellFormedUtf8(names[i]) ||
+        !wellFormedUtf8(std::string_view(layout.centers + center_start, center_end - center_start))) {
+      return false;
+    }
     name_start = name_end;
     center_start = center_end;
   }

@@ -310,8 +310,9 @@ inline json fuzzParam(ByteReader& in, double range) {
 // The springBones entries layout web/springbones.js hands over for an object
 // (readSpringBonesEntries, src/json_scan.h): arbitrary bytes never crash it; what it declines
 // leaves nothing behind; and what it accepts reads exactly as the same entries written as JSON
-// text and read by parseSpringBonesText (same bones, same bits, same warnings). The layout is
-// decoded here a second time, independently, to write that text.
+// text and read by parseSpringBonesText (same bones, same bits, same warnings; names that are not
+// UTF-8, which no JSON text holds, declined). The layout is decoded here a second time,
+// independently, to write that text.
 inline std::string runEntries(const std::uint8_t* data, std::size_t size) {
   const std::string hash = "bafkreifixedhash";
   ModelEntry fast;
@@ -363,9 +364,7 @@ inline std::string runEntries(const std::uint8_t* data, std::size_t size) {
   try {
     text = json{{"version", 1}, {"models", {{hash, entries}}}}.dump();
   } catch (const json::exception&) {
-    // Names or centers that are not UTF-8 have no JSON text to compare with. The layout's writer
-    // (TextEncoder) never makes them; the reader takes them as bytes, like any name no node has.
-    return {};
+    return "accepted names or centers that are not UTF-8";  // the text would be bad JSON
   }
   ModelEntry slow;
   std::vector<Warning> slow_warnings;

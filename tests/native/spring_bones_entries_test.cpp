@@ -211,6 +211,20 @@ TEST(SpringBonesEntries, RefusesWhatTheTextReadersWarnAbout) {
   std::vector<Entry> repeated = sample();
   repeated[1].name = repeated[0].name;
   expectRefused(encode(repeated), "a repeated name (the text reader keeps the last)");
+  // Strings no JSON text holds: malformed UTF-8 in a name or a center, and a well-formed
+  // sequence split across two names (the names section alone would pass).
+  for (const char* bad : {"springbone_\xff", "springbone_\xc3", "springbone_\xed\xa0\x80", "\xc0\xaf"}) {
+    std::vector<Entry> name = sample();
+    name[1].name = bad;
+    expectRefused(encode(name), "a name that is not UTF-8");
+    std::vector<Entry> center = sample();
+    center[0].center = bad;
+    expectRefused(encode(center), "a center that is not UTF-8");
+  }
+  std::vector<Entry> split = sample();
+  split[0].name = "springbone_\xc3";
+  split[1].name = "\xa9springbone_a";
+  expectRefused(encode(split), "a UTF-8 sequence split across two names");
   // A value out of range but its flag clear: not read, so not refused.
   std::vector<Entry> unread = sample();
   unread[1].values[0] = nan;
