@@ -148,6 +148,18 @@ describe('what the adapter writes', () => {
   });
 });
 
+// A group holding the walkers' attachments, in order; and its end, with the attachments.
+function groupOf(walkers) {
+  const group = new SpringBonesGroup(sb);
+  for (const w of walkers) group.add(w.attachment);
+  return group;
+}
+
+function disposeAll(group, walkers) {
+  group.dispose();
+  for (const w of walkers) w.attachment.dispose();
+}
+
 describe('SpringBonesGroup', () => {
   test('one group.update steps every attachment exactly as separate updates do', () => {
     const sceneA = new Scene();
@@ -179,8 +191,7 @@ describe('SpringBonesGroup', () => {
   test('avatar positions feed the scene budget: only the nearest avatars are simulated', () => {
     const scene = new Scene();
     const walkers = [0, 10, 3].map((x) => walker(scene, { x }));
-    const group = new SpringBonesGroup(sb);
-    for (const w of walkers) group.add(w.attachment);
+    const group = groupOf(walkers);
     group.scene.setBudget(2, 0, 0, 0);
     animate(scene, walkers, 0);
     group.update(DT);
@@ -189,15 +200,13 @@ describe('SpringBonesGroup', () => {
       assert.deepEqual(Array.from(positions.subarray(3 * i, 3 * i + 3)), w.avatarRoot.getWorldPosition(w.avatarRoot.position.clone()).toArray());
     });
     assert.deepEqual(walkers.map((w) => group.scene.isActive(w.attachment.instance)), [true, false, true]);
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
   });
 
   test('the joints of avatars the budget holds are not written; they keep their pose and move again when back', () => {
     const scene = new Scene();
     const walkers = [0, 10, 3].map((x) => walker(scene, { x }));
-    const group = new SpringBonesGroup(sb);
-    for (const w of walkers) group.add(w.attachment);
+    const group = groupOf(walkers);
     group.scene.setBudget(2, 0, 0, 0);
     const quaternions = (w) => w.attachment.jointObjects.map((o) => o.quaternion.toArray());
     for (let f = 0; f < 30; f++) {
@@ -225,15 +234,13 @@ describe('SpringBonesGroup', () => {
     walkers[1].attachment.jointObjects.forEach((o, j) => {
       if (o) assert.deepEqual(o.quaternion.toArray(), Array.from(rotations.subarray(4 * j, 4 * j + 4)), `joint ${j}`);
     });
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
   });
 
   test('setRig, remove and dispose keep the group and the scene in step', () => {
     const scene = new Scene();
     const walkers = [0, 1, 2].map((x) => walker(scene, { x }));
-    const group = new SpringBonesGroup(sb);
-    for (const w of walkers) group.add(w.attachment);
+    const group = groupOf(walkers);
     group.add(walkers[0].attachment);  // again: nothing happens
     assert.equal(group.scene.size, 3);
 
@@ -284,8 +291,7 @@ describe('SpringBonesGroup', () => {
     const ponytail = sb.loadRig(wearableBytes, { version: 1, models: { [hash]: { SpringBone_ponytail: metadata.models[hash].SpringBone_ponytail } } });
     walkers[1].attachment.setRig(ponytail);
     assert.ok(ponytail.joints.length < rig.joints.length, 'the members differ in joint count');
-    const group = new SpringBonesGroup(sb);
-    for (const w of walkers) group.add(w.attachment);
+    const group = groupOf(walkers);
     for (let f = 0; f < 30; f++) {
       animate(scene, walkers, f);
       group.readDrivers();
@@ -304,8 +310,7 @@ describe('SpringBonesGroup', () => {
         });
       }
     }
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
     ponytail.dispose();
   });
 
@@ -345,8 +350,7 @@ describe('SpringBonesGroup', () => {
         });
       }
     }
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
   });
 
   test('after WebAssembly memory grows, updates go through the new views', () => {
@@ -378,8 +382,7 @@ describe('SpringBonesGroup', () => {
         });
       }
     }
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
   });
 
   test('an instance disposed of directly: update throws \'disposed\' before writing anything', () => {
@@ -405,8 +408,7 @@ describe('SpringBonesGroup', () => {
       assert.deepEqual(i.rotations, before[k][1]);
       i.dispose();
     });
-    group.dispose();
-    for (const w of walkers) w.attachment.dispose();
+    disposeAll(group, walkers);
   });
 
   test('a setRig the group cannot take (another module\'s rig) changes nothing', async () => {
