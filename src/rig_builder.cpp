@@ -194,7 +194,7 @@ class RigBuilder {
     if (matches == 0) {
       warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node",
            model_.entryPath(entry));
-    } else if (!containsSpringBoneToken(entry.name)) {
+    } else if (!entry_is_spring_[e]) {
       warn("bone-not-spring",
            "metadata names '" + entry.name + "', whose name lacks the 'springbone' token; the entry is ignored",
            model_.entryPath(entry));
