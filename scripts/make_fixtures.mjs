@@ -245,7 +245,7 @@ const adrPosedDoc = {
 // do; `Avatar_Hips` carries the opposite rotation (-90° about X), so below the hips every offset
 // is in centimetres in glTF's frame: +Y up, the avatar faces +Z, +X is the avatar's left. The legs
 // are Blender-style: each UpLeg is turned 180° about Z so its bones run along their local +Y
-// (Avatar_LeftLeg sits at (0, 44.89, 0) in its parent, the value the research note quotes).
+// (Avatar_LeftLeg sits at (0, 44.89, 0) in its parent, as in Decentraland's own armature).
 // World positions are checked below.
 
 const ARMATURE_ROTATION = [H, 0, 0, H];   // +90° about X

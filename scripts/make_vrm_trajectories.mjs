@@ -18,10 +18,10 @@
 //
 // Two runs per model:
 //  - `rotations`: three-vrm with its bone length measured at the current pose. Stock 3.5.5 reads
-//    the length from the child's world matrix as it was at the end of the previous frame (the
-//    "stale bone length" of shared/research/algorithms.md 4.3), which is off whenever the joint's
-//    head moved since, i.e. for every joint below the first of a chain and for roots whose parent
-//    translates. We refresh the child's world matrix first (the child's position only depends on
+//    the length from the child's world matrix as it was at the end of the previous frame (a stale
+//    bone length, listed in the README among our differences from three-vrm), which is off
+//    whenever the joint's head moved since, i.e. for every joint below the first of a chain and
+//    for roots whose parent translates. We refresh the child's world matrix first (the child's position only depends on
 //    the joint's world matrix and the child's translation, so this is the exact current length,
 //    the fixed length the VRM spec and springbones use). Nothing else in three-vrm is changed.
 //  - `stockRotations`: unmodified three-vrm 3.5.5, to measure how far the stale length moves it.

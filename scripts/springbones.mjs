@@ -7,7 +7,8 @@
 //   node scripts/springbones.mjs simulate <glb> --metadata f.json [--hash H | --body-shape S]
 //                                [--frames N] [--fps F] [--drive rest|sway] [--step-hz H] [--max-substeps N]
 //                                [--integrator vrm|xpbd]
-//   (a .vrm avatar instead of <glb> brings its own spring bones: no --metadata, --hash, --body-shape)
+//   (a VRM avatar as <glb> brings its own spring bones: no --metadata, --hash, --body-shape; what a
+//   file is comes from its content, whatever its name ends in)
 //   node scripts/springbones.mjs validate <entity.json> [--json]
 //   node scripts/springbones.mjs hash <file>
 //
@@ -35,15 +36,15 @@ const kMetadataOptions = {
 const commands = {
   inspect: {
     synopsis: 'inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]',
-    summary: 'print the chains, drivers and warnings of a wearable',
+    summary: 'print the chains, drivers and warnings of a wearable or a VRM avatar',
     options: { ...kMetadataOptions, json: { type: 'boolean' } },
     positionals: ['glb'],
     run: inspect,
   },
   simulate: {
-    synopsis: 'simulate <glb> --metadata f.json (none for a .vrm) [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
+    synopsis: 'simulate <glb> --metadata f.json (none for a VRM) [--hash H | --body-shape S] [--frames N] [--fps F]\n' +
               '           [--drive rest|sway] [--step-hz H] [--max-substeps N] [--integrator vrm|xpbd]',
-    summary: 'step a wearable and print each frame\'s joint rotations as JSON lines',
+    summary: 'step a wearable or a VRM avatar and print each frame\'s joint rotations as JSON lines',
     options: {
       ...kMetadataOptions,
       frames: { type: 'string', default: '60' },
@@ -79,8 +80,10 @@ ${Object.entries(commands).map(([name, c]) => `  ${name.padEnd(9)} ${c.summary}`
 
 ${Object.values(commands).map((c) => `  ${c.synopsis}`).join('\n')}
 
-  <glb>              a .glb file (or .gltf JSON text), or a .vrm avatar (its own spring bones;
-                     no --metadata, --hash or --body-shape)
+  <glb>              a glTF file (binary or JSON text, any name): a wearable, whose spring bones
+                     come from --metadata, or a VRM avatar (VRMC_springBone or VRM 0.x
+                     secondaryAnimation), which carries its own (no --metadata, --hash or
+                     --body-shape); the file's content decides which, not its extension
   --metadata f.json  data.springBones, either the object itself or a wearable / entity / Builder
                      item JSON that contains it (metadata.data.springBones or data.springBones)
   --hash H           the springBones.models key to use (default: the GLB's content hash)
@@ -104,9 +107,9 @@ exit codes: 0 ok (validate: valid), 1 input could not be loaded (validate: inval
 // ---------------------------------------------------------------------------------------------
 // Commands
 
-async function inspect({ glb, values }, out) {
+async function inspect({ glb, values }, out, err) {
   const sb = await createSpringBones();
-  const { rig, source } = await loadWearable(sb, glb, values);
+  const { rig, source } = await loadModel(sb, glb, values, { needsSprings: false, err });
   if (values.json) {
     const data = {
       file: glb, format: rig.format, contentHash: rig.contentHash, hashSource: source, nodeCount: rig.nodeCount,
@@ -144,9 +147,7 @@ async function inspect({ glb, values }, out) {
   out.write(lines.join('\n') + '\n');
 }
 
-async function simulate({ glb, values }, out) {
-  // A .vrm carries its spring bones; anything else needs them from a metadata file.
-  if (values.metadata === undefined && !/\.vrm$/i.test(glb)) throw new UsageError('simulate needs --metadata');
+async function simulate({ glb, values }, out, err) {
   const frames = parseNumber('--frames', values.frames, { integer: true, min: 0 });
   const fps = parseNumber('--fps', values.fps, { positive: true });
   if (values.drive !== 'rest' && values.drive !== 'sway') {
@@ -166,7 +167,7 @@ async function simulate({ glb, values }, out) {
     instanceOptions.integrator = values.integrator;
   }
   const sb = await createSpringBones();
-  const { rig } = await loadWearable(sb, glb, values);
+  const { rig } = await loadModel(sb, glb, values, { needsSprings: true, err });
   const instance = rig.createInstance(instanceOptions);
   const rest = Float32Array.from(instance.driverMatrices);
   const scratch = new Float64Array(16);
@@ -221,12 +222,45 @@ async function hash({ file }, out) {
 // ---------------------------------------------------------------------------------------------
 // Loading
 
-async function loadWearable(sb, glbPath, values) {
+// A file is a VRM avatar when it carries a VRM spring-bone extension, whatever its name: the
+// module's VRM reader answers format 'none' for a glTF with neither extension, and such a file is
+// a wearable, whose spring bones come from its metadata. A file the glTF reader rejects gets the
+// same error from either loader, so the VRM reader's answer is the one reported.
+async function loadModel(sb, path, values, { needsSprings, err }) {
   if (values.hash !== undefined && values['body-shape'] !== undefined) {
     throw new UsageError('give --hash or --body-shape, not both');
   }
-  if (/\.vrm$/i.test(glbPath)) return loadVrmFile(sb, glbPath, values);
-  const glb = await readInput(glbPath);
+  const bytes = await readInput(path);
+  const vrm = loadOrExplain(path, () => sb.loadVrm(bytes));
+  if (vrm.format !== 'none') {
+    for (const option of ['metadata', 'hash', 'body-shape']) {
+      if (values[option] !== undefined) {
+        vrm.dispose();
+        throw new UsageError(`--${option} does not apply to a VRM avatar: ${basename(path)} carries its own spring ` +
+                             `bones (${kVrmFormatNames[vrm.format] ?? vrm.format})`);
+      }
+    }
+    return { rig: vrm, source: `VRM, ${vrm.format}` };
+  }
+  vrm.dispose();
+  const notes = [];
+  if (/\.vrm$/i.test(path)) {
+    notes.push(`${basename(path)} has no VRM spring bones (neither VRMC_springBone nor VRM 0.x secondaryAnimation): ` +
+               'read as a wearable');
+  }
+  if (values.metadata === undefined) {
+    const hint = 'no springBones metadata given: pass --metadata (a wearable\'s spring bones are in its ' +
+                 'data.springBones, not in the GLB)';
+    if (needsSprings) throw new UsageError([...notes, hint].join('; '));
+    notes.push(hint);
+  }
+  for (const note of notes) err.write(`springbones: note: ${note}\n`);
+  return loadWearable(sb, path, bytes, values);
+}
+
+const kVrmFormatNames = { 'vrmc-springbone': 'VRMC_springBone', vrm0: 'VRM 0.x secondaryAnimation' };
+
+async function loadWearable(sb, glbPath, glb, values) {
   let springBones = null;
   let entity;
   if (values.metadata !== undefined) {
@@ -251,25 +285,13 @@ async function loadWearable(sb, glbPath, values) {
     options = { entity, bodyShape: values['body-shape'] };
     source = `main file of ${values['body-shape']} in the entity`;
   }
-  try {
-    return { rig: sb.loadRig(glb, springBones, options), source };
-  } catch (error) {
-    if (error instanceof SpringBonesError) {
-      throw new LoadError(`${glbPath}: ${error.code}: ${error.message}${error.path ? ` (at ${error.path})` : ''}`);
-    }
-    throw error;
-  }
+  return { rig: loadOrExplain(glbPath, () => sb.loadRig(glb, springBones, options)), source };
 }
 
-// A .vrm avatar carries its own spring bones (VRMC_springBone or VRM 0.x): no metadata to give.
-async function loadVrmFile(sb, path, values) {
-  for (const option of ['metadata', 'hash', 'body-shape']) {
-    if (values[option] !== undefined) throw new UsageError(`--${option} does not apply to a .vrm (it carries its own spring bones)`);
-  }
-  const bytes = await readInput(path);
+// The module's errors name no file: the message says which one failed to load.
+function loadOrExplain(path, load) {
   try {
-    const rig = sb.loadVrm(bytes);
-    return { rig, source: `VRM, ${rig.format}` };
+    return load();
   } catch (error) {
     if (error instanceof SpringBonesError) {
       throw new LoadError(`${path}: ${error.code}: ${error.message}${error.path ? ` (at ${error.path})` : ''}`);
@@ -350,7 +372,7 @@ export async function main(argv, out = process.stdout, err = process.stderr) {
       if (values[option] === undefined) throw new UsageError(`${name} needs --${option}`);
     }
     const named = Object.fromEntries(command.positionals.map((p, i) => [p, positionals[i]]));
-    return (await command.run({ ...named, values }, out)) ?? 0;
+    return (await command.run({ ...named, values }, out, err)) ?? 0;
   } catch (error) {
     if (error instanceof UsageError) {
       err.write(`springbones: ${error.message}\n\n${kUsage}`);

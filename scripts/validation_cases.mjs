@@ -129,7 +129,7 @@ function nextAfter(x, direction) {
 const cases = []
 const add = (name, input) => cases.push({ name, input })
 
-// Research vectors (shared/research/decentraland.md 8.1).
+// The named vectors: the schema's bounds, types and shapes one at a time (V* valid, I* invalid).
 add('V1 base params', M(P()))
 add('V2 center and isRoot', M({ ...P(), center: 'Avatar_Hips', isRoot: true }))
 add('V3 empty models', { version: 1, models: {} })

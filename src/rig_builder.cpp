@@ -1,4 +1,5 @@
-// Chain reconstruction (ADR-316 "Chain reconstruction", made precise in DESIGN.md section 4).
+// Chain reconstruction (ADR-316 "Chain reconstruction"; our reading of it: docs/semantics.md,
+// "Discovery and roots" to "Center").
 //
 // Candidates are nodes whose name contains "springbone" (ASCII case-insensitive); a candidate is a
 // root only when its metadata entry says isRoot: true. A chain is the root and every glTF

@@ -4,7 +4,7 @@
 // credited there to @ricopin416; the VRMC_springBone 1.0 specification; @pixiv/three-vrm): Verlet
 // inertia reduced by drag, an impulse toward the rest direction scaled by stiffness, a gravity
 // impulse, then the tail is put back at the bone's length and the joint is turned to point at it.
-// See DESIGN.md section 5. Our own choices on top of it:
+// docs/semantics.md, "The step and the fixed-step rule", states it. Our own choices on top of it:
 //  - Fixed steps. In that update inertia and drag act once per update while stiffness and gravity
 //    scale with dt, so the motion depends on the update rate. We therefore always step at a fixed
 //    rate (stepHz) with an accumulator, run at most maxSubsteps steps per frame and drop the rest

@@ -1,33 +1,32 @@
 // The XPBD integrator (`integrator: 'xpbd'`).
 //
-// Sources: the project's XPBD seed, /work/shared/specs/xpbd-springbone-adr.md ("ADR-004: XPBD for
-// SpringBone Physics Simulation", VRMMetalKit: predict, then 2-4 iterations of distance and
-// collision constraints, fixed 120 Hz substeps, compliant constraints), and Macklin, Mueller and
-// Chentanez, "XPBD: Position-Based Simulation of Compliant Constrained Dynamics" (MIG 2016), whose
-// update we use: per compliant constraint, dlambda = (-C - alpha~ lambda) / (w |grad C|^2 + alpha~),
+// docs/xpbd.md describes it and the stability comparison. The usual XPBD spring-bone recipe (as
+// in VRMMetalKit's GPU solver: predict, then 2-4 iterations of distance and collision constraints,
+// fixed 120 Hz substeps, compliant constraints) on Macklin, Mueller and Chentanez, "XPBD:
+// Position-Based Simulation of Compliant Constrained Dynamics" (MIG 2016), whose update we use:
+// per compliant constraint, dlambda = (-C - alpha~ lambda) / (w |grad C|^2 + alpha~),
 // alpha~ = alpha / h^2, x += w grad C dlambda.
 //
-// Per fixed substep h (the owner runs it at 120 Hz by default, as the seed does) and per joint,
-// parents first:
+// Per fixed substep h (the owner runs it at 120 Hz by default) and per joint, parents first:
 //   1. predict the tail particle from its inertia (center space, as in the default path) and
 //      gravity;
 //   2. up to `iterations` Gauss-Seidel passes over the joint's constraints: the compliant bend
 //      constraint, the hard bone-length constraint, then each collider (a hard inequality) followed
 //      by the length again (VRMC_springBone's order), the length last so it is exact; passes after
 //      the first run only while a collider is active (see the bend constraint below for why);
-//   3. velocity stays implicit in (current - previous), as in the default path and the seed's
-//      `vel = (pos - previousPos) / dt`;
+//   3. velocity stays implicit in (current - previous), as in the default path and in XPBD's
+//      v = (x - previous x) / h;
 //   4. the joint turns its rest axis toward the tail, exactly as the default path does, so the
 //      rotations mean the same thing.
 // The head of a joint is the (already solved) parent's transform, i.e. a particle of inverse mass
 // 0: a child never pulls its parent. That is how the default path and every VRM renderer propagate,
 // it is what the rotation outputs need, and it makes each joint's constraints a one-particle
-// problem: the hard projections are exact, so the seed's "bone lengths exact" holds to float
-// rounding after any number of steps rather than up to solver convergence (the seed's GPU version
-// solves all distance constraints in parallel and needs its iterations for that).
+// problem: the hard projections are exact, so bone lengths hold to float rounding after any
+// number of steps rather than up to solver convergence (a GPU solver that solves all distance
+// constraints in parallel needs its iterations for that).
 //
 // The mapping from the VRM parameters, and why. The parameters are defined by the default update
-// (DESIGN.md section 5) at the step rate it is tuned at, h0 = 1 / reference_hz = 1/60 s: per step
+// (docs/semantics.md, The step) at the step rate it is tuned at, h0 = 1 / reference_hz = 1/60 s: per step
 // the tail's velocity (metres per step) becomes (1 - drag) v + stiffness h0 restDir +
 // gravityPower h0 gravityDir, then the tail goes back onto the bone-length sphere. So stiffness is
 // a pull of constant size along the rest direction (a second gravity), not a Hookean spring, and
@@ -41,9 +40,9 @@
 //    tangential part of the default's stiffness impulse; the radial parts are taken by the hard
 //    length constraint. Same restoring torque curve, hence the same equilibrium (stiffness restDir
 //    + gravityPower gravityDir along the bone), but solved implicitly, which is what keeps XPBD
-//    stable at any stiffness and substep. Why not the seed's mapping: it sets the compliance from
-//    stiffness directly (`compliance = 1.0 / (stiffness * dt * dt)`, i.e. alpha = 1 / stiffness),
-//    which with the VRM meaning of stiffness makes the bend strength depend on the bone length and
+//    stable at any stiffness and substep. Why not the common mapping that sets the compliance from
+//    stiffness directly (compliance = 1 / (stiffness dt^2), i.e. alpha = 1 / stiffness)? With the
+//    VRM meaning of stiffness it makes the bend strength depend on the bone length and
 //    the world unit (a 0.05 m bone ten times stiffer than a 0.5 m one, a 0.01-scaled armature a
 //    hundred times) and moves the equilibrium away from the default's; dividing by L keeps both as
 //    the default has them. Why the vector form rather than the scalar C = |x - r|: the scalar
@@ -54,15 +53,15 @@
 //    Euler solution of spring plus sphere, x = head + L normalize((x~ + b r) / (1 + b) - head)
 //    with b = w / alpha~, and further passes reproduce it. So the iterations only matter, and only
 //    run, while a collider is active.
-//  - gravityPower, gravityDir -> an external force on the tail in the predict step (the seed's
-//    `force * dt^2 / mass`).
+//  - gravityPower, gravityDir -> an external force on the tail in the predict step
+//    (x += h^2 F / m).
 //  - drag -> implicit (backward Euler) velocity damping: each substep keeps rho = (1 -
 //    drag)^(h / h0) of the velocity, so a free tail loses the same fraction per 1/60 s as in the
 //    default, at any substep rate. In the solve it scales the tail's inverse mass by rho (backward
 //    Euler damping c is a mass (1 + c h) m, and 1 / (1 + c h) = rho), which is what keeps drag 1
 //    finite: rho = 0 is the first-order limit where the tail moves only by its impulses, as it
 //    does in the default.
-//  - the tail's mass m (the seed divides forces by a mass; VRM has none): chosen so that a free
+//  - the tail's mass m (XPBD divides forces by a mass; VRM has none): chosen so that a free
 //    tail's velocity over 1/60 s follows the default's map v -> (1 - drag) v + F exactly, F =
 //    stiffness restDir + gravityPower gravityDir in m/s. Over n = h0 / h substeps v -> rho (v + h F
 //    / m) gives rho^n v + (h / m) F rho (1 - rho^n) / (1 - rho), so 1 / m = (1 - rho) / (drag h rho),

@@ -19,7 +19,7 @@ namespace springbones {
 
 struct ColliderTable;  // spring_lanes.h
 
-/// The substep rate the XPBD integrator is meant to run at (the seed's 120 Hz).
+/// The substep rate the XPBD integrator is meant to run at (docs/xpbd.md).
 inline constexpr double kXpbdDefaultStepHz = 120.0;
 
 struct XpbdOptions {
@@ -27,7 +27,7 @@ struct XpbdOptions {
   /// impulse sizes are converted from "per step of 1/reference_hz" to per second with it, so the
   /// motion does not change with the substep rate. [1, 1000]
   double reference_hz = 60.0;
-  /// Gauss-Seidel passes over a joint's constraints per substep (the seed uses 2-4). [1, 64]
+  /// Gauss-Seidel passes over a joint's constraints per substep (XPBD designs use 2-4). [1, 64]
   /// Passes after the first run only while a collider pushes the tail: without contact the
   /// first pass is already the exact solution (xpbd_solver.cpp).
   int iterations = 4;

@@ -2,7 +2,7 @@
 //
 // Every expected CID below was printed by scripts/content_hash_reference.mjs, which runs `hashV1`
 // of npm @dcl/hashing 3.0.4 (and, for the small-layout table, the ipfs-unixfs-importer bundled in
-// it). Those in section 8.3 of /work/shared/research/decentraland.md agree with the script.
+// it). The two worked examples of docs/content-hash.md are among them.
 // To regenerate: npm install && node scripts/content_hash_reference.mjs
 #include "content_hash.h"
 
@@ -82,7 +82,7 @@ TEST(ContentHash, TwoUnequalChunksMatchTheReference) {
   EXPECT_EQ(hashOf(fill07(300000)), "bafybeifkhqdf426lf6kl5oshczyo2ahhhib6zxruehy2yo72ay74kukg3q");
 }
 
-TEST(ContentHash, RootBlockOfTwoUnequalChunksMatchesTheResearchNoteByteForByte) {
+TEST(ContentHash, RootBlockOfTwoUnequalChunksMatchesTheWorkedExampleByteForByte) {
   const std::vector<std::uint8_t> bytes = fill07(300000);
   detail::FileLink leaves[2];
   leaves[0].cid = detail::rawLeafCid(bytes.data(), 262144);

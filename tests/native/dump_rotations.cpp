@@ -1,7 +1,7 @@
 // dump_rotations: runs a scripted scenario in the native build and writes, for every frame, the
 // driver matrices it fed in and the rotations that came out, as JSON lines. The WebAssembly
 // parity test (tests/wasm/parity.test.mjs) runs the same scenario through the JS API and compares
-// (DESIGN.md section 8: native and WASM builds agree within 1e-6).
+// (native and WASM builds agree within 1e-6: docs/design.md, Numbers we hold ourselves to).
 //
 //   dump_rotations <glb> <springBones.json | -> <hash | -> <frames> <fps>
 //                  [--drive rest|sway] [--step-hz H] [--max-substeps N] [--out FILE]

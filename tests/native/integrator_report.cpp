@@ -1,27 +1,27 @@
-// springbones_integrator_report: the XPBD seed's stability comparison
-// (/work/shared/specs/xpbd-springbone-adr.md, "Stability Comparison" and "Performance
-// Measurements") reproduced on our own runs, for both integrators.
+// springbones_integrator_report: the stability comparison of the two integrators (bone length
+// drift, explosions, collider response, cost), on our own runs; docs/xpbd.md shows a run and
+// reads it.
 //
 // Not a test (the name does not end in _test.cpp, so the gtest glob skips it): it prints a table
-// and writes JSON, for the issue note and for tracking. Usage:
+// and writes JSON, for docs/xpbd.md and for tracking. Usage:
 //   springbones_integrator_report [out.json]      (default: integrator_report.json)
 // Build it optimised (native-release) before reading the cost columns.
 //
 // What runs: two rigs (a 100-joint head of hair, 20 chains of 5, leaning on a head sphere
 // collider; a 10-joint tail), two parameter sets (aggressive: stiffness 4, drag 0, gravityPower
 // 2, the energetic end of every range; typical: 1, 0.4, 0.5), two frame patterns (30 fps with a
-// 0.5 s frame every 2 s; steady 60 fps), 120 s of rapid head shaking (the seed's "extreme
-// motion"), each under
+// 0.5 s frame every 2 s; steady 60 fps), 120 s of rapid head shaking (the extreme
+// motion XPBD designs are tuned with), each under
 //   vrm:  springbones::Instance as shipped (60 Hz fixed steps, at most 4 per frame);
 //   xpbd: XpbdSolver at 120 Hz, 4 iterations, at most 8 substeps per frame (the same 1/15 s
 //         simulated per frame at most), driven by the fixed-step loop of xpbd_runner.h until
 //         Instance takes `integrator: 'xpbd'`.
 // Stability columns:
 //   length err max / final: worst |tail - head| / rest - 1 over every joint and frame, and on the
-//     last frame, measured through the output world matrices (the seed's "bone length drift");
+//     last frame, measured through the output world matrices (bone length drift);
 //   explosions: frames with a non-finite or non-unit rotation or a length error above 1%;
-//   penetration: deepest tail inside the head collider (radius + hit radius), mm (the seed's
-//     "collision response");
+//   penetration: deepest tail inside the head collider (radius + hit radius), mm (collision
+//     response);
 //   swing m/s: speed of the tails relative to their heads (mean, max), the energy kept;
 // then the cost (time inside step(), best of 7 runs of 600 frames at 60 fps: us per frame and ns
 // per joint per (sub)step), and how close the xpbd pose stays to the default's while walking
@@ -238,7 +238,7 @@ struct Stability {
   double mean_swing_speed = 0, max_swing_speed = 0;  // m/s of the tails relative to their heads
 };
 
-// The seed's stability comparison: rapid head shaking, every frame checked.
+// The stability comparison: rapid head shaking, every frame checked.
 Stability runStability(const std::string& integrator, const std::string& rig_name, const ParamSet& params,
                        const FramePattern& pattern) {
   auto rig = makeRigNamed(rig_name, params);

@@ -1,5 +1,5 @@
 // Chain building tests (src/rig_builder.cpp): the ADR's naming table and Full Example, the chain
-// rules of DESIGN.md section 4, and the avatar fixture (tests/fixtures/avatar_hair.glb, laid out in
+// rules of docs/semantics.md, and the avatar fixture (tests/fixtures/avatar_hair.glb, laid out in
 // scripts/make_fixtures.mjs, whose comments give every offset used below).
 #include <gtest/gtest.h>
 

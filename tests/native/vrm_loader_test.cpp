@@ -511,7 +511,7 @@ TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
   // Zero gravityDir with zero power: no gravity, nothing to say.
   EXPECT_EQ(test::countWarnings(rig->warnings, "vrm-gravity-dir-zero"), 0);
   const Joint& b = joint(*rig, "B");
-  EXPECT_EQ(b.params.stiffness, 1e30f);  // no upper bound in the spec
+  EXPECT_EQ(b.params.stiffness, 1e30f);  // no upper bound in the VRMC_springBone schema
   EXPECT_TRUE(vecNear(b.params.gravity_dir, {0, -1, 0}, 0.0f));
   EXPECT_EQ(b.params.gravity_power, 2.0f);
   EXPECT_EQ(b.params.drag, 0.0f);
@@ -651,7 +651,7 @@ TEST(VrmLoader, Vrm0OverlappingRootsAndZeroLengthLeaves) {
   EXPECT_FLOAT_EQ(joint(*rig, "B").params.stiffness, 2.0f);
   EXPECT_FLOAT_EQ(joint(*rig, "E").params.stiffness, 2.0f);
   EXPECT_FLOAT_EQ(joint(*rig, "A").params.stiffness, 0.5f);
-  EXPECT_FLOAT_EQ(joint(*rig, "A").params.drag, 0.5f);  // missing: the spec default
+  EXPECT_FLOAT_EQ(joint(*rig, "A").params.drag, 0.5f);  // missing: the VRMC_springBone schema's default
   EXPECT_EQ(joint(*rig, "B").parent_joint, jointNamed(*rig, "A"));
   const std::string p = "/extensions/VRM/secondaryAnimation/boneGroups/1/bones/";
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-joint-conflict", p + "0"), nullptr);  // A's subtree

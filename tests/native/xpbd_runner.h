@@ -3,7 +3,7 @@
 // an accumulator, at most max_substeps substeps per frame with the surplus dropped, driver
 // matrices interpolated across the substeps of a frame (decomposed, slerped, as the general path
 // does), a non-finite driver matrix ignored, the first step seeding at rest. Only the substep
-// rate and cap defaults differ: 120 Hz (the seed's) and 8, so 15 fps frames still get all their
+// rate and cap defaults differ: 120 Hz (kXpbdDefaultStepHz) and 8, so 15 fps frames still get all their
 // time simulated.
 #pragma once
 

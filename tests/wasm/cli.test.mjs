@@ -1,7 +1,7 @@
 // scripts/springbones.mjs: output of inspect and simulate, metadata file shapes, exit codes.
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { copyFileSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -45,11 +45,13 @@ describe('inspect', () => {
     assert.deepEqual(data.drivers.map((d) => d.name), ['Avatar_Head', 'Avatar_Hips']);
   });
 
-  test('without metadata: no chains, no warnings', () => {
-    const { code, stdout } = run('inspect', hairGlb);
+  test('without metadata: no chains, no warnings, and a hint to pass --metadata', () => {
+    const { code, stdout, stderr } = run('inspect', hairGlb);
     assert.equal(code, 0);
     assert.match(stdout, /chains \(0\):/);
     assert.match(stdout, /warnings \(0\):/);
+    assert.match(stderr, /note: no springBones metadata given: pass --metadata/);
+    assert.doesNotMatch(run('inspect', hairGlb, '--metadata', hairMetadata).stderr, /note:/);
   });
 
   test('--hash selects the models entry', () => {
@@ -129,8 +131,55 @@ describe('.vrm avatars', () => {
     for (const option of ['--metadata', '--hash', '--body-shape']) {
       const usage = run('simulate', vrm1, option, 'x');
       assert.equal(usage.code, 2, option);
-      assert.match(usage.stderr, /does not apply to a \.vrm/);
+      assert.match(usage.stderr, /does not apply to a VRM avatar: vrm10_springs\.vrm carries its own spring bones \(VRMC_springBone\)/);
     }
+  });
+
+  // What a file is comes from its content: a VRM keeps its springs under any name, and a wearable
+  // named .vrm is still a wearable.
+  for (const [fixtureName, name, format, extension] of [
+    ['vrm0_springs.vrm', 'avatar.glb', 'vrm0', 'VRM 0.x secondaryAnimation'],
+    ['vrm10_springs.vrm', 'avatar.gltf', 'vrmc-springbone', 'VRMC_springBone'],
+    ['vrm10_springs.vrm', 'avatar.glb', 'vrmc-springbone', 'VRMC_springBone'],
+    ['vrm0_springs.vrm', 'avatar.gltf', 'vrm0', 'VRM 0.x secondaryAnimation'],
+  ]) {
+    test(`${fixtureName} renamed ${name} is read as a VRM avatar`, () => {
+      const original = join(fixturesDir, fixtureName);
+      const renamed = join(scratch, `${format}_${name}`);
+      copyFileSync(original, renamed);
+      const expected = JSON.parse(run('inspect', original, '--json').stdout);
+      assert.ok(expected.joints.length > 0);
+      const { code, stdout, stderr } = run('inspect', renamed, '--json');
+      assert.equal(code, 0, stderr);
+      assert.equal(stderr, '');
+      const data = JSON.parse(stdout);
+      assert.equal(data.format, format);
+      assert.deepEqual(data.joints, expected.joints);
+      assert.match(run('inspect', renamed).stdout, new RegExp(`springs: VRM, ${format}`));
+      const simulated = run('simulate', renamed, '--frames', '3', '--drive', 'sway');
+      assert.equal(simulated.code, 0, simulated.stderr);
+      assert.equal(simulated.stdout, run('simulate', original, '--frames', '3', '--drive', 'sway').stdout);
+      const usage = run('inspect', renamed, '--metadata', hairMetadata);
+      assert.equal(usage.code, 2);
+      assert.ok(usage.stderr.includes(`--metadata does not apply to a VRM avatar: ${format}_${name} carries its own spring bones (${extension})`), usage.stderr);
+    });
+  }
+
+  test('a .vrm without VRM spring bones is read as a wearable, with a note saying so', () => {
+    const renamed = join(scratch, 'hair.vrm');
+    copyFileSync(hairGlb, renamed);
+    const withMetadata = run('inspect', renamed, '--metadata', hairMetadata);
+    assert.equal(withMetadata.code, 0, withMetadata.stderr);
+    assert.equal(withMetadata.stdout.replace('hair.vrm', 'avatar_hair.glb'), run('inspect', hairGlb, '--metadata', hairMetadata).stdout);
+    assert.match(withMetadata.stderr, /note: hair\.vrm has no VRM spring bones \(neither VRMC_springBone nor VRM 0\.x secondaryAnimation\): read as a wearable\n/);
+    assert.doesNotMatch(withMetadata.stderr, /pass --metadata/);
+    const bare = run('inspect', renamed);
+    assert.equal(bare.code, 0);
+    assert.match(bare.stdout, /chains \(0\):/);
+    assert.match(bare.stderr, /read as a wearable\n.*no springBones metadata given: pass --metadata/);
+    const simulated = run('simulate', renamed, '--frames', '2');
+    assert.equal(simulated.code, 2);
+    assert.match(simulated.stderr, /read as a wearable; no springBones metadata given: pass --metadata/);
   });
 });
 
@@ -248,7 +297,8 @@ describe('exit codes', () => {
     usage('inspect');
     usage('inspect', hairGlb, 'extra.glb');
     usage('inspect', hairGlb, '--bogus');
-    usage('simulate', hairGlb);
+    usage('simulate', hairGlb);  // a wearable without springBones metadata has nothing to simulate
+    assert.match(run('simulate', hairGlb).stderr, /springbones: no springBones metadata given: pass --metadata/);
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '-1');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '2.5');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', '0');
