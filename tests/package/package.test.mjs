@@ -123,9 +123,10 @@ before(() => {
 });
 
 describe('the tarball', () => {
-  test('holds the runtime only: the module, its .wasm and glue, the adapter, their types, README, LICENSE', () => {
+  test('holds the runtime only: the module, its .wasm and glue, the adapter, their types, the READMEs, CHANGELOG, LICENSE', () => {
     const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
     assert.deepEqual(files, [
+      'package/CHANGELOG.md',
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
@@ -133,6 +134,7 @@ describe('the tarball', () => {
       'package/web/dist/springbones_wasm.wasm',
       'package/web/springbones.d.ts',
       'package/web/springbones.js',
+      'package/web/three/README.md',
       'package/web/three/index.d.ts',
       'package/web/three/index.js',
       'package/web/three/springBonesLoaderPlugin.d.ts',
