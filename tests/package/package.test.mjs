@@ -8,7 +8,7 @@
 // CHROMIUM_PATH) and the emsdk toolchain (scripts/package builds the module). Set
 // SPRINGBONES_KEEP_CONSUMER=1 to keep the projects (their paths are printed).
 import assert from 'node:assert/strict';
-import { execFileSync, spawnSync } from 'node:child_process';
+import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import { cpSync, existsSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
@@ -61,12 +61,11 @@ const bin = (project, tool) => join(project, 'node_modules', '.bin', tool);
 const kGpuDriverNote = /^\[\.WebGL-0x[0-9a-f]+\]GL Driver Message \(OpenGL, Performance, /;
 
 /**
- * Serves `dir` and opens its index.html in headless Chromium until the page reports
- * window.springbonesResult. Returns the result, every console error or warning, page error and
- * failed HTTP response, and the .wasm responses.
+ * Opens `url` in headless Chromium until the page reports window.springbonesResult. Returns the
+ * result, every console error or warning, page error and failed HTTP response, and the .wasm
+ * responses.
  */
-async function openBundle(dir) {
-  const { server } = await startServer({ port: 0, root: dir });
+async function openPage(url) {
   const profileDir = mkdtempSync(join(tmpdir(), 'springbones-chromium-'));
   let context;
   try {
@@ -88,18 +87,54 @@ async function openBundle(dir) {
     page.on('pageerror', (e) => messages.push(`page error: ${e.message}`));
     page.on('response', (r) => {
       if (r.status() >= 400) messages.push(`HTTP ${r.status()}: ${r.url()}`);
-      if (r.url().endsWith('.wasm')) wasm.push({ path: new URL(r.url()).pathname, status: r.status(), type: r.headers()['content-type'] });
+      if (new URL(r.url()).pathname.endsWith('.wasm')) {
+        wasm.push({ path: new URL(r.url()).pathname, status: r.status(), type: r.headers()['content-type'] });
+      }
     });
-    await page.goto(`http://127.0.0.1:${server.address().port}/index.html`);
+    await page.goto(url);
     await page.waitForFunction(() => window.springbonesResult !== undefined || document.title === 'failed', null, { timeout: 90_000 })
       .catch((error) => { throw new Error(`${error.message}\n${messages.join('\n')}`); });
     const result = await page.evaluate(() => window.springbonesResult);
     return { result, messages, wasm };
   } finally {
     await context?.close();
-    server.close();
     rmSync(profileDir, { recursive: true, force: true });
   }
+}
+
+/** Serves `dir` (a bundle's output) on a free port and opens its index.html (openPage). */
+async function openBundle(dir) {
+  const { server } = await startServer({ port: 0, root: dir });
+  try {
+    return await openPage(`http://127.0.0.1:${server.address().port}/index.html`);
+  } finally {
+    server.close();
+  }
+}
+
+/** Starts `vite` (the dev server) in `dir` on a free port; resolves to { url, stop }. */
+function startViteDevServer(project, dir) {
+  const child = spawn(bin(project, 'vite'), ['--host', '127.0.0.1', '--port', '0', '--clearScreen', 'false'], { cwd: dir });
+  let output = '';
+  const stop = () => new Promise((resolve) => {
+    if (child.exitCode !== null) return resolve();
+    child.once('exit', resolve);
+    child.kill();
+  });
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => { stop(); reject(new Error(`vite did not start:\n${output}`)); }, 60_000);
+    const read = (chunk) => {
+      output += chunk;
+      const url = output.replace(/\x1b\[[0-9;]*m/g, '').match(/Local:\s+(http:\/\/127\.0\.0\.1:\d+\/)/)?.[1];
+      if (url) {
+        clearTimeout(timer);
+        resolve({ url, stop });
+      }
+    };
+    child.stdout.setEncoding('utf8').on('data', read);
+    child.stderr.setEncoding('utf8').on('data', read);
+    child.once('exit', (code) => { clearTimeout(timer); reject(new Error(`vite exited (${code}):\n${output}`)); });
+  });
 }
 
 /** What the page must show in either bundle: the package loaded, the sample's bones moved. */
@@ -189,6 +224,17 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
     const page = await openBundle(dist);
     assertPageWorked(page, 'vite');
     assert.match(page.wasm[0].path, /^\/assets\/springbones_wasm-[\w-]+\.wasm$/, 'the bundle\'s copy, with its content hash');
+  });
+
+  test('Vite dev server (with the README\'s optimizeDeps.exclude), in Chromium: the bones move', async () => {
+    const server = await startViteDevServer(project, join(project, 'web'));
+    try {
+      const page = await openPage(`${server.url}index.html`);
+      assertPageWorked(page, 'vite dev');
+      assert.match(page.wasm[0].path, /\/node_modules\/springbones\/web\/dist\/springbones_wasm\.wasm$/);
+    } finally {
+      await server.stop();
+    }
   });
 
   test('esbuild: bundled with the .wasm as a file, served, in Chromium: the bones move', async () => {
