@@ -5,7 +5,7 @@
 // consumers' files are in tests/package/consumer/, copied into each project.
 //
 // Needs npm and the registry (the projects install pinned versions), /usr/bin/chromium (or
-// CHROMIUM_PATH) and the emsdk toolchain (scripts/package builds the module). Set
+// CHROMIUM_PATH) and Emscripten (scripts/package builds the module). Set
 // SPRINGBONES_KEEP_CONSUMER=1 to keep the projects (their paths are printed).
 import assert from 'node:assert/strict';
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
@@ -23,8 +23,8 @@ const sampleAssets = ['avatar.glb', 'hair_wearable.glb', 'hair_wearable.metadata
 const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
 const repoPackage = JSON.parse(readFileSync(join(root, 'package.json'), 'utf8'));
 
-// What the consumers install, pinned. vite 7 installs with npm 10 and 11 (vite 8 needs npm 11);
-// esbuild is the version vite 7 depends on anyway, so the two share one download.
+// What the consumers install, pinned. vite 7 rather than 8, which needs npm 11; esbuild in the
+// range vite 7 depends on, so that the two share one install.
 const kThreeHighest = '0.187.0';
 const kThreeLowest = '0.160.0';
 const kTools = { vite: '7.3.8', esbuild: '0.28.2', typescript: '5.9.3', '@types/three': '0.187.0' };
