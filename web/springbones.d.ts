@@ -134,6 +134,8 @@ export interface ValidationError {
 }
 
 export interface SpringBones {
+  /** The package version, equal to the installed package.json's `version` (semver, 0.x). */
+  readonly version: string;
   /**
    * Loads a wearable once; share the rig between every avatar wearing it.
    * @param glbBytes GLB or glTF JSON bytes (copied; the caller keeps its buffer)

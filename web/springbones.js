@@ -15,6 +15,8 @@
 // wasmBinary (the glue is built for the web only, see wasm/CMakeLists.txt); in browsers the glue
 // fetches it from dist/, relative to this file, with streaming compilation.
 
+import { version } from './version.js';
+
 const kModuleUrl = new URL('./dist/springbones_wasm.wasm', import.meta.url);
 const kIsNode =
   typeof process === 'object' && process !== null && typeof process.versions === 'object' &&
@@ -92,6 +94,11 @@ class SpringBones {
 
   constructor(module) {
     this.#m = module;
+  }
+
+  /** The package version (package.json's), e.g. '0.2.0'. */
+  get version() {
+    return version;
   }
 
   /**

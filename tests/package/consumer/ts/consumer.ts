@@ -1,0 +1,43 @@
+// A TypeScript consumer of both entries' .d.ts, checked with tsc --noEmit --strict. The three
+// expected errors below fail the check if the types ever let those mistakes through (or are
+// missing: an `any` accepts everything).
+import { AnimationMixer, Object3D, Quaternion } from 'three';
+import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
+import { createSpringBones, SpringBonesError, type Rig, type SpringBones } from 'springbones';
+import {
+  SpringBonesGroup, SpringBonesLoaderPlugin, type SpringBonesAttachment, type SpringBonesWearable,
+} from 'springbones/three';
+
+export async function preview(avatar: Object3D, url: string, entity: object): Promise<() => void> {
+  const sb: SpringBones = await createSpringBones();
+  const version: string = sb.version;
+  const loader = new GLTFLoader();
+  loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones: null, entity, bodyShape: 'BaseMale' }));
+  const gltf = await loader.loadAsync(url);
+  const wearable = gltf.userData.springBones as SpringBonesWearable;
+  const rig: Rig = wearable.rig;
+  const worn: SpringBonesAttachment = wearable.wear(avatar, { instance: { integrator: 'xpbd' } });
+  const group = new SpringBonesGroup(sb);
+  group.add(worn);
+  const mixer = new AnimationMixer(avatar);
+  const q: Quaternion | undefined = worn.jointObjects[0]?.quaternion;
+  console.log(version, rig.joints.length, q?.w, wearable.warnings.map((w) => w.code));
+
+  // @ts-expect-error the plugin needs the springbones module
+  new SpringBonesLoaderPlugin(loader as never, { springBones: null });
+  // @ts-expect-error rotations are read-only typed arrays of numbers, not strings
+  const wrong: string = worn.instance.rotations[0];
+  // @ts-expect-error version is read-only
+  sb.version = '1.0.0';
+  console.log(wrong);
+
+  return () => {
+    try {
+      mixer.update(1 / 60);
+      avatar.updateMatrixWorld();
+      group.update(1 / 60);
+    } catch (error) {
+      if (error instanceof SpringBonesError) console.log(error.code, error.path);
+    }
+  };
+}

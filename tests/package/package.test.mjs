@@ -1,0 +1,263 @@
+// The npm package as its users take it: scripts/package packs the tarball, and throwaway projects
+// outside the repository install it with npm and use it (a Node test suite, a Vite app and an
+// esbuild bundle opened in Debian's Chromium, a strict TypeScript check, and the Node suite again
+// under the lowest `three` of the peer range). Nothing here imports the checkout's web/: the
+// consumers' files are in tests/package/consumer/, copied into each project.
+//
+// Needs npm and the registry (the projects install pinned versions), /usr/bin/chromium (or
+// CHROMIUM_PATH) and Emscripten (scripts/package builds the module). Set
+// SPRINGBONES_KEEP_CONSUMER=1 to keep the projects (their paths are printed).
+import assert from 'node:assert/strict';
+import { execFileSync, spawn, spawnSync } from 'node:child_process';
+import { cpSync, existsSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../scripts/serve.mjs';
+
+const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const consumer = join(root, 'tests', 'package', 'consumer');
+const sampleAssets = ['avatar.glb', 'hair_wearable.glb', 'hair_wearable.metadata.json', 'hair_wearable.entity.json'];
+const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
+const repoPackage = JSON.parse(readFileSync(join(root, 'package.json'), 'utf8'));
+
+// What the consumers install, pinned. vite 7 rather than 8, which needs npm 11; esbuild in the
+// range vite 7 depends on, so that the two share one install.
+const kThreeHighest = '0.187.0';
+const kThreeLowest = '0.160.0';
+const kTools = { vite: '7.3.8', esbuild: '0.28.2', typescript: '5.9.3', '@types/three': '0.187.0' };
+
+/** Runs a command; on failure the assertion shows its output. */
+function run(command, args, cwd, env = {}) {
+  const result = spawnSync(command, args, { cwd, env: { ...process.env, ...env }, encoding: 'utf8', maxBuffer: 64 << 20 });
+  assert.equal(result.status, 0, `${command} ${args.join(' ')} failed in ${cwd}:\n${result.stdout}\n${result.stderr}`);
+  return result.stdout;
+}
+
+/** A throwaway project (in the system's temp folder, away from the repository's node_modules). */
+function makeProject(name, dependencies, devDependencies = {}) {
+  const dir = mkdtempSync(join(tmpdir(), `springbones-${name}-`));
+  cpSync(consumer, dir, { recursive: true });
+  for (const target of [join(dir, 'assets'), join(dir, 'web', 'public')]) {
+    mkdirSync(target, { recursive: true });
+    for (const file of sampleAssets) cpSync(join(root, 'web', 'demo', 'assets', file), join(target, file));
+  }
+  writeFileSync(join(dir, 'package.json'), JSON.stringify({
+    name: `springbones-${name}`, private: true, type: 'module', dependencies, devDependencies,
+  }, null, 2));
+  run('npm', ['install', '--no-audit', '--no-fund', '--loglevel=error'], dir);
+  if (process.env.SPRINGBONES_KEEP_CONSUMER) console.log(`# kept: ${dir}`);
+  return dir;
+}
+
+function removeProject(dir) {
+  if (dir && !process.env.SPRINGBONES_KEEP_CONSUMER) rmSync(dir, { recursive: true, force: true });
+}
+
+const bin = (project, tool) => join(project, 'node_modules', '.bin', tool);
+
+const kGpuDriverNote = /^\[\.WebGL-0x[0-9a-f]+\]GL Driver Message \(OpenGL, Performance, /;
+
+/**
+ * Opens `url` in headless Chromium until the page reports window.springbonesResult. Returns the
+ * result, every console error or warning, page error and failed HTTP response, and the .wasm
+ * responses.
+ */
+async function openPage(url) {
+  const profileDir = mkdtempSync(join(tmpdir(), 'springbones-chromium-'));
+  let context;
+  try {
+    context = await chromium.launchPersistentContext(profileDir, {
+      executablePath: chromiumPath,
+      headless: true,
+      args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+        '--disable-sync', '--no-first-run', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+    });
+    const page = context.pages()[0] ?? await context.newPage();
+    const messages = [];
+    const wasm = [];
+    page.on('console', (m) => {
+      // Chromium's GPU process reports software GL's performance notes (SwiftShader: "GPU stall
+      // due to ReadPixels") as warnings of the page; they come from the browser, not the page.
+      if (m.type() === 'warning' && kGpuDriverNote.test(m.text())) return;
+      if (m.type() === 'error' || m.type() === 'warning') messages.push(`${m.type()}: ${m.text()}`);
+    });
+    page.on('pageerror', (e) => messages.push(`page error: ${e.message}`));
+    page.on('response', (r) => {
+      if (r.status() >= 400) messages.push(`HTTP ${r.status()}: ${r.url()}`);
+      if (new URL(r.url()).pathname.endsWith('.wasm')) {
+        wasm.push({ path: new URL(r.url()).pathname, status: r.status(), type: r.headers()['content-type'] });
+      }
+    });
+    await page.goto(url);
+    await page.waitForFunction(() => window.springbonesResult !== undefined || document.title === 'failed', null, { timeout: 90_000 })
+      .catch((error) => { throw new Error(`${error.message}\n${messages.join('\n')}`); });
+    const result = await page.evaluate(() => window.springbonesResult);
+    return { result, messages, wasm };
+  } finally {
+    await context?.close();
+    rmSync(profileDir, { recursive: true, force: true });
+  }
+}
+
+/** Serves `dir` (a bundle's output) on a free port and opens its index.html (openPage). */
+async function openBundle(dir) {
+  const { server } = await startServer({ port: 0, root: dir });
+  try {
+    return await openPage(`http://127.0.0.1:${server.address().port}/index.html`);
+  } finally {
+    server.close();
+  }
+}
+
+/** Starts `vite` (the dev server) in `dir` on a free port; resolves to { url, stop }. */
+function startViteDevServer(project, dir) {
+  const child = spawn(bin(project, 'vite'), ['--host', '127.0.0.1', '--port', '0', '--clearScreen', 'false'], { cwd: dir });
+  let output = '';
+  const stop = () => new Promise((resolve) => {
+    if (child.exitCode !== null) return resolve();
+    child.once('exit', resolve);
+    child.kill();
+  });
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => { stop(); reject(new Error(`vite did not start:\n${output}`)); }, 60_000);
+    const read = (chunk) => {
+      output += chunk;
+      const url = output.replace(/\x1b\[[0-9;]*m/g, '').match(/Local:\s+(http:\/\/127\.0\.0\.1:\d+\/)/)?.[1];
+      if (url) {
+        clearTimeout(timer);
+        resolve({ url, stop });
+      }
+    };
+    child.stdout.setEncoding('utf8').on('data', read);
+    child.stderr.setEncoding('utf8').on('data', read);
+    child.once('exit', (code) => { clearTimeout(timer); reject(new Error(`vite exited (${code}):\n${output}`)); });
+  });
+}
+
+/** What the page must show in either bundle: the package loaded, the sample's bones moved. */
+function assertPageWorked({ result, messages, wasm }, where) {
+  assert.deepEqual(messages, [], `${where}: the console stays clean`);
+  assert.equal(wasm.length, 1, `${where}: one .wasm fetched: ${JSON.stringify(wasm)}`);
+  assert.equal(wasm[0].status, 200);
+  assert.equal(wasm[0].type, 'application/wasm');
+  assert.equal(result.version, repoPackage.version);
+  assert.equal(result.joints, 15);
+  assert.equal(result.warnings, 0);
+  assert.equal(result.finite, true);
+  assert.ok(result.moved > 0.05, `${where}: the hair swings as the avatar walks (rotations moved by up to ${result.moved})`);
+}
+
+let tarball;
+before(() => {
+  const out = execFileSync(join(root, 'scripts', 'package'), { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+  tarball = resolve(root, out.trim().split('\n').pop());
+  assert.ok(existsSync(tarball), tarball);
+});
+
+describe('the tarball', () => {
+  test('holds the runtime only: the module, its .wasm and glue, the adapter, their types, the READMEs, CHANGELOG, LICENSE', () => {
+    const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
+    assert.deepEqual(files, [
+      'package/CHANGELOG.md',
+      'package/LICENSE',
+      'package/README.md',
+      'package/package.json',
+      'package/web/dist/springbones_wasm.js',
+      'package/web/dist/springbones_wasm.wasm',
+      'package/web/springbones.d.ts',
+      'package/web/springbones.js',
+      'package/web/three/README.md',
+      'package/web/three/index.d.ts',
+      'package/web/three/index.js',
+      'package/web/three/springBonesLoaderPlugin.d.ts',
+      'package/web/three/springBonesLoaderPlugin.js',
+      'package/web/three/springBonesThree.d.ts',
+      'package/web/three/springBonesThree.js',
+      'package/web/version.js',
+    ]);
+  });
+
+  test('package.json is publishable, with exports and types for both entries', () => {
+    const pkg = JSON.parse(execFileSync('tar', ['-xzOf', tarball, 'package/package.json'], { encoding: 'utf8' }));
+    assert.equal(pkg.private, undefined);
+    assert.match(pkg.version, /^0\.\d+\.\d+$/);
+    assert.equal(pkg.type, 'module');
+    assert.equal(pkg.sideEffects, false);
+    assert.ok(pkg.engines.node);
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './wasm']);
+    for (const entry of ['.', './three']) {
+      assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
+      assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
+    }
+    assert.equal(pkg.peerDependenciesMeta.three.optional, true);
+    // The peer range is what this file tests: from kThreeLowest up to kThreeHighest's minor.
+    const next = `0.${Number(kThreeHighest.split('.')[1]) + 1}.0`;
+    assert.equal(pkg.peerDependencies.three, `>=${kThreeLowest} <${next}`);
+    assert.equal(repoPackage.devDependencies.three, kThreeHighest, 'the repository tests the highest too');
+  });
+});
+
+describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, () => {
+  let project;
+  before(() => {
+    project = makeProject('consumer', { springbones: `file:${tarball}`, three: kThreeHighest }, kTools);
+  });
+  after(() => removeProject(project));
+
+  test('Node: node --test loads the sample, steps and reads rotations from the installed package', () => {
+    run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs'],
+        project, { SPRINGBONES_THREE_REVISION: kThreeHighest.split('.')[1] });
+  });
+
+  test('TypeScript: tsc --noEmit --strict on a consumer of both .d.ts (bundler and NodeNext resolution)', () => {
+    run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', 'ts/tsconfig.json'], project);
+    run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', 'ts/tsconfig.node.json'], project);
+  });
+
+  test('Vite: vite build, served from dist/, in Chromium: the wasm loads from the bundle and the bones move', async () => {
+    run(bin(project, 'vite'), ['build', '--logLevel', 'warn'], join(project, 'web'));
+    const dist = join(project, 'web', 'dist');
+    assert.ok(readdirSync(join(dist, 'assets')).some((f) => f.endsWith('.wasm')), 'vite copied the .wasm');
+    const page = await openBundle(dist);
+    assertPageWorked(page, 'vite');
+    assert.match(page.wasm[0].path, /^\/assets\/springbones_wasm-[\w-]+\.wasm$/, 'the bundle\'s copy, with its content hash');
+  });
+
+  test('Vite dev server (with the README\'s optimizeDeps.exclude), in Chromium: the bones move', async () => {
+    const server = await startViteDevServer(project, join(project, 'web'));
+    try {
+      const page = await openPage(`${server.url}index.html`);
+      assertPageWorked(page, 'vite dev');
+      assert.match(page.wasm[0].path, /\/node_modules\/springbones\/web\/dist\/springbones_wasm\.wasm$/);
+    } finally {
+      await server.stop();
+    }
+  });
+
+  test('esbuild: bundled with the .wasm as a file, served, in Chromium: the bones move', async () => {
+    const dist = join(project, 'esbuild-dist');
+    run(bin(project, 'esbuild'), ['web/esbuildEntry.js', '--bundle', '--format=esm', '--loader:.wasm=file',
+      '--log-level=warning', `--outdir=${dist}`], project);
+    cpSync(join(project, 'web', 'public'), dist, { recursive: true });
+    writeFileSync(join(dist, 'index.html'), readFileSync(join(project, 'web', 'index.html'), 'utf8')
+        .replace('./viteEntry.js', './esbuildEntry.js'));
+    const page = await openBundle(dist);
+    assertPageWorked(page, 'esbuild');
+  });
+});
+
+describe(`a Node project with three ${kThreeLowest}, the lowest of the peer range`, () => {
+  let project;
+  before(() => {
+    project = makeProject('three-lowest', { springbones: `file:${tarball}`, three: kThreeLowest });
+  });
+  after(() => removeProject(project));
+
+  test('the Node suite and the three.js internals checks pass', () => {
+    run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs'],
+        project, { SPRINGBONES_THREE_REVISION: kThreeLowest.split('.')[1] });
+  });
+});

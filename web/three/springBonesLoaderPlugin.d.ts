@@ -1,0 +1,58 @@
+// Types of the GLTFLoader plugin (springBonesLoaderPlugin.js). `three` is a peer dependency.
+import type { Object3D } from 'three';
+import type { GLTF, GLTFLoaderPlugin, GLTFParser } from 'three/examples/jsm/loaders/GLTFLoader.js';
+import type { LoadOptions, Rig, SpringBones, Warning } from '../springbones.js';
+import type { AttachOptions, SpringBonesAttachment } from './springBonesThree.js';
+
+/** sb.loadRig's options (which models entry, colliders, hitRadius) and these. */
+export type SpringBonesLoaderPluginOptions = LoadOptions & {
+  /** The module from createSpringBones(). */
+  sb: SpringBones;
+  /** The wearable's data.springBones, as an object or JSON text; null or left out: no spring bones. */
+  springBones?: object | string | null;
+  /**
+   * The bytes GLTFLoader parses, when the caller has neither contentHash nor the entity: the
+   * models entry is then the one under these bytes' content hash. With contentHash or
+   * entity + bodyShape the rig is read from the parser's glTF JSON and the bytes are not needed.
+   */
+  glb?: Uint8Array | ArrayBuffer;
+};
+
+/**
+ * Loads a wearable's spring-bone rig with the GLB:
+ * `loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones, entity, bodyShape }))`,
+ * then `gltf.userData.springBones` is a SpringBonesWearable. Every file that loader loads gets
+ * one, so load the avatar with a loader without the plugin.
+ */
+export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
+  /**
+   * @throws TypeError for a non-parser, unknown options, a missing sb, or springBones without
+   * contentHash, entity + bodyShape or glb (the models are keyed by the GLB's content hash)
+   */
+  constructor(parser: GLTFParser, options: SpringBonesLoaderPluginOptions);
+  readonly name: 'springbones';
+  readonly parser: GLTFParser;
+  readonly options: SpringBonesLoaderPluginOptions;
+  /** Loads the rig (sb.loadRig's errors reject the load) into gltf.userData.springBones. */
+  afterRoot(gltf: GLTF): Promise<void>;
+}
+
+/** What SpringBonesLoaderPlugin puts on gltf.userData.springBones. */
+export class SpringBonesWearable {
+  private constructor();
+  readonly gltf: GLTF;
+  /** The rig, owned by the wearable: dispose() frees it. */
+  readonly rig: Rig;
+  /** The rig's warnings. */
+  readonly warnings: readonly Warning[];
+  /** The attachments wear() made that dispose() has not yet disposed of. */
+  readonly attachments: readonly SpringBonesAttachment[];
+  /**
+   * Wears a clone of gltf.scene on the avatar (gltf.scene stays a template, so one load serves
+   * many avatars) and returns the attachment; call its update(dt) every frame after the avatar's
+   * world matrices are current, or add it to a SpringBonesGroup.
+   */
+  wear(avatarRoot: Object3D, options?: Omit<AttachOptions, 'nodes'>): SpringBonesAttachment;
+  /** Disposes of the attachments (taking them off their avatars) and the rig; not the geometries or materials. */
+  dispose(): void;
+}

@@ -1,0 +1,110 @@
+// GLTFLoader plugin for springbones: loading a wearable also loads its spring-bone rig, the way
+// three.js users take VRM avatars (register a plugin, then read gltf.userData):
+//
+//   loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones, entity, bodyShape }));
+//   const wearable = (await loader.loadAsync(url)).userData.springBones;
+//   const worn = wearable.wear(avatar.scene);   // then every frame: worn.update(dt)
+//
+// A thin layer over springBonesThree.js: the rig is sb.loadRig's, wearing is attachWearable on a
+// SkeletonUtils clone of the loaded scene, and what wear() returns is the adapter's attachment.
+//
+// Which springBones.models entry applies is keyed by the GLB's content hash, which needs the
+// file's exact bytes, and GLTFLoader does not hand a plugin the bytes it fetched. So the caller
+// names the hash, as loadRig's options do: `contentHash`, or `entity` + `bodyShape` (the
+// entity's content list has the hash; a page that shows a catalyst's wearable has the entity),
+// or `glb`, the bytes it parsed (loadRig hashes them). With a hash, the rig is read from the
+// glTF JSON the parser already holds (parser.json), so the bytes are not needed at all.
+import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
+import { attachWearable, wearableNodes } from './springBonesThree.js';
+
+const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+const kRigOptions = [...kHashOptions, 'colliders', 'hitRadius'];
+const kOptions = ['sb', 'springBones', 'glb', ...kRigOptions];
+
+export class SpringBonesLoaderPlugin {
+  /**
+   * parser: GLTFLoader's parser (the argument of loader.register's callback).
+   * options: { sb, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
+   * sb is the module from createSpringBones(); springBones the wearable's data.springBones
+   * (object or JSON text; null or left out: no spring bones); the rest as for sb.loadRig.
+   */
+  constructor(parser, options) {
+    if (typeof parser?.json !== 'object' || parser.json === null) {
+      throw new TypeError('SpringBonesLoaderPlugin: parser must be GLTFLoader\'s parser (the argument of loader.register\'s callback)');
+    }
+    if (options === null || typeof options !== 'object') {
+      throw new TypeError('SpringBonesLoaderPlugin: options must be an object ({ sb, springBones, ... })');
+    }
+    for (const key of Object.keys(options)) {
+      if (!kOptions.includes(key)) throw new TypeError(`SpringBonesLoaderPlugin: unknown option ${key} (expected ${kOptions.join(', ')})`);
+    }
+    if (typeof options.sb?.loadRig !== 'function') {
+      throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module (the result of createSpringBones())');
+    }
+    const hasSpringBones = options.springBones !== undefined && options.springBones !== null;
+    if (hasSpringBones && options.glb === undefined && kHashOptions.every((k) => options[k] === undefined)) {
+      throw new TypeError('SpringBonesLoaderPlugin: springBones.models is keyed by the GLB\'s content hash: ' +
+          'pass contentHash, entity + bodyShape, or glb (the bytes being parsed)');
+    }
+    this.name = 'springbones';
+    this.parser = parser;
+    this.options = options;
+  }
+
+  /** GLTFLoader's hook once the scene is built: loads the rig into gltf.userData.springBones. */
+  async afterRoot(gltf) {
+    const { sb, springBones, glb } = this.options;
+    const rigOptions = {};
+    for (const key of kRigOptions) if (this.options[key] !== undefined) rigOptions[key] = this.options[key];
+    // Without the bytes the hash is the caller's; the rig needs only the nodes, which the JSON has.
+    const source = glb ?? new TextEncoder().encode(JSON.stringify(this.parser.json));
+    const rig = sb.loadRig(source, springBones, rigOptions);
+    gltf.userData.springBones = new SpringBonesWearable(gltf, rig);
+  }
+}
+
+/**
+ * A loaded wearable with its rig: what SpringBonesLoaderPlugin puts on gltf.userData.springBones.
+ * The loaded scene stays a template: each wear() attaches a clone of it, so one load serves any
+ * number of avatars, all sharing the rig.
+ */
+export class SpringBonesWearable {
+  /** @private made by SpringBonesLoaderPlugin */
+  constructor(gltf, rig) {
+    this.gltf = gltf;
+    /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. */
+    this.rig = rig;
+    /** The attachments wear() made and dispose() has not yet disposed of. */
+    this.attachments = [];
+  }
+
+  /** The rig's warnings (clamped parameters, a models entry not found, ...). */
+  get warnings() {
+    return this.rig.warnings;
+  }
+
+  /**
+   * Wears a clone of the wearable on an avatar (see attachWearable for the matching by bone name)
+   * and returns the attachment: call its update(dt) every frame after the avatar's world matrices
+   * are current, or add it to a SpringBonesGroup. options.instance: rig.createInstance's options.
+   */
+  wear(avatarRoot, options = {}) {
+    if (options === null || typeof options !== 'object') throw new TypeError('wear: options must be an object');
+    const copy = cloneWithSkeletons(this.gltf.scene);
+    const attachment = attachWearable(avatarRoot, copy, this.rig, { ...options, nodes: wearableNodes(this.gltf, copy) });
+    this.attachments.push(attachment);
+    return attachment;
+  }
+
+  /**
+   * Disposes of every attachment wear() made (taking the clones off their avatars) and of the
+   * rig. The geometries and materials, shared with gltf.scene, are the caller's.
+   */
+  dispose() {
+    for (const attachment of this.attachments) {
+      if (!attachment.instance.disposed) attachment.dispose();
+    }
+    this.attachments = [];
+    this.rig.dispose();
+  }
+}
