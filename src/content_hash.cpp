@@ -1,7 +1,7 @@
 // Decentraland content hash, re-implemented from what @dcl/hashing 3.0.4 `hashV1` does: it runs
 // ipfs-unixfs-importer (v15 era) with { cidVersion: 1, rawLeaves: true } and the importer's defaults.
 // Every constant below is one of those defaults; change any of them and the hashes no longer match
-// the ones the catalyst stores. See /work/shared/research/decentraland.md sections 3 and 8.3.
+// the ones the catalyst stores. See docs/content-hash.md.
 #include "content_hash.h"
 
 #include <algorithm>

@@ -15,8 +15,8 @@ namespace springbones {
 // Throws nothing for any input (only std::bad_alloc if a few kilobytes cannot be allocated).
 std::string contentHash(const std::uint8_t* data, std::size_t size);
 
-// The pieces of contentHash, exposed so tests can check intermediate bytes against the research
-// note and exercise deep trees with small chunks. Not part of the stable API.
+// The pieces of contentHash, exposed so tests can check intermediate bytes against the worked
+// examples of docs/content-hash.md and exercise deep trees with small chunks. Not part of the stable API.
 namespace detail {
 
 using Cid = std::array<std::uint8_t, 36>;  // 0x01 codec 0x12 0x20 + sha256: CIDv1, sha2-256

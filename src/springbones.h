@@ -188,7 +188,7 @@ struct Rig {
   std::vector<Warning> warnings;
 };
 
-/// Builds the chains of a skeleton from the chosen metadata entry (DESIGN.md section 4).
+/// Builds the chains of a skeleton from the chosen metadata entry (docs/semantics.md, "Chains, joints and tails").
 /// Never fails: problems become warnings and the affected joints are left out or fall back.
 /// Collider nodes (found by name in the GLB, or else external drivers the caller supplies) join
 /// the driver list.
@@ -198,7 +198,7 @@ std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
 // ---------------------------------------------------------------------------------------------
 // The simulation: one Instance per avatar
 
-/// Which update moves the joints. kVrm is the VRM spring-bone update (DESIGN.md section 5);
+/// Which update moves the joints. kVrm is the VRM spring-bone update (docs/semantics.md, "The step and the fixed-step rule");
 /// kXpbd the XPBD integrator of xpbd_solver.h (exact bone lengths, compliant constraints, meant
 /// for 120 Hz substeps), driven by the same parameters.
 enum class Integrator { kVrm, kXpbd };

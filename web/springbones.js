@@ -1,7 +1,7 @@
 // springbones: spring-bone physics for avatar wearables, the JavaScript API.
 //
 // A thin ES module over the WebAssembly core (wasm/bindings.cpp). The contract is
-// springbones.d.ts; DESIGN.md section 6 is the sketch it implements. What this file adds to the
+// springbones.d.ts; docs/design.md ("Across the JavaScript boundary") explains it. What this file adds to the
 // core: argument checks before anything crosses into WASM (TypeError for wrong types, RangeError
 // for out-of-range values), one error type (SpringBonesError) for everything the core rejects,
 // frozen plain data for the rig description, and typed-array views over the instance buffers
@@ -661,7 +661,7 @@ function optionsObject(where, options, allowed) {
   return options;
 }
 
-// Which models key applies (DESIGN.md section 4): the caller's hash, then the entity's; '' lets
+// Which models key applies (docs/semantics.md, "Which models entry"): the caller's hash, then the entity's; '' lets
 // the core hash the GLB itself.
 function resolveHash(m, where, options) {
   const { contentHash, entity, bodyShape } = options;

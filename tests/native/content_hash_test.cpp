@@ -2,7 +2,7 @@
 //
 // Every expected CID below was printed by scripts/content_hash_reference.mjs, which runs `hashV1`
 // of npm @dcl/hashing 3.0.4 (and, for the small-layout table, the ipfs-unixfs-importer bundled in
-// it). Those in section 8.3 of /work/shared/research/decentraland.md agree with the script.
+// it). The worked examples of docs/content-hash.md agree with the script.
 // To regenerate: npm install && node scripts/content_hash_reference.mjs
 #include "content_hash.h"
 

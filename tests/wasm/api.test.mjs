@@ -195,7 +195,7 @@ describe('loadRig', () => {
     const female = sb.loadRig(glb, springBones, { entity: JSON.stringify(entity), bodyShape: 'BaseFemale' });
     assert.equal(female.contentHash, 'hash-of-female-glb');
     assert.equal(female.joints.length, 0);
-    // The caller's contentHash comes first (DESIGN.md section 4).
+    // The caller's contentHash comes first (docs/semantics.md, "Which models entry").
     assert.equal(sb.loadRig(glb, springBones, { contentHash: 'x', entity, bodyShape: kBaseMale }).contentHash, 'x');
   });
 });

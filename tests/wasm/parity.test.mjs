@@ -1,5 +1,5 @@
-// Native and WebAssembly builds produce the same rotations for the same inputs (DESIGN.md section 8:
-// within 1e-6). The native side is tests/native/dump_rotations.cpp, which scripts/test builds
+// Native and WebAssembly builds produce the same rotations for the same inputs (docs/design.md,
+// "Numbers we hold ourselves to": within 1e-6). The native side is tests/native/dump_rotations.cpp, which scripts/test builds
 // (build/native-release) before these tests run; it writes the driver matrices it fed in and the
 // rotations it got, frame by frame. Here the same scenario runs through the JS API; the driver
 // matrices must agree exactly (the scenario is the same), the rotations within 1e-6.
