@@ -1,6 +1,7 @@
 #include "api_json.h"
 
 #include <cmath>
+#include <cstddef>
 #include <utility>
 
 #include "rig_description.h"
@@ -125,6 +126,10 @@ std::string limitsJson() {
                   {"maxSubsteps", xpbd.max_substeps},
                   {"xpbdIterations", kDefaultXpbdIterations}}}}}}
       .dump();
+}
+
+std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use) {
+  return json{{"rigs", rigs}, {"instances", instances}, {"scenes", scenes}, {"heapInUse", heap_in_use}}.dump();
 }
 
 }  // namespace springbones

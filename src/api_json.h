@@ -56,4 +56,7 @@ std::string candidatesJson(const std::string& content_hash, const std::vector<Sp
 /// maxSubsteps}, xpbd: {stepHz, maxSubsteps, xpbdIterations}}}.
 std::string limitsJson();
 
+/// {rigs, instances, scenes, heapInUse}: the live handles and the bytes malloc has handed out.
+std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use);
+
 }  // namespace springbones

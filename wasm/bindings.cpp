@@ -13,7 +13,6 @@
 #include <malloc.h>
 
 #include <cstdint>
-#include <cstdio>
 #include <exception>
 #include <memory>
 #include <new>
@@ -389,10 +388,7 @@ std::string setParams(const std::string& springbones_text, const std::string& en
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
-  char text[128];
-  std::snprintf(text, sizeof text, R"({"rigs":%zu,"instances":%zu,"scenes":%zu,"heapInUse":%zu})",
-                g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
-  return text;
+  return statsJson(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
 }
 
 }  // namespace
