@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -84,9 +85,10 @@ Error setSpringBoneParams(const json& springBones, const json& entity, const std
   json result = springBones.is_object() ? springBones : json::object();
   result["version"] = 1;
   json models = result.contains("models") && result["models"].is_object() ? result["models"] : json::object();
-  const std::vector<std::string> active = activeModelHashes(representations);
+  const std::vector<std::string> active_list = activeModelHashes(representations);
+  const std::unordered_set<std::string> active(active_list.begin(), active_list.end());
   for (auto it = models.begin(); it != models.end();) {
-    if (std::find(active.begin(), active.end(), it.key()) == active.end()) {
+    if (active.count(it.key()) == 0) {
       it = models.erase(it);  // a stale hash from an earlier upload
     } else {
       ++it;

@@ -1,6 +1,7 @@
 #include "entity.h"
 
-#include <algorithm>
+#include <unordered_map>
+#include <unordered_set>
 
 #include <nlohmann/json.hpp>
 
@@ -45,7 +46,9 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
   if (!entity.is_object()) return invalid("the entity is not an object", "");
   // Content hashes by file name: an array of {file, hash} (catalyst entity) or an object
   // {file: hash} (Builder item `contents`).
-  std::vector<std::pair<std::string, std::string>> files;
+  // The first entry of a file wins; looked up by name, so many representations over a long content
+  // list stay linear.
+  std::unordered_map<std::string, std::string> files;
   const json& content = field(entity, "content");
   const json& contents = field(entity, "contents");
   if (content.is_array()) {
@@ -55,12 +58,12 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
       if (!f.is_string() || !h.is_string()) {
         return invalid("content entry is not {file, hash} strings", "/content/" + std::to_string(i));
       }
-      files.emplace_back(f.get<std::string>(), h.get<std::string>());
+      files.emplace(f.get<std::string>(), h.get<std::string>());
     }
   } else if (contents.is_object()) {
     for (auto it = contents.begin(); it != contents.end(); ++it) {
       if (!it->is_string()) return invalid("contents value is not a hash string", "/contents/" + it.key());
-      files.emplace_back(it.key(), it->get<std::string>());
+      files.emplace(it.key(), it->get<std::string>());
     }
   } else if (!content.is_null() || !contents.is_null()) {
     return invalid("the entity's content list is neither an array nor an object", "/content");
@@ -83,12 +86,7 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
         if (s.is_string()) rep.body_shapes.push_back(s.get<std::string>());
       }
     }
-    for (const auto& [file, hash] : files) {
-      if (file == rep.main_file) {
-        rep.main_file_hash = hash;
-        break;
-      }
-    }
+    if (auto it = files.find(rep.main_file); it != files.end()) rep.main_file_hash = it->second;
     out.push_back(std::move(rep));
   }
   return {};
@@ -116,11 +114,9 @@ Error mainFileHashFor(const json& entity, const std::string& body_shape, std::st
 
 std::vector<std::string> activeModelHashes(const std::vector<Representation>& representations) {
   std::vector<std::string> hashes;
+  std::unordered_set<std::string> seen;
   for (const Representation& r : representations) {
-    if (r.main_file_hash.empty()) continue;
-    if (std::find(hashes.begin(), hashes.end(), r.main_file_hash) == hashes.end()) {
-      hashes.push_back(r.main_file_hash);
-    }
+    if (!r.main_file_hash.empty() && seen.insert(r.main_file_hash).second) hashes.push_back(r.main_file_hash);
   }
   return hashes;
 }

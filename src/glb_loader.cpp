@@ -7,13 +7,9 @@
 //  2. the JSON chunk is read for `asset.version` and the TRS/matrix, name and children of each
 //     node. Buffers, images, meshes, accessors, extras and extensions are skipped without being
 //     decoded (base64 data URIs included), and nothing recurses, so hostile payloads (deeply
-//     nested extras) cannot exhaust the stack. Two readers do this:
-//     - the fast one (json_scan.h) reads the text once, straight into the skeleton, and gives up
-//       on anything it does not handle exactly as nlohmann-json would, malformed input included;
-//     - then the checked one: nlohmann-json parses the whole document, the fields we use are
-//       type-checked node by node (reduceDocument) and `asset.version` required (the glTF rule
-//       tinygltf applied for us until the fast reader replaced it). It yields the same skeleton,
-//       and the precise error for a bad document;
+//     nested extras) cannot exhaust the stack: nlohmann-json parses the whole document, the
+//     fields we use are type-checked node by node (reduceDocument) and `asset.version` required,
+//     with the precise error for a bad document;
 //  3. we check the hierarchy ourselves: child indices in range, no node with two parents, no
 //     cycles, then rest world matrices computed iteratively.
 #include <algorithm>
@@ -27,18 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf_json.h"
-#include "json_scan.h"
 #include "springbones.h"
 #include "transform_math.h"
-
-// Keeps a function out of its caller. In WebAssembly with JavaScript-based exceptions, a call
-// made from a frame that has destructors to run goes through a JS trampoline; the fast reader
-// has none, and must not be inlined into a caller that does.
-#if defined(__GNUC__) || defined(__clang__)
-#define SPRINGBONES_NOINLINE __attribute__((noinline))
-#else
-#define SPRINGBONES_NOINLINE
-#endif
 
 namespace springbones {
 namespace {
@@ -276,137 +262,14 @@ Error readCheckedDocument(const char* json_begin, std::size_t json_size, Skeleto
   return {};
 }
 
-// ---------------------------------------------------------------------------------------------
-// The fast reader. Returns false ("use the checked reader") on anything unusual; true only when
-// the checked reader would produce exactly this skeleton. No local here has a destructor (see
-// SPRINGBONES_NOINLINE).
-
-// An array of exactly `length` numbers within float range, as reduceNode demands.
-bool scanNumbers(JsonScan& scan, double* out, std::size_t length) {
-  if (!scan.consume('[')) return false;
-  for (std::size_t i = 0; i < length; ++i) {
-    if (i > 0 && !scan.consume(',')) return false;
-    JsonNumber n;
-    if (!scan.number(n) || !(std::fabs(n.value) <= std::numeric_limits<float>::max())) return false;
-    out[i] = n.value;
-  }
-  return scan.consume(']');
-}
-
-bool scanNode(JsonScan& scan, SkeletonNode& node, std::string& scratch) {
-  enum : unsigned { kName = 1, kChildren = 2, kMatrix = 4, kTranslation = 8, kRotation = 16, kScale = 32 };
-  unsigned seen = 0;  // a repeated key is left to nlohmann (its last value wins)
-  double matrix[16], translation[3], rotation[4], scale[3];
-  if (!scan.consume('{')) return false;
-  if (!scan.consume('}')) {
-    do {
-      std::string_view key;
-      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
-      unsigned field = 0;
-      if (keyIs(key, "name")) {
-        field = kName;
-        std::string_view name;
-        if ((seen & field) || !scan.string(name, scratch)) return false;
-        // Constructed and moved in: libc++'s assign into an empty string took the general
-        // grow-and-replace path, a fifth of reading 7,000 nodes in WebAssembly.
-        node.name = std::string(name.data(), name.size());
-      } else if (keyIs(key, "children")) {
-        field = kChildren;
-        if ((seen & field) || !scan.consume('[')) return false;
-        if (!scan.consume(']')) {
-          do {
-            JsonNumber c;
-            if (!scan.number(c) || !c.integer || c.negative || c.magnitude > kMaxNodes) return false;
-            node.children.push_back(static_cast<int>(c.magnitude));
-          } while (scan.consume(','));
-          if (!scan.consume(']')) return false;
-        }
-      } else if (keyIs(key, "matrix")) {
-        field = kMatrix;
-        if ((seen & field) || !scanNumbers(scan, matrix, 16)) return false;
-      } else if (keyIs(key, "translation")) {
-        field = kTranslation;
-        if ((seen & field) || !scanNumbers(scan, translation, 3)) return false;
-      } else if (keyIs(key, "rotation")) {
-        field = kRotation;
-        if ((seen & field) || !scanNumbers(scan, rotation, 4)) return false;
-      } else if (keyIs(key, "scale")) {
-        field = kScale;
-        if ((seen & field) || !scanNumbers(scan, scale, 3)) return false;
-      } else if (!scan.skipValue(scratch)) {
-        return false;
-      }
-      seen |= field;
-    } while (scan.consume(','));
-    if (!scan.consume('}')) return false;
-  }
-  node.rest_local = restTransform((seen & kMatrix) ? matrix : nullptr, (seen & kTranslation) ? translation : nullptr,
-                                  (seen & kRotation) ? rotation : nullptr, (seen & kScale) ? scale : nullptr);
-  return true;
-}
-
-SPRINGBONES_NOINLINE bool scanDocument(const char* begin, std::size_t size, Skeleton& skeleton,
-                                       std::string& scratch) {
-  JsonScan scan(begin, begin + size);
-  bool seen_asset = false, seen_nodes = false, has_version = false;
-  if (!scan.consume('{')) return false;
-  if (!scan.consume('}')) {
-    do {
-      std::string_view key;
-      if (!scan.string(key, scratch) || !scan.consume(':')) return false;
-      if (keyIs(key, "asset")) {
-        if (seen_asset || !scan.consume('{')) return false;
-        seen_asset = true;
-        if (!scan.consume('}')) {
-          do {
-            std::string_view asset_key, version;
-            if (!scan.string(asset_key, scratch) || !scan.consume(':')) return false;
-            if (keyIs(asset_key, "version")) {
-              if (has_version || !scan.string(version, scratch)) return false;
-              has_version = true;
-            } else if (!scan.skipValue(scratch)) {
-              return false;
-            }
-          } while (scan.consume(','));
-          if (!scan.consume('}')) return false;
-        }
-      } else if (keyIs(key, "nodes")) {
-        if (seen_nodes || !scan.consume('[')) return false;
-        seen_nodes = true;
-        // A node takes 60 bytes of JSON or more as exporters write them (a name, a TRS, children).
-        // Reserving for that spares the moves of growth: each node holds a string, a vector and
-        // 26 floats, and in WebAssembly every move is a memcpy call. loadSkeletonWith gives back
-        // what a document with fewer nodes leaves unused.
-        skeleton.nodes.reserve(std::min<std::size_t>(size / 60, kMaxNodes));
-        if (!scan.consume(']')) {
-          do {
-            if (skeleton.nodes.size() == kMaxNodes) return false;
-            skeleton.nodes.emplace_back();
-            if (!scanNode(scan, skeleton.nodes.back(), scratch)) return false;
-          } while (scan.consume(','));
-          if (!scan.consume(']')) return false;
-        }
-      } else if (!scan.skipValue(scratch)) {
-        return false;
-      }
-    } while (scan.consume(','));
-    if (!scan.consume('}')) return false;
-  }
-  return has_version && scan.atEnd();
-}
-
-Error loadSkeletonWith(const std::uint8_t* data, std::size_t size, Skeleton& out, bool fast) {
+Error loadSkeletonWith(const std::uint8_t* data, std::size_t size, Skeleton& out) {
   out = Skeleton{};
   const char* json_begin = nullptr;
   std::size_t json_size = 0;
   if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
 
   Skeleton skeleton;
-  std::string scratch;
-  if (!fast || !scanDocument(json_begin, json_size, skeleton, scratch)) {
-    skeleton = Skeleton{};
-    if (Error e = readCheckedDocument(json_begin, json_size, skeleton)) return e;
-  }
+  if (Error e = readCheckedDocument(json_begin, json_size, skeleton)) return e;
   if (skeleton.nodes.capacity() > skeleton.nodes.size() + skeleton.nodes.size() / 4 + 16) {
     skeleton.nodes.shrink_to_fit();  // the rig keeps the skeleton for its lifetime
   }
@@ -418,20 +281,7 @@ Error loadSkeletonWith(const std::uint8_t* data, std::size_t size, Skeleton& out
 }  // namespace
 
 Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  return loadSkeletonWith(data, size, out, /*fast=*/true);
-}
-
-Error loadSkeletonChecked(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  return loadSkeletonWith(data, size, out, /*fast=*/false);
-}
-
-bool fastGltfReaderAccepts(const std::uint8_t* data, std::size_t size) {
-  const char* json_begin = nullptr;
-  std::size_t json_size = 0;
-  if (findGltfJson(data, size, json_begin, json_size)) return false;
-  Skeleton skeleton;
-  std::string scratch;
-  return scanDocument(json_begin, json_size, skeleton, scratch);
+  return loadSkeletonWith(data, size, out);
 }
 
 }  // namespace springbones

@@ -34,9 +34,6 @@
 namespace springbones {
 namespace {
 
-constexpr double kMinStepHz = 1.0;
-constexpr double kMaxStepHz = 1000.0;
-constexpr int kMaxSubstepsLimit = 64;
 constexpr float kMinLength = 1e-6f;
 
 // A rotation, translation and uniform scale.
@@ -349,11 +346,13 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   if (!rig) rig = std::make_shared<const Rig>();
   state_ = std::make_unique<State>(std::move(rig));
   State& s = *state_;
-  if (!(options.step_hz >= kMinStepHz)) options.step_hz = options.step_hz > 0 ? kMinStepHz : 60.0;
-  options.step_hz = std::min(options.step_hz, kMaxStepHz);
-  options.max_substeps = std::clamp(options.max_substeps, 1, kMaxSubstepsLimit);
-  options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxSubstepsLimit);
   if (options.integrator != Integrator::kXpbd) options.integrator = Integrator::kVrm;
+  const IntegratorDefaults defaults = integratorDefaults(options.integrator);
+  if (!(options.step_hz > 0)) options.step_hz = defaults.step_hz;
+  options.step_hz = std::clamp(options.step_hz, kMinStepHz, kMaxStepHz);
+  if (options.max_substeps <= 0) options.max_substeps = defaults.max_substeps;
+  options.max_substeps = std::min(options.max_substeps, kMaxSubsteps);
+  options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxXpbdIterations);
   s.options = options;
   if (options.integrator == Integrator::kXpbd) {
     XpbdOptions xpbd_options;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -122,7 +123,7 @@ struct ModelEntry {
 Error parseSpringBones(const nlohmann::json& springBones, const std::string& hash, ModelEntry& out,
                        std::vector<Warning>& warnings);
 /// Same, from JSON text (at most kMaxMetadataBytes).
-Error parseSpringBonesText(const std::string& text, const std::string& hash, ModelEntry& out,
+Error parseSpringBonesText(std::string_view text, const std::string& hash, ModelEntry& out,
                            std::vector<Warning>& warnings);
 
 /// True when a node name contains "springbone", ASCII case-insensitive (the ADR's discovery rule).
@@ -202,16 +203,40 @@ std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
 /// for 120 Hz substeps), driven by the same parameters.
 enum class Integrator { kVrm, kXpbd };
 
+// Limits and defaults of InstanceOptions, defined here only (the JS API reads them from the
+// module, see api_json.h limitsJson).
+inline constexpr double kMinStepHz = 1.0;
+inline constexpr double kMaxStepHz = 1000.0;
+inline constexpr int kMaxSubsteps = 64;
+inline constexpr int kMaxXpbdIterations = 64;
+inline constexpr int kDefaultXpbdIterations = 4;
+
+/// The step rate and substep cap an integrator runs at unless told otherwise.
+struct IntegratorDefaults {
+  double step_hz;
+  int max_substeps;
+};
+/// kVrm: 60 Hz, 4 substeps (the rate the VRM parameters are defined at). kXpbd: 120 Hz substeps
+/// (what its compliant constraints are meant for), 8 of them to cover a 15 fps frame.
+constexpr IntegratorDefaults integratorDefaults(Integrator integrator) {
+  return integrator == Integrator::kXpbd ? IntegratorDefaults{120.0, 8} : IntegratorDefaults{60.0, 4};
+}
+
 struct InstanceOptions {
-  double step_hz = 60.0;  ///< fixed simulation rate, [1, 1000]; kXpbdDefaultStepHz (120) suits kXpbd
-  int max_substeps = 4;   ///< steps per frame at most, [1, 64]; surplus time is dropped
+  /// fixed simulation rate, [kMinStepHz, kMaxStepHz]; 0 (or any value not above 0): the
+  /// integrator's default
+  double step_hz = 0.0;
+  /// steps per frame at most, [1, kMaxSubsteps], surplus time is dropped; 0 (or less): the
+  /// integrator's default
+  int max_substeps = 0;
   Integrator integrator = Integrator::kVrm;
-  int xpbd_iterations = 4;  ///< kXpbd only: constraint passes per substep, [1, 64]
+  int xpbd_iterations = kDefaultXpbdIterations;  ///< kXpbd only: constraint passes per substep, [1, 64]
 };
 
 class Instance {
  public:
-  /// The rig must outlive nothing: the instance keeps it alive. Options out of range are clamped.
+  /// The rig must outlive nothing: the instance keeps it alive. Options out of range are clamped,
+  /// options left at 0 take the integrator's defaults; options() has the values in use.
   explicit Instance(std::shared_ptr<const Rig> rig, InstanceOptions options = {});
   ~Instance();
   Instance(const Instance&) = delete;

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -381,7 +383,10 @@ std::vector<ValidationError> validateEntity(const json& entity) {
   // The hashes that current representations load: each mainFile's entry in entity.content.
   // Other content (textures, a GLB listed only in contents) does not count.
   bool hashes_known = true;
-  std::vector<std::string> active_hashes;
+  std::unordered_set<std::string> active_hashes;
+  // The first well-formed content entry for a file wins, as Array.prototype.find does; looked up
+  // by name, so many representations over a long content list stay linear.
+  std::unordered_map<std::string, const std::string*> hash_of_file;
   const json* content = findMember(entity, "content");
   if (content == nullptr || !content->is_array()) {
     errors.push_back({"/content", "entity content must be an array of {file, hash}"});
@@ -393,7 +398,9 @@ std::vector<ValidationError> validateEntity(const json& entity) {
       if (file == nullptr || !file->is_string() || hash == nullptr || !hash->is_string()) {
         errors.push_back({"/content/" + std::to_string(i),
                           "entity content entry must be an object with string file and hash"});
+        continue;
       }
+      hash_of_file.emplace(file->get_ref<const std::string&>(), &hash->get_ref<const std::string&>());
     }
   }
   const json* representations = findMember(*data, "representations");
@@ -410,17 +417,8 @@ std::vector<ValidationError> validateEntity(const json& entity) {
         continue;
       }
       if (!hashes_known) continue;
-      // The first content entry for the file wins, as Array.prototype.find does.
-      for (const json& entry : *content) {
-        const json* file = findMember(entry, "file");
-        const json* hash = findMember(entry, "hash");
-        if (file == nullptr || !file->is_string() || hash == nullptr || !hash->is_string()) {
-          continue;
-        }
-        if (file->get_ref<const std::string&>() == main_file->get_ref<const std::string&>()) {
-          active_hashes.push_back(hash->get_ref<const std::string&>());
-          break;
-        }
+      if (auto it = hash_of_file.find(main_file->get_ref<const std::string&>()); it != hash_of_file.end()) {
+        active_hashes.insert(*it->second);
       }
     }
   }
@@ -431,8 +429,7 @@ std::vector<ValidationError> validateEntity(const json& entity) {
     const std::string& hash = model.key();
     const std::string model_path = "/models" + pointerToken(hash);
     // Without the entity's hashes every key would look stale; the structure error says enough.
-    if (hashes_known &&
-        std::find(active_hashes.begin(), active_hashes.end(), hash) == active_hashes.end()) {
+    if (hashes_known && active_hashes.count(hash) == 0) {
       errors.push_back({model_path, "springBones.models key " + catalystField(hash) +
                                         " does not match any current representation hash"});
     }

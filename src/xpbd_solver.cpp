@@ -89,7 +89,6 @@ namespace springbones {
 namespace {
 
 constexpr float kMinLength = 1e-6f;
-constexpr int kMaxIterations = 64;
 
 // The hard bone-length constraint with a kinematic head: exact projection onto the sphere. A tail
 // on the head (or lost to a non-finite value) restarts at rest, as in the default path.
@@ -112,7 +111,7 @@ void writeRotation(float* out, const glm::quat& q) {
 XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), options_(options) {
   if (!(options_.reference_hz >= 1.0)) options_.reference_hz = options_.reference_hz > 0.0 ? 1.0 : 60.0;
   options_.reference_hz = std::min(options_.reference_hz, 1000.0);
-  options_.iterations = std::clamp(options_.iterations, 1, kMaxIterations);
+  options_.iterations = std::clamp(options_.iterations, 1, kMaxXpbdIterations);
   reference_step_ = 1.0 / options_.reference_hz;
 
   const std::size_t joints = rig.joints.size();

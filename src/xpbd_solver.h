@@ -19,8 +19,9 @@ namespace springbones {
 
 struct ColliderTable;  // spring_lanes.h
 
-/// The substep rate the XPBD integrator is meant to run at (docs/xpbd.md).
-inline constexpr double kXpbdDefaultStepHz = 120.0;
+/// The substep rate the XPBD integrator is meant to run at (docs/xpbd.md): its default step rate
+/// (integratorDefaults in springbones.h).
+inline constexpr double kXpbdDefaultStepHz = integratorDefaults(Integrator::kXpbd).step_hz;
 
 struct XpbdOptions {
   /// The step rate the VRM parameters are defined at: the default integrator's 60 Hz. Drag and the
@@ -30,7 +31,7 @@ struct XpbdOptions {
   /// Gauss-Seidel passes over a joint's constraints per substep (XPBD designs use 2-4). [1, 64]
   /// Passes after the first run only while a collider pushes the tail: without contact the
   /// first pass is already the exact solution (xpbd_solver.cpp).
-  int iterations = 4;
+  int iterations = kDefaultXpbdIterations;
 };
 
 /// One collider in world space for one substep: the segment start..end (start == end for a

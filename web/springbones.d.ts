@@ -139,7 +139,8 @@ export interface SpringBones {
   /**
    * Loads a wearable once; share the rig between every avatar wearing it.
    * @param glbBytes GLB or glTF JSON bytes (copied; the caller keeps its buffer)
-   * @param springBones data.springBones as an object or JSON text; null/undefined: no spring bones
+   * @param springBones data.springBones as an object (serialized once with JSON.stringify) or its
+   *   JSON text; null/undefined: no spring bones
    * @throws TypeError, RangeError for bad arguments; SpringBonesError for unreadable input
    */
   loadRig(glbBytes: Uint8Array | ArrayBuffer, springBones?: SpringBonesData | object | string | null,

@@ -1,7 +1,7 @@
 // springbones: spring-bone physics for avatar wearables, the JavaScript API.
 //
 // A thin ES module over the WebAssembly core (wasm/bindings.cpp). The contract is
-// springbones.d.ts; DESIGN.md section 6 is the sketch it implements. What this file adds to the
+// springbones.d.ts; docs/design.md ("Across the JavaScript boundary") explains it. What this file adds to the
 // core: argument checks before anything crosses into WASM (TypeError for wrong types, RangeError
 // for out-of-range values), one error type (SpringBonesError) for everything the core rejects,
 // frozen plain data for the rig description, and typed-array views over the instance buffers
@@ -21,10 +21,6 @@ const kModuleUrl = new URL('./dist/springbones_wasm.wasm', import.meta.url);
 const kIsNode =
   typeof process === 'object' && process !== null && typeof process.versions === 'object' &&
   process.versions !== null && typeof process.versions.node === 'string';
-
-const kMaxStepHz = 1000;
-const kMaxSubsteps = 64;
-const kMaxXpbdIterations = 64;
 
 /** Every failure the library reports, apart from TypeError/RangeError for bad arguments. */
 export class SpringBonesError extends Error {
@@ -80,7 +76,9 @@ export async function createSpringBones(options = {}) {
       moduleOptions.locateFile = () => url.href;
     }
     const module = await factory(moduleOptions);
-    return new SpringBones(module);
+    // The core's limits and defaults (api_json.h limitsJson), read once: the argument checks below
+    // use them, so the JS API never types a limit of its own.
+    return new SpringBones(module, deepFreeze(JSON.parse(module.limits())));
   } catch (cause) {
     throw withCause(new SpringBonesError('module-load-failed',
         `the WebAssembly module (${url.href}) could not be loaded: ${cause?.message ?? cause}`), cause);
@@ -91,9 +89,11 @@ export async function createSpringBones(options = {}) {
 
 class SpringBones {
   #m;
+  #limits;
 
-  constructor(module) {
+  constructor(module, limits) {
     this.#m = module;
+    this.#limits = limits;
   }
 
   /** The package version (package.json's), e.g. '0.2.0'. */
@@ -107,36 +107,16 @@ class SpringBones {
    */
   loadRig(glbBytes, springBones, options) {
     const bytes = toBytes('loadRig: glbBytes', glbBytes);
-    // A plain springBones object in the usual shape goes in decoded (springBonesEntries), without
-    // JSON.stringify and the core's parse; anything else as JSON text, stringified here so that
-    // its TypeErrors (cycles, BigInt) come first, as for every argument check.
-    const entries = springBonesEntries(springBones);
-    const metadataText = entries === null ? toJsonText('loadRig: springBones', springBones, /* allowNull */ true) : null;
+    // Stringified first, so that its TypeErrors (cycles, BigInt) come first, as for every
+    // argument check; the core parses it once.
+    const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
     const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius']);
     const rigOptionsText = rigOptionsJson(opts);
     const m = this.#m;
     const hash = resolveHash(m, 'loadRig', opts);
-    const handle = withBytes(m, bytes, (ptr, size) => {
-      if (entries !== null) {
-        // Without a hash the models key is the GLB's content hash, which the core computes: here
-        // first, to pick the model (the hash loadRig would compute itself). If that fails (out of
-        // memory), its error is dropped and the text path meets the failure again.
-        const key = hash !== '' ? hash : m.hashBytes(ptr, size);
-        if (key === '') m.takeError();
-        const modelEntries = key !== '' ? entries.get(key) : undefined;
-        if (modelEntries !== undefined) {
-          const h = withEntries(m, modelEntries,
-            (entriesPtr, entriesSize) => m.loadRigEntries(ptr, size, entriesPtr, entriesSize, key, rigOptionsText));
-          // -1: a value the core's fast readers do not take (out of range, a repeated name...):
-          // the text path reads it, with its warnings. Stringifying cannot throw here: springBones
-          // is made of plain values only (springBonesEntries).
-          if (h !== -1) return h;
-        }
-      }
-      // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
-      return withUtf8(m, metadataText ?? JSON.stringify(springBones),
-        (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText));
-    });
+    // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
+    const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
+      (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -253,201 +233,38 @@ class SpringBones {
 
   #rig(handle) {
     const m = this.#m;
-    // A malloc'd block of 32-bit words (rigBlock in wasm/bindings.cpp), copied out: the
-    // description outlives the handle, and WASM memory may grow under it.
-    const block = call(() => m.rigInfo(handle));
-    if (block === 0) {
+    // Copied out as text: the description outlives the handle.
+    const text = call(() => m.rigDescription(handle));
+    if (text === '') {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    let bytes;
-    try {
-      bytes = m.HEAPU8.slice(block, block + m.HEAPU32[block >>> 2]);
-    } finally {
-      m._free(block);
-    }
-    return new Rig(m, handle, new RigDescription(m, bytes.buffer));
+    return new Rig(m, handle, new RigDescription(text), this.#limits);
   }
 }
 
-// The rig description as wasm/bindings.cpp lays it out (rigBlock): a header of counts, per joint
-// 6 int32 and 11 float32, chain roots, driver nodes, string ends, UTF-8 names, then two JSON
-// texts. The frozen plain objects of rig.joints and the other lists are built on first read: a
-// 5,000-joint rig is 20,000 frozen objects and arrays (about 2 ms) the per-frame path never
-// needs.
-const kJointInts = 6;
-const kJointFloats = 11;
-const kRigHeaderWords = 9;
-
+// The rig description: the core's JSON text (describeRig, src/rig_description.h), parsed and
+// deep-frozen on its first read, which the per-frame path never needs.
 class RigDescription {
-  #m;
-  #buffer;
-  #words;  // header
-  #jointInts;
-  #jointFloats;
-  #chainsAt;
-  #driverNodes;
-  #stringEnds;
-  #stringBytes;
-  #lists;  // JSON text of {colliders, warnings}
-  #cache = {};
+  #text;
+  #value;
 
-  constructor(m, buffer) {
-    this.#m = m;
-    this.#buffer = buffer;
-    const h = new Uint32Array(buffer, 0, kRigHeaderWords);
-    this.#words = h;
-    const [, joints, chains, drivers, , strings, stringBytes, headBytes, listsBytes] = h;
-    let at = 4 * kRigHeaderWords;
-    this.#jointInts = new Int32Array(buffer, at, kJointInts * joints);
-    at += 4 * kJointInts * joints;
-    this.#jointFloats = new Float32Array(buffer, at, kJointFloats * joints);
-    at += 4 * kJointFloats * joints;
-    this.#chainsAt = at;
-    at += 4 * chains;
-    this.#driverNodes = new Int32Array(buffer, at, drivers);
-    at += 4 * drivers;
-    this.#stringEnds = new Uint32Array(buffer, at, strings);
-    at += 4 * strings;
-    this.#stringBytes = new Uint8Array(buffer, at, stringBytes);
-    at += (stringBytes + 3) & ~3;
-    const head = JSON.parse(kTextDecoder.decode(new Uint8Array(buffer, at, headBytes)));
-    at += (headBytes + 3) & ~3;
-    this.#lists = new Uint8Array(buffer, at, listsBytes);
-    this.contentHash = head.contentHash;
-    this.format = head.format;
+  constructor(text) {
+    this.#text = text;
   }
 
-  get nodeCount() {
-    return this.#words[4];
-  }
-
-  joints() {
-    return this.#cache.joints ??= this.#buildJoints();
-  }
-
-  chains() {
-    return this.#cache.chains ??= Object.freeze(Array.from(new Int32Array(this.#buffer, this.#chainsAt, this.#words[2])));
-  }
-
-  drivers() {
-    return this.#cache.drivers ??= this.#buildDrivers();
-  }
-
-  colliders() {
-    return this.#listsJson().colliders;
-  }
-
-  warnings() {
-    return this.#listsJson().warnings;
-  }
-
-  #listsJson() {
-    return this.#cache.lists ??= deepFreeze(JSON.parse(kTextDecoder.decode(this.#lists)));
-  }
-
-  #buildDrivers() {
-    const names = this.#names();
-    const nodeCount = this.#words[4];
-    return Object.freeze(Array.from(this.#driverNodes,
-      (node, i) => Object.freeze({ name: names(nodeCount + i), node })));
-  }
-
-  #buildJoints() {
-    const ints = this.#jointInts;
-    const values = this.#floatValues();
-    const names = this.#names();
-    const count = this.#words[1];
-    const joints = new Array(count);
-    for (let i = 0; i < count; ++i) {
-      const n = kJointInts * i;
-      const f = kJointFloats * i;
-      const tailNode = ints[n + 1];
-      joints[i] = Object.freeze({
-        centerDriver: ints[n + 4],
-        chain: ints[n + 5],
-        hitRadius: values[f],
-        name: names(ints[n]),
-        node: ints[n],
-        params: Object.freeze({
-          drag: values[f + 2],
-          gravityDir: Object.freeze([values[f + 3], values[f + 4], values[f + 5]]),
-          gravityPower: values[f + 6],
-          stiffness: values[f + 7],
-        }),
-        parent: ints[n + 2],
-        parentDriver: ints[n + 3],
-        restLength: values[f + 1],
-        tail: tailNode >= 0 ? names(tailNode) : null,
-        tailNode,
-        tailOffset: Object.freeze([values[f + 8], values[f + 9], values[f + 10]]),
-      });
+  get value() {
+    if (this.#value === undefined) {
+      this.#value = deepFreeze(JSON.parse(this.#text));
+      this.#text = undefined;
     }
-    return Object.freeze(joints);
-  }
-
-  // The joint floats as the numbers the JSON description had: the shortest decimal that reads
-  // back as the float (0.4, not 0.4000000059604645), null for a non-finite one. Each distinct
-  // value is converted once, by the core (shortestFloatValues), which owns the exact rule.
-  #floatValues() {
-    const floats = this.#jointFloats;
-    const out = new Array(floats.length);
-    const index = new Int32Array(floats.length).fill(-1);  // into distinct, for the others
-    const slot = new Map();  // value -> index in distinct; zeros and non-finite never enter
-    const distinct = [];
-    for (let i = 0; i < floats.length; ++i) {
-      const v = floats[i];
-      if (v === 0) {
-        out[i] = v;  // keeps -0, as JSON's "-0" did
-      } else if (!Number.isFinite(v)) {
-        out[i] = null;
-      } else {
-        let k = slot.get(v);
-        if (k === undefined) {
-          k = distinct.length;
-          slot.set(v, k);
-          distinct.push(v);
-        }
-        index[i] = k;
-      }
-    }
-    if (distinct.length === 0) return out;
-    const m = this.#m;
-    const ptr = m._malloc(8 * distinct.length);
-    if (ptr === 0) {
-      throw new SpringBonesError('out-of-memory', 'could not allocate WebAssembly memory for the rig description');
-    }
-    try {
-      new Float32Array(m.HEAPF32.buffer, ptr, distinct.length).set(distinct);
-      m.shortestFloatValues(ptr, distinct.length);
-      const doubles = new Float64Array(m.HEAPF32.buffer, ptr, distinct.length);
-      for (let i = 0; i < out.length; ++i) {
-        if (index[i] >= 0) out[i] = doubles[index[i]];
-      }
-    } finally {
-      m._free(ptr);
-    }
-    return out;
-  }
-
-  // name(i): the i-th string (node names, then driver names). All ASCII (the usual case): one
-  // decode and slices; else each string decoded alone.
-  #names() {
-    const ends = this.#stringEnds;
-    const bytes = this.#stringBytes;
-    const all = kTextDecoder.decode(bytes);
-    if (all.length === bytes.length) return (i) => all.slice(i === 0 ? 0 : ends[i - 1], ends[i]);
-    return (i) => kTextDecoder.decode(bytes.subarray(i === 0 ? 0 : ends[i - 1], ends[i]));
+    return this.#value;
   }
 }
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 const kTextEncoder = new TextEncoder();
-const kTextDecoder = new TextDecoder();
 const kIntegrators = ['vrm', 'xpbd'];
-// The XPBD integrator is meant for fixed 120 Hz substeps (src/xpbd_solver.h kXpbdDefaultStepHz);
-// 8 of them cover a 15 fps frame.
-const kXpbdDefaults = { stepHz: 120, maxSubsteps: 8 };
 
 // Accessors into the private fields of instances and scenes for the other classes of this file,
 // installed by their static blocks.
@@ -458,46 +275,57 @@ class Rig {
   #m;
   #handle;
   #description;
+  #limits;
 
-  constructor(m, handle, description) {
+  constructor(m, handle, description, limits) {
     this.#m = m;
     this.#handle = handle;
     this.#description = description;
-    /** The models key the rig was built from ('' for a VRM). */
-    this.contentHash = description.contentHash;
-    /** Where the springs came from: 'dcl' (data.springBones), 'vrmc-springbone', 'vrm0' or 'none'. */
-    this.format = description.format;
-    /** Nodes in the GLB. */
-    this.nodeCount = description.nodeCount;
+    this.#limits = limits;
     Object.freeze(this);
   }
 
-  // The lists below are frozen plain data, built on first read (RigDescription) and the same
-  // objects on every read after; they stay readable after dispose().
+  // Everything below is frozen plain data from the description, parsed on the first read and the
+  // same objects on every read after; it stays readable after dispose().
+
+  /** The models key the rig was built from ('' for a VRM). */
+  get contentHash() {
+    return this.#description.value.contentHash;
+  }
+
+  /** Where the springs came from: 'dcl' (data.springBones), 'vrmc-springbone', 'vrm0' or 'none'. */
+  get format() {
+    return this.#description.value.format;
+  }
+
+  /** Nodes in the GLB. */
+  get nodeCount() {
+    return this.#description.value.nodeCount;
+  }
 
   /** Simulated joints, parents before children; rotations[4*i..4*i+3] belongs to joints[i]. */
   get joints() {
-    return this.#description.joints();
+    return this.#description.value.joints;
   }
 
   /** Indices into joints of the chain roots. */
   get chains() {
-    return this.#description.chains();
+    return this.#description.value.chains;
   }
 
   /** Nodes whose world matrices the caller writes each frame; driverMatrices[16*i..] is drivers[i]. */
   get drivers() {
-    return this.#description.drivers();
+    return this.#description.value.drivers;
   }
 
   /** Collision shapes, each carried by a driver's world matrix. */
   get colliders() {
-    return this.#description.colliders();
+    return this.#description.value.colliders;
   }
 
   /** Everything the loader clamped, replaced or ignored: {code, message, path}. */
   get warnings() {
-    return this.#description.warnings();
+    return this.#description.value.warnings;
   }
 
   get disposed() {
@@ -516,22 +344,23 @@ class Rig {
         throw new RangeError(`createInstance: integrator must be one of ${kIntegrators.join(', ')}, got '${integrator}'`);
       }
     }
-    const defaults = integrator === 'xpbd' ? kXpbdDefaults : { stepHz: 60, maxSubsteps: 4 };
-    let stepHz = defaults.stepHz;
-    let maxSubsteps = defaults.maxSubsteps;
-    let xpbdIterations = 4;
+    // 0 leaves a value to the core's default for the integrator.
+    const { maxStepHz, maxSubsteps: maxSubstepsLimit, maxXpbdIterations, integrators } = this.#limits;
+    let stepHz = 0;
+    let maxSubsteps = 0;
+    let xpbdIterations = integrators.xpbd.xpbdIterations;
     if (opts.stepHz !== undefined) {
       stepHz = opts.stepHz;
       if (typeof stepHz !== 'number') throw new TypeError('createInstance: stepHz must be a number');
-      if (!(stepHz >= 1 && stepHz <= kMaxStepHz)) {
-        throw new RangeError(`createInstance: stepHz must be in [1, ${kMaxStepHz}], got ${stepHz}`);
+      if (!(stepHz >= 1 && stepHz <= maxStepHz)) {
+        throw new RangeError(`createInstance: stepHz must be in [1, ${maxStepHz}], got ${stepHz}`);
       }
     }
     if (opts.maxSubsteps !== undefined) {
-      maxSubsteps = checkInteger('createInstance: maxSubsteps', opts.maxSubsteps, 1, kMaxSubsteps);
+      maxSubsteps = checkInteger('createInstance: maxSubsteps', opts.maxSubsteps, 1, maxSubstepsLimit);
     }
     if (opts.xpbdIterations !== undefined) {
-      xpbdIterations = checkInteger('createInstance: xpbdIterations', opts.xpbdIterations, 1, kMaxXpbdIterations);
+      xpbdIterations = checkInteger('createInstance: xpbdIterations', opts.xpbdIterations, 1, maxXpbdIterations);
       if (integrator !== 'xpbd') {
         throw new RangeError("createInstance: xpbdIterations only applies to integrator 'xpbd'");
       }
@@ -839,7 +668,7 @@ function optionsObject(where, options, allowed) {
   return options;
 }
 
-// Which models key applies (DESIGN.md section 4): the caller's hash, then the entity's; '' lets
+// Which models key applies (docs/semantics.md, "Which models entry"): the caller's hash, then the entity's; '' lets
 // the core hash the GLB itself.
 function resolveHash(m, where, options) {
   const { contentHash, entity, bodyShape } = options;
@@ -1015,229 +844,9 @@ function utf8Bytes(text) {
   return Uint8Array.from(out);
 }
 
-// springBones as the core's readSpringBonesEntries takes it (src/json_scan.h): a Map from each
-// models key to its encodeEntries, when JSON.stringify would write text that the core reads to
-// the same result. That is: plain objects (prototype Object.prototype, no toJSON) and arrays,
-// only version 1 and models at the top, each model an object of entries holding only the known
-// keys, with finite numbers, 3-number gravityDirs, well-formed strings, booleans or null, and a
-// text certainly under the core's size limit. Anything else gives null and the caller sends the
-// JSON text, which is also where its errors and warnings come from (so every model is checked,
-// not only the one the hash picks: another model's lone surrogate is metadata-bad-json there).
-// Ranges are left to the core, which declines (-1) what it would warn about.
-//
-// The values are read as JSON.stringify reads them: own enumerable string keys (for...in, with
-// Object.prototype checked to add none), each property read once. A getter or proxy that throws
-// makes this null, and JSON.stringify then throws the error to the caller as before; when the
-// core declines, the text path reads (and runs getters) a second time.
-function springBonesEntries(value) {
-  if (value === null || typeof value !== 'object') return null;
-  try {
-    return encodeSpringBones(value);
-  } catch {
-    return null;
-  }
-}
-
-function encodeSpringBones(value) {
-  for (const inherited in Object.prototype) return null;  // eslint-disable-line no-unused-vars
-  if (!isPlainObject(value)) return null;
-  let version;
-  let models;
-  for (const key in value) {
-    if (key === 'version') version = value[key];
-    else if (key === 'models') models = value[key];
-    else return null;
-  }
-  if (version !== 1 || !isPlainObject(models)) return null;
-  const out = new Map();
-  let textBound = 64;  // an upper bound of the UTF-8 length of JSON.stringify(value)
-  for (const key in models) {
-    if (!isWellFormed(key)) return null;
-    const encoded = encodeEntries(models[key]);
-    if (encoded === null) return null;
-    out.set(key, encoded);
-    textBound += 6 * key.length + 8 + encoded.textBound;
-  }
-  return textBound <= kMaxMetadataBytes ? out : null;
-}
-
-const kMaxMetadataBytes = 16 * 1024 * 1024;  // src/springbones.h
-// src/json_scan.h: kEntry* flags, kEntriesHeaderBytes, kEntryBytes.
-const kEntryStiffness = 1;
-const kEntryGravityPower = 2;
-const kEntryGravityDir = 4;
-const kEntryDrag = 8;
-const kEntryCenter = 16;
-const kEntryCenterName = 32;
-const kEntryIsRoot = 64;
-const kEntriesHeaderBytes = 16;
-const kEntryBytes = 60;
-
-// toJSON is looked up as JSON.stringify does (own or inherited); any value declines.
-function isPlainObject(v) {
-  return v !== null && typeof v === 'object' && Object.getPrototypeOf(v) === Object.prototype && v.toJSON === undefined;
-}
-
-function isFiniteNumber(v) {
-  return typeof v === 'number' && Number.isFinite(v);
-}
-
-// One model in the layout of readSpringBonesEntries: { fixed, names, centers, textBound }, the
-// header, values, ends and flags in `fixed`, the UTF-8 names and centers apart (withEntries puts
-// them together in WASM memory); or null. Numbers are stored + 0: JSON has no -0, the text path
-// reads 0.
-function encodeEntries(model) {
-  if (!isPlainObject(model)) return null;
-  const names = Object.keys(model);  // what JSON.stringify writes (a for...in over model is slower)
-  const count = names.length;
-  const fixed = new ArrayBuffer(kEntriesHeaderBytes + kEntryBytes * count);
-  const values = new Float64Array(fixed, kEntriesHeaderBytes, 6 * count);
-  const words = new Uint32Array(fixed, kEntriesHeaderBytes + 48 * count, 3 * count);  // name ends, center ends, flags
-  const centers = [];
-  let nameEnd = 0;
-  let centerEnd = 0;
-  let textBound = 2;
-  for (let i = 0; i < count; ++i) {
-    const name = names[i];
-    const entry = model[name];
-    if (!isPlainObject(entry)) return null;
-    const at = 6 * i;
-    let flags = 0;
-    // One pass over the keys the entry has (a read of each known key plus a count of the keys
-    // was slower); an unknown key, or a value JSON.stringify would write otherwise (undefined,
-    // NaN, a Number object...), declines.
-    for (const key in entry) {
-      const v = entry[key];
-      switch (key) {
-        case 'stiffness':
-          if (!isFiniteNumber(v)) return null;
-          values[at] = v + 0;
-          flags |= kEntryStiffness;
-          break;
-        case 'gravityPower':
-          if (!isFiniteNumber(v)) return null;
-          values[at + 1] = v + 0;
-          flags |= kEntryGravityPower;
-          break;
-        case 'drag':
-          if (!isFiniteNumber(v)) return null;
-          values[at + 2] = v + 0;
-          flags |= kEntryDrag;
-          break;
-        case 'gravityDir': {
-          if (!Array.isArray(v) || v.toJSON !== undefined || v.length !== 3) return null;
-          const x = v[0];
-          const y = v[1];
-          const z = v[2];
-          if (!isFiniteNumber(x) || !isFiniteNumber(y) || !isFiniteNumber(z)) return null;
-          values[at + 3] = x + 0;
-          values[at + 4] = y + 0;
-          values[at + 5] = z + 0;
-          flags |= kEntryGravityDir;
-          break;
-        }
-        case 'center':
-          if (typeof v === 'string') {
-            centers.push(v);
-            centerEnd += v.length;
-            textBound += 6 * v.length;
-            flags |= kEntryCenter | kEntryCenterName;
-          } else if (v === null) {
-            flags |= kEntryCenter;
-          } else {
-            return null;
-          }
-          break;
-        case 'isRoot':
-          if (v === true) flags |= kEntryIsRoot;
-          else if (v !== false && v !== null) return null;
-          break;
-        default:
-          return null;
-      }
-    }
-    nameEnd += name.length;  // in UTF-16 units: bytes when all is ASCII, else redone below
-    words[i] = nameEnd;
-    words[count + i] = centerEnd;
-    words[2 * count + i] = flags;
-    // Each string escaped at most 6 bytes per unit; keys, numbers (at most 25 characters) and
-    // punctuation well under 300.
-    textBound += 6 * name.length + 300;
-  }
-  const nameText = names.join('');
-  const centerText = centers.join('');
-  const nameBytes = kTextEncoder.encode(nameText);
-  const centerBytes = kTextEncoder.encode(centerText);
-  if (nameBytes.length !== nameText.length || centerBytes.length !== centerText.length) {
-    // Not all ASCII: the ends in bytes, string by string, which also finds lone surrogates
-    // (TextEncoder would write U+FFFD; in the JSON text they are metadata-bad-json).
-    if (!utf8Ends(names, words, 0, count, -1) || !utf8Ends(centers, words, count, count, 2 * count)) return null;
-  }
-  new Uint32Array(fixed, 0, 4).set([count, nameBytes.length, centerBytes.length, 0]);
-  return { fixed, names: nameBytes, centers: centerBytes, textBound };
-}
-
-// words[endsAt + i] = the UTF-8 end of strings[...] for each of `count` entries: with flagsAt < 0
-// one string per entry, else only for entries whose flags (words[flagsAt + i]) have
-// kEntryCenterName. False for a string that is not well formed.
-function utf8Ends(strings, words, endsAt, count, flagsAt) {
-  let end = 0;
-  let next = 0;
-  for (let i = 0; i < count; ++i) {
-    if (flagsAt < 0 || (words[flagsAt + i] & kEntryCenterName) !== 0) {
-      const length = utf8Length(strings[next++]);
-      if (length < 0) return false;
-      end += length;
-    }
-    words[endsAt + i] = end;
-  }
-  return true;
-}
-
-// The UTF-8 length of a string, or -1 when it has a lone surrogate.
-function utf8Length(text) {
-  let length = 0;
-  for (let i = 0; i < text.length; ++i) {
-    const c = text.charCodeAt(i);
-    if (c < 0x80) {
-      length += 1;
-    } else if (c < 0x800) {
-      length += 2;
-    } else if (c >= 0xd800 && c <= 0xdfff) {
-      const next = text.charCodeAt(i + 1);  // NaN past the end
-      if (c > 0xdbff || !(next >= 0xdc00 && next <= 0xdfff)) return -1;
-      length += 4;
-      ++i;
-    } else {
-      length += 3;
-    }
-  }
-  return length;
-}
-
 // String.prototype.isWellFormed is recent (2023); the regex is the fallback for older engines.
 function isWellFormed(text) {
   return typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
-}
-
-// An encodeEntries result in WASM memory for the duration of fn(ptr, size): its three parts back
-// to back, without assembling them in JavaScript first.
-function withEntries(m, encoded, fn) {
-  const { fixed, names, centers } = encoded;
-  const size = fixed.byteLength + names.length + centers.length;
-  const ptr = m._malloc(size);
-  if (ptr === 0) {
-    throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
-  }
-  try {
-    const heap = m.HEAPU8;  // read after malloc: it may have grown the memory
-    heap.set(new Uint8Array(fixed), ptr);
-    heap.set(names, ptr + fixed.byteLength);
-    heap.set(centers, ptr + fixed.byteLength + names.length);
-    return call(() => fn(ptr, size));
-  } finally {
-    m._free(ptr);
-  }
 }
 
 // Text as UTF-8 bytes in WASM memory for the duration of fn(ptr, size): encoded straight into

@@ -25,7 +25,6 @@
 
 #include "builder_edits.h"
 #include "content_hash.h"
-#include "json_scan.h"
 #include "springbones.h"
 #if __has_include("xpbd_solver.h")
 #include "xpbd_solver.h"
@@ -305,91 +304,6 @@ inline json fuzzParam(ByteReader& in, double range) {
     case 5: return json::object();
     default: return in.number(range, ByteReader::kDouble);
   }
-}
-
-// The springBones entries layout web/springbones.js hands over for an object
-// (readSpringBonesEntries, src/json_scan.h): arbitrary bytes never crash it; what it declines
-// leaves nothing behind; and what it accepts reads exactly as the same entries written as JSON
-// text and read by parseSpringBonesText (same bones, same bits, same warnings; names that are not
-// UTF-8, which no JSON text holds, declined). The layout is decoded here a second time,
-// independently, to write that text.
-inline std::string runEntries(const std::uint8_t* data, std::size_t size) {
-  const std::string hash = "bafkreifixedhash";
-  ModelEntry fast;
-  std::vector<Warning> fast_warnings;
-  if (!readSpringBonesEntries(data, size, hash, fast, fast_warnings)) {
-    if (fast.enabled || !fast.bones.empty() || !fast_warnings.empty()) return "declined entries left output";
-    return {};
-  }
-  const auto u32 = [&](std::size_t at) {
-    std::uint32_t v;
-    std::memcpy(&v, data + at, sizeof v);
-    return static_cast<std::size_t>(v);
-  };
-  if (size < kEntriesHeaderBytes) return "accepted entries shorter than the header";
-  const std::size_t count = u32(0), name_bytes = u32(4), center_bytes = u32(8);
-  const std::size_t names_at = kEntriesHeaderBytes + kEntryBytes * count;
-  if (count > size || names_at + name_bytes + center_bytes != size) return "accepted entries of the wrong size";
-  const std::size_t words_at = kEntriesHeaderBytes + 48 * count;
-  json entries = json::object();
-  std::size_t name_start = 0, center_start = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t name_end = u32(words_at + 4 * i), center_end = u32(words_at + 4 * (count + i));
-    const std::size_t flags = u32(words_at + 4 * (2 * count + i));
-    if (name_end < name_start || name_end > name_bytes || center_end < center_start || center_end > center_bytes) {
-      return "accepted entries with ends out of order";
-    }
-    double v[6];
-    std::memcpy(v, data + kEntriesHeaderBytes + 48 * i, sizeof v);
-    json entry = json::object();
-    if (flags & kEntryStiffness) entry["stiffness"] = v[0];
-    if (flags & kEntryGravityPower) entry["gravityPower"] = v[1];
-    if (flags & kEntryDrag) entry["drag"] = v[2];
-    if (flags & kEntryGravityDir) entry["gravityDir"] = {v[3], v[4], v[5]};
-    if (flags & kEntryCenterName) {
-      entry["center"] = std::string(reinterpret_cast<const char*>(data + names_at + name_bytes + center_start),
-                                    center_end - center_start);
-    } else if (flags & kEntryCenter) {
-      entry["center"] = nullptr;
-    }
-    if (flags & kEntryIsRoot) entry["isRoot"] = true;
-    const std::string name(reinterpret_cast<const char*>(data + names_at + name_start), name_end - name_start);
-    if (entries.contains(name)) return "accepted a repeated name";
-    entries[name] = std::move(entry);
-    name_start = name_end;
-    center_start = center_end;
-  }
-  if (name_start != name_bytes || center_start != center_bytes) return "accepted entries with unused bytes";
-  std::string text;
-  try {
-    text = json{{"version", 1}, {"models", {{hash, entries}}}}.dump();
-  } catch (const json::exception&) {
-    return "accepted names or centers that are not UTF-8";  // the text would be bad JSON
-  }
-  ModelEntry slow;
-  std::vector<Warning> slow_warnings;
-  if (parseSpringBonesText(text, hash, slow, slow_warnings)) return "the text of accepted entries does not read";
-  if (fast.enabled != slow.enabled || fast.bones.size() != slow.bones.size()) return "entries and text differ in bones";
-  const auto same_bits = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
-  for (std::size_t i = 0; i < fast.bones.size(); ++i) {
-    const BoneEntry& a = fast.bones[i];
-    const BoneEntry& b = slow.bones[i];
-    const BoneParams& p = a.params;
-    const BoneParams& q = b.params;
-    if (a.name != b.name || a.is_root != b.is_root || a.has_center != b.has_center || a.center != b.center ||
-        !same_bits(p.stiffness, q.stiffness) || !same_bits(p.gravity_power, q.gravity_power) ||
-        !same_bits(p.drag, q.drag) || !same_bits(p.gravity_dir.x, q.gravity_dir.x) ||
-        !same_bits(p.gravity_dir.y, q.gravity_dir.y) || !same_bits(p.gravity_dir.z, q.gravity_dir.z)) {
-      return "entries and text differ at bone '" + a.name + "'";
-    }
-  }
-  if (fast_warnings.size() != slow_warnings.size()) return "entries and text differ in warnings";
-  for (std::size_t i = 0; i < fast_warnings.size(); ++i) {
-    const Warning& a = fast_warnings[i];
-    const Warning& b = slow_warnings[i];
-    if (a.code != b.code || a.message != b.message || a.path != b.path) return "entries and text differ in warning " + a.code;
-  }
-  return {};
 }
 
 inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {

@@ -4,8 +4,6 @@
 //                  BIN chunk (the loader never reads it), and a few broken containers
 //   metadata/      the fixture metadata plus one input per distinct outcome of the validator's
 //                  differential cases (tests/fixtures/validation_cases.json), at most 48
-//   entries/       the fixture models and a few edge entries in readSpringBonesEntries' layout
-//                  (src/json_scan.h), as web/springbones.js hands over a springBones object
 //   simulation/    pseudo-random byte programs (the target builds everything from bytes)
 //   vrm/           the VRM fixtures (0.x and 1.0), both extensions in one file, glTF text
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -114,54 +112,6 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
     writeFileSync(join(dir, `case_${String(written).padStart(2, '0')}`), JSON.stringify(c.input));
     written += 1;
   }
-}
-
-// --- entries
-{
-  const dir = reset('entries');
-  // One model in the layout: a 16-byte header (count, name bytes, center bytes, 0), per entry six
-  // doubles (stiffness, gravityPower, drag, gravityDir), then the name ends, center ends and flags
-  // (u32 each, per entry), then the UTF-8 names and centers.
-  const layout = (model) => {
-    const names = Object.keys(model);
-    const count = names.length;
-    const nameBytes = names.map((n) => Buffer.from(n));
-    const centerBytes = names.map((n) => Buffer.from(typeof model[n].center === 'string' ? model[n].center : ''));
-    const fixed = Buffer.alloc(16 + 60 * count);
-    let nameEnd = 0;
-    let centerEnd = 0;
-    names.forEach((name, i) => {
-      const e = model[name];
-      let flags = 0;
-      const put = (k, v) => fixed.writeDoubleLE(v, 16 + 48 * i + 8 * k);
-      if (e.stiffness !== undefined) { put(0, e.stiffness); flags |= 1; }
-      if (e.gravityPower !== undefined) { put(1, e.gravityPower); flags |= 2; }
-      if (e.drag !== undefined) { put(2, e.drag); flags |= 8; }
-      if (e.gravityDir !== undefined) { e.gravityDir.forEach((v, k) => put(3 + k, v)); flags |= 4; }
-      if (e.center !== undefined) flags |= typeof e.center === 'string' ? 16 | 32 : 16;
-      if (e.isRoot === true) flags |= 64;
-      nameEnd += nameBytes[i].length;
-      centerEnd += centerBytes[i].length;
-      fixed.writeUInt32LE(nameEnd, 16 + 48 * count + 4 * i);
-      fixed.writeUInt32LE(centerEnd, 16 + 52 * count + 4 * i);
-      fixed.writeUInt32LE(flags, 16 + 56 * count + 4 * i);
-    });
-    fixed.writeUInt32LE(count, 0);
-    fixed.writeUInt32LE(nameEnd, 4);
-    fixed.writeUInt32LE(centerEnd, 8);
-    return Buffer.concat([fixed, ...nameBytes, ...centerBytes]);
-  };
-  for (const name of ['adr_example', 'avatar_hair']) {
-    const models = JSON.parse(fixture(`${name}.metadata.json`).toString()).models;
-    Object.values(models).forEach((model, i) => writeFileSync(join(dir, `${name}_${i}`), layout(model)));
-  }
-  writeFileSync(join(dir, 'edges'), layout({
-    springbone_root: { stiffness: 4, gravityPower: 2, gravityDir: [0, -3, 0], drag: 1, isRoot: true, center: 'Avatar_Hips' },
-    springbone_world: { stiffness: 0, gravityPower: 0, drag: 0, center: null, isRoot: false },
-    'springbone_é': { gravityDir: [0.5, 0, 0] },
-    springbone_bare: {},
-  }));
-  writeFileSync(join(dir, 'empty'), layout({}));
 }
 
 // --- simulation

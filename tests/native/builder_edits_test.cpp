@@ -101,6 +101,32 @@ TEST(BuilderEdits, DropsEntriesOfHashesNoRepresentationUses) {
   EXPECT_EQ(out["models"]["bafyMALE"]["SpringBone_hair"]["stiffness"], 1.0);
 }
 
+// Every representation's main file is looked up in the content list, and every models key in the
+// active hashes: by name, not by scanning the lists, which made this quadratic (40,000 x 40,000
+// string comparisons here). A large instance, to keep it linear; no timer.
+TEST(BuilderEdits, ManyRepresentationsAndStaleModelsStayLinear) {
+  constexpr int kCount = 40000;
+  json content = json::array(), representations = json::array(), models = json::object();
+  for (int i = 0; i < kCount; ++i) {
+    const std::string n = std::to_string(i);
+    content.push_back({{"file", "f" + n + ".glb"}, {"hash", "bafy" + n}});
+    // Only the last representation is for the male body shape.
+    representations.push_back(
+        {{"bodyShapes", {i + 1 == kCount ? kMale : kFemale}}, {"mainFile", "f" + n + ".glb"}});
+    models["stale" + n] = {{"SpringBone_hair", paramsWith(2)}};
+    if (i % 2 == 0) models["bafy" + n] = json::object();
+  }
+  const json entity = {{"content", content}, {"metadata", {{"data", {{"representations", representations}}}}}};
+  json out;
+  ASSERT_FALSE(setSpringBoneParams({{"version", 1}, {"models", models}}, entity, kMale, "SpringBone_hair",
+                                   paramsWith(1.0), out));
+  // The stale keys are gone, the active ones kept, and the entry written under the male GLB's hash.
+  EXPECT_EQ(out["models"].size(), std::size_t(kCount / 2 + 1));
+  EXPECT_FALSE(out["models"].contains("stale0"));
+  EXPECT_TRUE(out["models"].contains("bafy0"));
+  EXPECT_EQ(out["models"]["bafy" + std::to_string(kCount - 1)]["SpringBone_hair"]["stiffness"], 1.0);
+}
+
 TEST(BuilderEdits, NullParamsRemoveTheEntry) {
   const json old = {{"version", 1}, {"models", {{"bafyMALE", {{"SpringBone_hair", paramsWith(2)}}}}}};
   json out;

@@ -50,23 +50,6 @@ TEST(FuzzRegressions, MetadataInputsKeepEveryInvariant) {
   EXPECT_GT(replay("metadata", fuzz::runMetadata), 0u);
 }
 
-TEST(FuzzRegressions, EntriesInputsKeepEveryInvariant) {
-  EXPECT_GT(replay("entries", fuzz::runEntries), 0u);
-}
-
-// The entries seeds are ones the reader accepts, so replaying them runs runEntries' comparison
-// with the JSON text reader and not only its "declined, nothing left" branch.
-TEST(FuzzRegressions, EntriesSeedsAreAcceptedSoTheTextComparisonRuns) {
-  for (const char* seed : {"adr_example_0", "avatar_hair_0", "edges", "empty"}) {
-    std::ifstream in(kFuzzDir / "corpus" / "entries" / seed, std::ios::binary);
-    const std::vector<std::uint8_t> bytes(std::istreambuf_iterator<char>(in), {});
-    ASSERT_FALSE(bytes.empty()) << seed;
-    ModelEntry model;
-    std::vector<Warning> warnings;
-    EXPECT_TRUE(readSpringBonesEntries(bytes.data(), bytes.size(), "h", model, warnings)) << seed;
-  }
-}
-
 TEST(FuzzRegressions, SimulationInputsKeepEveryInvariant) {
   EXPECT_GT(replay("simulation", fuzz::runSimulation), 0u);
 }

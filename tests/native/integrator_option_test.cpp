@@ -92,6 +92,36 @@ TEST(IntegratorOption, XpbdKeepsBoneLengthsWhereTheDefaultMovesDifferently) {
   EXPECT_GT(max_difference, 1e-3);
 }
 
+TEST(IntegratorOption, DefaultsArePerIntegrator) {
+  // Options left at 0 take the integrator's defaults: 60 Hz / 4 substeps for the VRM update,
+  // 120 Hz / 8 for XPBD, the same the JS API gets (it passes 0 for an option not given).
+  InstanceOptions xpbd_defaults;
+  xpbd_defaults.integrator = Integrator::kXpbd;
+  Instance xpbd(chainRig(), xpbd_defaults);
+  EXPECT_EQ(xpbd.options().step_hz, 120.0);
+  EXPECT_EQ(xpbd.options().max_substeps, 8);
+  EXPECT_EQ(xpbd.options().xpbd_iterations, 4);
+  Instance vrm(chainRig());
+  EXPECT_EQ(vrm.options().step_hz, 60.0);
+  EXPECT_EQ(vrm.options().max_substeps, 4);
+  // A value given is kept, the other still defaults.
+  InstanceOptions given = xpbd_defaults;
+  given.step_hz = 90.0;
+  Instance mixed(chainRig(), given);
+  EXPECT_EQ(mixed.options().step_hz, 90.0);
+  EXPECT_EQ(mixed.options().max_substeps, 8);
+  // The defaults move the joints as the same values given explicitly, bit for bit.
+  Instance explicit_xpbd(chainRig(), xpbdOptions());
+  for (int f = 0; f < 60; ++f) {
+    const glm::mat4 hips = swayingHips(f / 30.0);
+    std::memcpy(xpbd.driverMatrices(), &hips[0][0], sizeof(float) * 16);
+    std::memcpy(explicit_xpbd.driverMatrices(), &hips[0][0], sizeof(float) * 16);
+    xpbd.step(1.0 / 30.0);
+    explicit_xpbd.step(1.0 / 30.0);
+  }
+  EXPECT_EQ(0, std::memcmp(xpbd.rotations(), explicit_xpbd.rotations(), sizeof(float) * 4 * xpbd.jointCount()));
+}
+
 TEST(IntegratorOption, OutOfRangeIterationsAreClamped) {
   InstanceOptions options = xpbdOptions();
   options.xpbd_iterations = 0;

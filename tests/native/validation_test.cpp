@@ -326,6 +326,31 @@ TEST(ValidationEntity, AcceptsAbsentSpringBones) {
   EXPECT_TRUE(validateSpringBones(entityWith(json(json::value_t::discarded))).empty());
 }
 
+// The representations' main files are looked up in the content list by name, and the models keys
+// in the active hashes likewise: scanning the lists made this quadratic (40,000 x 40,000 string
+// comparisons here). A large instance, to keep it linear; no timer.
+TEST(ValidationEntity, ManyRepresentationsAndModelsStayLinear) {
+  constexpr int kCount = 40000;
+  json entity = entityWith(json(json::value_t::discarded));
+  json& content = entity["content"];
+  json& representations = entity["metadata"]["data"]["representations"];
+  json models = json::object();
+  for (int i = 0; i < kCount; ++i) {
+    const std::string n = std::to_string(i);
+    content.push_back({{"file", "f" + n + ".glb"}, {"hash", "bafy" + n}});
+    representations.push_back({{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
+                                {"mainFile", "f" + n + ".glb"}});
+    models["bafy" + n] = {{kBone, rootParams()}};
+  }
+  // A later entry for the same file does not count: the first one wins.
+  content.push_back({{"file", "f0.glb"}, {"hash", "bafyLATER"}});
+  models["bafyLATER"] = {{kBone, rootParams()}};
+  entity["metadata"]["data"]["springBones"] = modelsDoc(models);
+  const std::vector<ValidationError> errors = validateSpringBones(entity);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].path, "/models/bafyLATER");
+}
+
 TEST(ValidationEntity, AcceptsNullSpringBones) { EXPECT_TRUE(validateSpringBones(entityWith(nullptr)).empty()); }
 
 TEST(ValidationEntity, AcceptsEmptyModels) {

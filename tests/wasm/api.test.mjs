@@ -129,11 +129,31 @@ describe('loadRig', () => {
     }
   });
 
-  test('takes springBones as an object or as JSON text, with the same result', () => {
+  test('takes springBones as an object or as JSON text, with the same rig, warnings and errors', () => {
     const { glb, springBones, hash } = springRig({ chains: 2 });
+    // One entry out of range and one missing its params: warnings as well as joints.
+    const [first, second] = Object.keys(springBones.models[hash]);
+    springBones.models[hash][first] = { ...springBones.models[hash][first], drag: 7 };
+    springBones.models[hash][second] = {};
     const a = sb.loadRig(glb, springBones, { contentHash: hash });
     const b = sb.loadRig(glb, JSON.stringify(springBones), { contentHash: hash });
     assert.deepEqual(a.joints, b.joints);
+    assert.deepEqual(a.drivers, b.drivers);
+    assert.ok(a.warnings.some((w) => w.code === 'param-out-of-range'));
+    assert.ok(a.warnings.some((w) => w.code === 'param-missing'));
+    assert.deepEqual(a.warnings, b.warnings);
+    const errorOf = (load) => {
+      try {
+        load();
+      } catch (error) {
+        return { code: error.code, message: error.message, path: error.path };
+      }
+      assert.fail('expected an error');
+    };
+    const broken = { version: 1, models: { [hash]: 42 } };
+    const fromObject = errorOf(() => sb.loadRig(glb, broken, { contentHash: hash }));
+    assert.equal(fromObject.code, 'metadata-invalid');
+    assert.deepEqual(fromObject, errorOf(() => sb.loadRig(glb, JSON.stringify(broken), { contentHash: hash })));
   });
 
   test('null or undefined springBones means no spring bones and no warning', () => {
