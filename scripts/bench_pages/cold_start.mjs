@@ -8,7 +8,7 @@
 // and its first step(dt) is timed inside the first animation frame, which then sets the
 // performance mark 'first-simulated-frame' (its startTime: milliseconds since navigation).
 // Nothing is rendered: WebGL would cost both pages alike. The result goes to window.coldResult
-// (or window.coldError).
+// (or the error to window.benchError).
 import { Group } from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { requireIsolation } from './conditions.mjs';
@@ -68,6 +68,6 @@ export async function coldStart(library) {
     times.libraryMs = times.importMs + times.startMs + times.loadMs + times.stepMs;
     window.coldResult = { library: library.name, joints: simulation.joints, ...times, ...(simulation.details ?? {}) };
   } catch (error) {
-    window.coldError = `${error.message}\n${error.stack ?? ''}`;
+    window.benchError = `${error.message}\n${error.stack ?? ''}`;
   }
 }

@@ -5,8 +5,14 @@ import { createSpringBones } from '../../web/springbones.js';
 import { RIGS, median, setupAdapter, setupSolver, setupThreeVrm, tightLoop, tightLoopSplit, wearableGltf } from '../lib/bench_rigs.mjs';
 import { conditions, requireIsolation } from './conditions.mjs';
 
-requireIsolation();
-const sb = await createSpringBones();
+let sb;
+try {
+  requireIsolation();
+  sb = await createSpringBones();
+} catch (error) {
+  window.benchError = `${error.message}\n${error.stack ?? ''}`;
+  throw error;
+}
 
 /** Resolves with the callback timestamps of `count` animation frames (nothing else done in them). */
 const rafTimestamps = (count) => new Promise((resolve) => {

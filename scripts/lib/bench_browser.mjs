@@ -57,11 +57,11 @@ async function freshBrowser() {
   };
 }
 
-/** Opens `path` and waits for `ready` (a window property), failing with the page's errors. */
+/** Opens `url` and waits for `ready` (a window property), failing with the page's errors. */
 async function open(browser, url, ready) {
   await browser.page.goto(url);
-  await browser.page.waitForFunction((name) => window[name] !== undefined || window.coldError !== undefined, ready);
-  const error = await browser.page.evaluate(() => window.coldError);
+  await browser.page.waitForFunction((name) => window[name] !== undefined || window.benchError !== undefined, ready);
+  const error = await browser.page.evaluate(() => window.benchError);
   if (error || browser.errors.length) throw new Error(`${url}: ${error ?? browser.errors.join('\n')}`);
 }
 
