@@ -13,8 +13,8 @@ import { SpringBonesGroup, attachWearable } from '../../web/three/springBonesThr
 
 /** [A, C, J]; the 5,000-joint rig (100x10x5) is the one the speedups quote. */
 export const RIGS = [[1, 3, 5], [1, 10, 5], [10, 10, 5], [100, 10, 5], [100, 20, 10]];
-export const DT = 1 / 60;
-export const PARAMS = { stiffness: 1, gravityPower: 0.5, gravityDir: [0, -1, 0], drag: 0.4 };
+const DT = 1 / 60;
+const PARAMS = { stiffness: 1, gravityPower: 0.5, gravityDir: [0, -1, 0], drag: 0.4 };
 const BONE = 0.05;
 // three-vrm steps once per update; our instances step at a fixed rate, set to the frame rate here.
 const ONE_STEP_PER_FRAME = { stepHz: 1 / DT };
