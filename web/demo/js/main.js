@@ -466,8 +466,8 @@ class Preview {
   }
 
   /** The median ms per frame of the springs over the last second (NaN without a frame in it). */
-  springMsMedian() {
-    return this.springFrames.medianMs();
+  springMsMedian(now = performance.now()) {
+    return this.springFrames.medianMs(now);
   }
 
   fps() {
@@ -477,17 +477,18 @@ class Preview {
     return sum > 0 ? n / sum : NaN;
   }
 
-  updateReadout() {
+  /** The readout as of `now` (one instant for the median and its frame count). */
+  updateReadout(now = performance.now()) {
     const simulated = this.simulatedCount();
     const joints = simulated.joints;
-    const ms = this.springMsMedian();
+    const ms = this.springMsMedian(now);
     $('readout-joints').textContent = String(joints);
     $('readout-active').textContent = String(simulated.avatars);
     $('readout-avatars').textContent = String(simulated.of);
     $('readout-integrator').textContent = this.integrator.toUpperCase();
     $('readout-solver').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
     $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
-    $('readout-frames').textContent = String(this.springFrames.samples().length);
+    $('readout-frames').textContent = String(this.springFrames.samples(now).length);
     $('readout-substeps').textContent = this.lastSubsteps === null ? '–' : String(this.lastSubsteps);
     $('readout-dt').textContent = Number.isFinite(this.lastDt) ? (this.lastDt * 1000).toFixed(1) : '–';
     const fps = this.fps();
@@ -607,7 +608,7 @@ function debugHook(preview, creator) {
      */
     readout: () => {
       const now = performance.now();
-      preview.updateReadout();
+      preview.updateReadout(now);
       return {
         now,
         medianMs: preview.springFrames.medianMs(now),
