@@ -603,8 +603,8 @@ function debugHook(preview, creator) {
     benchmark: (frames) => preview.benchmark(frames),
     /**
      * The readout, refreshed now: the median solver ms and the frame samples of the last second it
-     * is the median of ({ at, ms, joints, integrator }), the last frame's substeps and dt, and the
-     * text the page shows for them.
+     * is the median of ({ at, ms, joints, integrator }), how many samples it holds however old,
+     * the last frame's substeps and dt, and the text the page shows for them.
      */
     readout: () => {
       const now = performance.now();
@@ -613,6 +613,7 @@ function debugHook(preview, creator) {
         now,
         medianMs: preview.springFrames.medianMs(now),
         samples: preview.springFrames.samples(now),
+        held: preview.springFrames.held,
         substeps: preview.lastSubsteps,
         dt: preview.lastDt,
         shown: { solver: $('readout-solver').textContent, frames: $('readout-frames').textContent, substeps: $('readout-substeps').textContent },

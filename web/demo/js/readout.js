@@ -22,6 +22,11 @@ export class RecentFrames {
     sample.integrator = integrator;
   }
 
+  /** How many samples the ring holds, however old. */
+  get held() {
+    return Math.min(this.count, this.ring.length);
+  }
+
   /** Forgets every sample: what follows is another wearable, rig or integrator. */
   clear() {
     this.count = 0;
@@ -29,9 +34,8 @@ export class RecentFrames {
 
   /** Copies of the samples of the last windowMs before `now`, oldest first. */
   samples(now = performance.now()) {
-    const n = Math.min(this.count, this.ring.length);
     const out = [];
-    for (let i = this.count - n; i < this.count; i++) {
+    for (let i = this.count - this.held; i < this.count; i++) {
       const s = this.ring[i % this.ring.length];
       if (now - s.at <= this.windowMs) out.push({ ...s });
     }
