@@ -14,6 +14,7 @@ import { createSpringBones } from '../../springbones.js';
 import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
+import { RecentFrames, SubstepCounter } from './readout.js';
 
 const $ = (id) => document.getElementById(id);
 export const ASSETS = new URL('../assets/', import.meta.url);
@@ -25,6 +26,12 @@ const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
 const kViewerScratch = new THREE.Vector3();      // the camera's world position, for the budget
+// Each integrator's fixed rate and step cap, given to every instance explicitly (they are the
+// API's defaults) so that the readout's substep count follows the same numbers.
+const kStepping = {
+  vrm: { stepHz: 60, maxSubsteps: 4 },
+  xpbd: { stepHz: 120, maxSubsteps: 8 },
+};
 // Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
 const kViews = {
   body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
@@ -49,8 +56,12 @@ class Preview {
     this.showColliders = false;
     this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
-    this.springTimes = new Float64Array(120);  // ms per frame in group.update (drivers, scene.step, rotations), a ring
-    this.springTimeCount = 0;
+    this.springFrames = new RecentFrames(1000);  // ms per frame in group.update (drivers, scene.step, rotations)
+    // The first avatar's step clock (the others step alike, unless they joined the crowd later or
+    // the budget held them).
+    this.substeps = new SubstepCounter(kStepping[this.integrator]);
+    this.lastSubsteps = null;  // steps of the last simulated frame, null before one
+    this.lastDt = NaN;
     this.frameTimes = new Float64Array(120);
     this.frameCount = 0;
     this.lastReadout = 0;
@@ -189,6 +200,7 @@ class Preview {
     }
     this.wearable = { gltf, rig, label };
     for (const a of this.avatars) this.wear(a);
+    this.restartReadout();
   }
 
   /** Same GLB, new parameters: every attachment switches to the new rig (shared by all). */
@@ -202,6 +214,7 @@ class Preview {
       a.helper.rebuild();
     }
     old.dispose();
+    this.restartReadout();  // new instances: other costs, and their step clocks start at zero
   }
 
   /** loadRig options the preview adds to the wearable's metadata: the avatar's colliders. */
@@ -213,7 +226,7 @@ class Preview {
     const { gltf, rig } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
-      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator, ...kStepping[this.integrator] },
     });
     avatar.wearableRoot = clone;
     avatar.helper = new SpringBonesHelper(avatar.attachment);
@@ -318,6 +331,7 @@ class Preview {
     this.placeAvatars();
     this.scene.updateMatrixWorld();
     for (const a of this.avatars) a.attachment?.reset();
+    this.substeps.reset();
   }
 
   setShowChains(show) {
@@ -335,11 +349,24 @@ class Preview {
     if (name !== 'vrm' && name !== 'xpbd') throw new RangeError(`unknown integrator ${name}`);
     this.integrator = name;
     $('integrator').value = name;
+    this.substeps = new SubstepCounter(kStepping[name]);
     if (!this.wearable) return;
     for (const a of this.avatars) {
       this.unwear(a);
       this.wear(a);
     }
+    this.restartReadout();
+  }
+
+  /**
+   * After a change of wearable, rig or integrator: the readout forgets the frames before it (their
+   * cost was another simulation's) and the substep count starts with the new instances' clocks.
+   */
+  restartReadout() {
+    this.springFrames.clear();
+    this.substeps.reset();
+    this.lastSubsteps = null;
+    this.lastDt = NaN;
   }
 
   /** Colliders on or off: the creator rebuilds the rig with or without them. */
@@ -432,11 +459,15 @@ class Preview {
       this.group.scene.setBudget(this.budget, kViewerScratch.x, kViewerScratch.y, kViewerScratch.z);
     }
     this.group.update(dt);
-    this.springTimes[this.springTimeCount++ % this.springTimes.length] = performance.now() - t0;
+    const t1 = performance.now();
+    this.springFrames.add(t1, t1 - t0, this.jointCount, this.integrator);
+    this.lastSubsteps = this.substeps.frame(dt);
+    this.lastDt = dt;
   }
 
-  springMsAverage() {
-    return ringAverage(this.springTimes, this.springTimeCount);
+  /** The median ms per frame of the springs over the last second (NaN without a frame in it). */
+  springMsMedian(now = performance.now()) {
+    return this.springFrames.medianMs(now);
   }
 
   fps() {
@@ -446,16 +477,20 @@ class Preview {
     return sum > 0 ? n / sum : NaN;
   }
 
-  updateReadout() {
+  /** The readout as of `now` (one instant for the median and its frame count). */
+  updateReadout(now = performance.now()) {
     const simulated = this.simulatedCount();
     const joints = simulated.joints;
-    const ms = this.springMsAverage();
+    const ms = this.springMsMedian(now);
     $('readout-joints').textContent = String(joints);
     $('readout-active').textContent = String(simulated.avatars);
     $('readout-avatars').textContent = String(simulated.of);
     $('readout-integrator').textContent = this.integrator.toUpperCase();
     $('readout-solver').textContent = Number.isFinite(ms) ? ms.toFixed(3) : '–';
     $('readout-per-joint').textContent = Number.isFinite(ms) && joints ? `(${((ms * 1e6) / joints).toFixed(0)} ns/joint)` : '';
+    $('readout-frames').textContent = String(this.springFrames.samples(now).length);
+    $('readout-substeps').textContent = this.lastSubsteps === null ? '–' : String(this.lastSubsteps);
+    $('readout-dt').textContent = Number.isFinite(this.lastDt) ? (this.lastDt * 1000).toFixed(1) : '–';
     const fps = this.fps();
     $('readout-fps').textContent = Number.isFinite(fps) ? fps.toFixed(0) : '–';
   }
@@ -473,14 +508,6 @@ class Preview {
     const joints = this.jointCount;
     return { msPerFrame: ms, joints, avatars: this.avatars.length, nsPerJoint: joints ? (ms * 1e6) / joints : NaN };
   }
-}
-
-function ringAverage(ring, count) {
-  const n = Math.min(count, ring.length);
-  if (n === 0) return NaN;
-  let sum = 0;
-  for (let i = 0; i < n; i++) sum += ring[i];
-  return sum / n;
 }
 
 async function fetchBytes(url) {
@@ -548,7 +575,7 @@ function debugHook(preview, creator) {
       joints: preview.jointCount,
       wearable: preview.wearable?.label ?? null,
       contentHash: creator.hash,
-      springMsPerFrame: preview.springMsAverage(),
+      springMsPerFrame: preview.springMsMedian(),
       integrator: preview.integrator,
       colliders: preview.colliders,
       rigColliders: first()?.rig.colliders.length ?? 0,
@@ -574,6 +601,24 @@ function debugHook(preview, creator) {
       for (let t = 0; t < seconds - 1e-9; t += dt) preview.advance(dt);
     },
     benchmark: (frames) => preview.benchmark(frames),
+    /**
+     * The readout, refreshed now: the median solver ms and the frame samples of the last second it
+     * is the median of ({ at, ms, joints, integrator }), how many samples it holds however old,
+     * the last frame's substeps and dt, and the text the page shows for them.
+     */
+    readout: () => {
+      const now = performance.now();
+      preview.updateReadout(now);
+      return {
+        now,
+        medianMs: preview.springFrames.medianMs(now),
+        samples: preview.springFrames.samples(now),
+        held: preview.springFrames.held,
+        substeps: preview.lastSubsteps,
+        dt: preview.lastDt,
+        shown: { solver: $('readout-solver').textContent, frames: $('readout-frames').textContent, substeps: $('readout-substeps').textContent },
+      };
+    },
     setIntegrator: (name) => preview.setIntegrator(name),
     setView: (name) => preview.setView(name),
     /** The parameters and center the first avatar's rig gives a joint (null if not simulated). */
