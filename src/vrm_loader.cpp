@@ -888,23 +888,8 @@ Error loadVrmRig(const std::uint8_t* data, std::size_t size, std::shared_ptr<con
   out.reset();
   if (format != nullptr) *format = VrmSpringFormat::kNone;
   Skeleton skeleton;
-  if (Error e = loadSkeleton(data, size, skeleton)) return e;
-  const char* begin = nullptr;
-  std::size_t length = 0;
-  if (Error e = findGltfJson(data, size, begin, length)) return e;
   json extensions;
-  try {
-    // Only the root's "extensions" is kept; loadSkeleton has already parsed the rest.
-    const json::parser_callback_t keep_extensions = [](int depth, json::parse_event_t event, json& parsed) {
-      return !(depth == 1 && event == json::parse_event_t::key && parsed != "extensions");
-    };
-    json doc = json::parse(begin, begin + length, keep_extensions);
-    if (doc.is_object()) {
-      if (auto it = doc.find("extensions"); it != doc.end()) extensions = std::move(*it);
-    }
-  } catch (const std::exception& ex) {
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what());
-  }
+  if (Error e = loadSkeletonAndExtensions(data, size, skeleton, &extensions)) return e;
   return buildVrmRig(std::move(skeleton), extensions, out, format);
 }
 
