@@ -4,11 +4,10 @@
 // Wearables arrive from anyone and we only need node names, parents and rest transforms, so:
 //  1. our own check of the GLB container (gltf_json.h), so a truncated or malformed file gets a
 //     precise error code (tinygltf reports these as text only);
-//  2. nlohmann-json parses the JSON text once and keeps only the root's `asset`, `nodes` and, for
-//     the VRM reader, `extensions`: every other root member (buffers, images, meshes, accessors,
-//     materials...) is dropped as it is read, so none is decoded, fetched or validated, and a
-//     broken one cannot stop the load. nlohmann parses and destroys without recursion, so deeply
-//     nested values are harmless;
+//  2. nlohmann-json parses the JSON text once, in linear time and without recursion (so deeply
+//     nested values are harmless). Only the root's `asset`, `nodes` and, for the VRM reader,
+//     `extensions` are read: buffers, images, meshes, accessors, materials... stay JSON values,
+//     never decoded, fetched or validated, so a broken one cannot stop the load;
 //  3. each node's fields are type-checked (wrong types are errors: a node we cannot place would
 //     misplace every bone below it), its `extras` and `extensions` erased (tinygltf would convert
 //     them into its Value type recursively, which a deeply nested one would turn into a stack
@@ -254,12 +253,9 @@ Error loadSkeletonAndExtensions(const std::uint8_t* data, std::size_t size, Skel
   std::size_t json_size = 0;
   if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
   try {
-    // Only the root members we read become values (see the top of the file).
-    const json::parser_callback_t keep = [extensions](int depth, json::parse_event_t event, json& parsed) {
-      return depth != 1 || event != json::parse_event_t::key || parsed == "asset" || parsed == "nodes" ||
-             (extensions != nullptr && parsed == "extensions");
-    };
-    json doc = json::parse(json_begin, json_begin + json_size, keep);
+    // No parser callback: nlohmann's callback parser scans a container's elements each time one of
+    // them ends, which is quadratic in the length of an array or object.
+    json doc = json::parse(json_begin, json_begin + json_size);
     Skeleton skeleton;
     if (Error e = readDocument(doc, skeleton)) return e;
     if (extensions != nullptr) {
