@@ -956,6 +956,27 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnceOnTheJoin
   const auto rig = mustLoad(nodes, vrmc(springs, colliders, groups));
   ASSERT_EQ(rig->joints.size(), 1u);
   EXPECT_EQ(rig->joints[0].colliders, (std::vector<int>{0, 1, 2}));
+
+  // 1,000 joints x two groups of the same 2,100 colliders: 4.2 million references, 2.1 million distinct.
+  constexpr int kJoints = 1000, kColliders = 2100;
+  json chain = json::array({gnode("body", {1})});
+  std::vector<int> listed;
+  for (int i = 1; i <= kJoints + 1; ++i) {
+    chain.push_back(gnode("n" + std::to_string(i), i <= kJoints ? std::vector<int>{i + 1} : std::vector<int>{}, {0, -0.01f, 0}));
+    listed.push_back(i);
+  }
+  json many = json::array();
+  std::vector<int> ids;
+  for (int c = 0; c < kColliders; ++c) {
+    many.push_back({{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}});
+    ids.push_back(c);
+  }
+  std::shared_ptr<const Rig> limited;
+  const Error e = loadDoc(chain, vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", {0, 1}}}}), many,
+                                      json::array({{{"colliders", ids}}, {{"colliders", ids}}})),
+                          limited);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded) << e.message;
+  EXPECT_NE(e.message.find("4200000 times"), std::string::npos) << e.message;
 }
 
 // Warnings named the node with its whole name: one 1 MB name in a warning per spring made the
