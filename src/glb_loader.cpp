@@ -1,26 +1,38 @@
-// GLB / glTF loading: the node hierarchy and rest pose, nothing else.
+// GLB / glTF loading: the node hierarchy and rest pose, and for the VRM reader the document's root
+// `extensions`, all from one parse.
 //
-// We only need node names, parents and rest transforms, and wearables arrive from anyone, so the
-// loader works in three stages:
-//  1. our own check of the GLB container (magic, version, chunk lengths; gltf_json.h), so a
-//     truncated or malformed file gets a precise error code instead of a generic parse failure;
-//  2. the JSON chunk is read for `asset.version` and the TRS/matrix, name and children of each
-//     node. Buffers, images, meshes, accessors, extras and extensions are skipped without being
-//     decoded (base64 data URIs included), and nothing recurses, so hostile payloads (deeply
-//     nested extras) cannot exhaust the stack: nlohmann-json parses the whole document, the
-//     fields we use are type-checked node by node (reduceDocument) and `asset.version` required,
-//     with the precise error for a bad document;
-//  3. we check the hierarchy ourselves: child indices in range, no node with two parents, no
+// Wearables arrive from anyone and we only need node names, parents and rest transforms, so:
+//  1. our own check of the GLB container (gltf_json.h), so a truncated or malformed file gets a
+//     precise error code (tinygltf reports these as text only);
+//  2. nlohmann-json parses the JSON text once, in linear time and without recursion (so deeply
+//     nested values are harmless). Only the root's `asset`, `nodes` and, for the VRM reader,
+//     `extensions` are read: buffers, images, meshes, accessors, materials... stay JSON values,
+//     never decoded, fetched or validated, so a broken one cannot stop the load;
+//  3. each node's fields are type-checked (wrong types are errors: a node we cannot place would
+//     misplace every bone below it), its `extras` and `extensions` erased (tinygltf would convert
+//     them into its Value type recursively, which a deeply nested one would turn into a stack
+//     overflow), and tinygltf's own node reader fills a tinygltf::Node from it. tinygltf's public
+//     entry points cannot be used: they fail the whole load on any broken buffer, accessor or mesh
+//     and convert every extras/extensions recursively; the node reader is visible here because
+//     this is the one file that compiles tinygltf's implementation;
+//  4. we check the hierarchy ourselves: child indices in range, no node with two parents, no
 //     cycles, then rest world matrices computed iteratively.
-#include <algorithm>
+#include <fstream>  // tiny_gltf.h uses it even with TINYGLTF_NO_FS
+
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
-#include <string_view>
 #include <utility>
 
 #include <nlohmann/json.hpp>
+
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_FS
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
 
 #include "gltf_json.h"
 #include "springbones.h"
@@ -44,66 +56,34 @@ bool isNumberArray(const json& value, std::size_t length) {
   return true;
 }
 
-// Copies the fields we use from one node, checking their types. Wrong types are errors: a node
-// whose transform we cannot read would put every bone below it in the wrong place.
-Error reduceNode(const json& node, std::size_t index, json& out) {
+// The types of the fields we use. tinygltf's node reader skips a field of the wrong type without
+// a word, which would leave the node at the origin.
+Error checkNode(const json& node, std::size_t index) {
   const std::string where = "node " + std::to_string(index);
   if (!node.is_object()) return fail(ErrorCode::kGltfInvalid, where + " is not an object");
-  out = json::object();
-  if (auto it = node.find("name"); it != node.end()) {
-    if (!it->is_string()) return fail(ErrorCode::kGltfInvalid, where + ": name is not a string");
-    out["name"] = *it;
+  if (auto it = node.find("name"); it != node.end() && !it->is_string()) {
+    return fail(ErrorCode::kGltfInvalid, where + ": name is not a string");
   }
   if (auto it = node.find("children"); it != node.end()) {
     if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, where + ": children is not an array");
     for (const json& c : *it) {
-      // Bounded here because the skeleton stores indices as int.
+      // Bounded here because tinygltf and the skeleton store indices as int.
       if (!c.is_number_integer() || c.get<std::int64_t>() < 0 ||
           c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
         return fail(ErrorCode::kGltfInvalid, where + ": a child index is not a node index");
       }
     }
-    out["children"] = *it;
   }
   static const std::pair<const char*, std::size_t> kTransformFields[] = {
       {"translation", 3}, {"rotation", 4}, {"scale", 3}, {"matrix", 16}};
   for (const auto& [field, length] : kTransformFields) {
     auto it = node.find(field);
-    if (it == node.end()) continue;
-    if (!isNumberArray(*it, length)) {
+    if (it != node.end() && !isNumberArray(*it, length)) {
       return fail(ErrorCode::kGltfInvalid, where + ": " + field + " is not an array of " +
                                                std::to_string(length) +
                                                " finite numbers within float range");
     }
-    out[field] = *it;
   }
-  return {};
-}
-
-Error reduceDocument(const json& doc, json& out) {
-  if (!doc.is_object()) return fail(ErrorCode::kGltfInvalid, "glTF JSON is not an object");
-  out = json::object();
-  if (auto it = doc.find("asset"); it != doc.end() && it->is_object()) {
-    out["asset"] = json::object();
-    if (auto v = it->find("version"); v != it->end() && v->is_string()) {
-      out["asset"]["version"] = *v;
-    }
-  }
-  json nodes = json::array();
-  if (auto it = doc.find("nodes"); it != doc.end()) {
-    if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, "glTF 'nodes' is not an array");
-    if (it->size() > kMaxNodes) {
-      return fail(ErrorCode::kLimitExceeded, "glTF has " + std::to_string(it->size()) +
-                                                 " nodes, more than the limit of " +
-                                                 std::to_string(kMaxNodes));
-    }
-    for (std::size_t i = 0; i < it->size(); ++i) {
-      json reduced;
-      if (Error e = reduceNode((*it)[i], i, reduced)) return e;
-      nodes.push_back(std::move(reduced));
-    }
-  }
-  out["nodes"] = std::move(nodes);
   return {};
 }
 
@@ -191,8 +171,7 @@ Error linkHierarchy(Skeleton& skeleton) {
   return {};
 }
 
-// The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in
-// glTF. Both readers hand their doubles to this one function, so they agree to the bit.
+// The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in glTF.
 Transform restTransform(const double* matrix, const double* translation, const double* rotation,
                         const double* scale) {
   Transform t;
@@ -219,69 +198,80 @@ Transform restTransform(const double* matrix, const double* translation, const d
   return t;
 }
 
-// The message tinygltf gave for a document without a string `asset.version`, kept word for word.
+// The message tinygltf gives for a document without a string `asset.version`, kept word for word.
 constexpr const char* kAssetMissing = "\"asset\" object not found in .gltf or not an object type\n";
 
-// ---------------------------------------------------------------------------------------------
-// The checked reader: nlohmann DOM, reduced and type-checked.
-
-Error readCheckedDocument(const char* json_begin, std::size_t json_size, Skeleton& skeleton) {
-  json reduced;
-  try {
-    json doc = json::parse(json_begin, json_begin + json_size);
-    if (Error e = reduceDocument(doc, reduced)) return e;
-  } catch (const json::exception& ex) {
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what());
-  } catch (const std::exception& ex) {
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON could not be read: ") + ex.what());
-  }
-  if (!reduced.contains("asset") || !reduced["asset"].contains("version")) {
-    return fail(ErrorCode::kGltfInvalid, std::string("not a valid glTF: ") + kAssetMissing);
-  }
-  const json& nodes = reduced["nodes"];
-  skeleton.nodes.resize(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const json& src = nodes[i];
-    SkeletonNode& dst = skeleton.nodes[i];
-    if (auto it = src.find("name"); it != src.end()) dst.name = it->get<std::string>();
-    if (auto it = src.find("children"); it != src.end()) {
-      dst.children.reserve(it->size());
-      for (const json& c : *it) dst.children.push_back(static_cast<int>(c.get<std::int64_t>()));
-    }
-    double fields[4][16];
-    const double* present[4] = {nullptr, nullptr, nullptr, nullptr};
-    static const char* const kFields[4] = {"matrix", "translation", "rotation", "scale"};
-    for (int f = 0; f < 4; ++f) {
-      auto it = src.find(kFields[f]);
-      if (it == src.end()) continue;
-      for (std::size_t k = 0; k < it->size(); ++k) fields[f][k] = (*it)[k].get<double>();
-      present[f] = fields[f];
-    }
-    dst.rest_local = restTransform(present[0], present[1], present[2], present[3]);
-  }
-  return {};
+SkeletonNode skeletonNode(tinygltf::Node& node) {
+  SkeletonNode out;
+  out.name = std::move(node.name);
+  out.children = std::move(node.children);
+  auto present = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
+  out.rest_local = restTransform(present(node.matrix), present(node.translation), present(node.rotation),
+                                 present(node.scale));
+  return out;
 }
 
-Error loadSkeletonWith(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  out = Skeleton{};
-  const char* json_begin = nullptr;
-  std::size_t json_size = 0;
-  if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
-
-  Skeleton skeleton;
-  if (Error e = readCheckedDocument(json_begin, json_size, skeleton)) return e;
-  if (skeleton.nodes.capacity() > skeleton.nodes.size() + skeleton.nodes.size() / 4 + 16) {
-    skeleton.nodes.shrink_to_fit();  // the rig keeps the skeleton for its lifetime
+// Stages 3 and 4 on the parsed document (see the top of the file).
+Error readDocument(json& doc, Skeleton& skeleton) {
+  if (!doc.is_object()) return fail(ErrorCode::kGltfInvalid, "glTF JSON is not an object");
+  auto nodes = doc.find("nodes");
+  if (nodes != doc.end()) {
+    if (!nodes->is_array()) return fail(ErrorCode::kGltfInvalid, "glTF 'nodes' is not an array");
+    if (nodes->size() > kMaxNodes) {
+      return fail(ErrorCode::kLimitExceeded, "glTF has " + std::to_string(nodes->size()) +
+                                                 " nodes, more than the limit of " + std::to_string(kMaxNodes));
+    }
+    for (std::size_t i = 0; i < nodes->size(); ++i) {
+      if (Error e = checkNode((*nodes)[i], i)) return e;
+    }
   }
-  if (Error e = linkHierarchy(skeleton)) return e;
-  out = std::move(skeleton);
-  return {};
+  auto asset = doc.find("asset");
+  auto version = asset != doc.end() && asset->is_object() ? asset->find("version") : doc.end();
+  if (asset == doc.end() || !asset->is_object() || version == asset->end() || !version->is_string()) {
+    return fail(ErrorCode::kGltfInvalid, std::string("not a valid glTF: ") + kAssetMissing);
+  }
+  if (nodes == doc.end()) return linkHierarchy(skeleton);
+  skeleton.nodes.reserve(nodes->size());
+  std::string ignored;  // the node reader reports only missing required fields, and a node has none
+  for (json& node : *nodes) {
+    node.erase("extras");
+    node.erase("extensions");
+    tinygltf::Node read;
+    tinygltf::ParseNode(&read, &ignored, node, /*store_original_json_for_extras_and_extensions=*/false);
+    skeleton.nodes.push_back(skeletonNode(read));
+  }
+  return linkHierarchy(skeleton);
 }
 
 }  // namespace
 
+Error loadSkeletonAndExtensions(const std::uint8_t* data, std::size_t size, Skeleton& out,
+                                json* extensions) {
+  out = Skeleton{};
+  if (extensions != nullptr) *extensions = nullptr;
+  const char* json_begin = nullptr;
+  std::size_t json_size = 0;
+  if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
+  try {
+    // No parser callback: nlohmann's callback parser scans a container's elements each time one of
+    // them ends, which is quadratic in the length of an array or object.
+    json doc = json::parse(json_begin, json_begin + json_size);
+    Skeleton skeleton;
+    if (Error e = readDocument(doc, skeleton)) return e;
+    if (extensions != nullptr) {
+      if (auto it = doc.find("extensions"); it != doc.end()) *extensions = std::move(*it);
+    }
+    out = std::move(skeleton);
+  } catch (const json::exception& ex) {
+    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what());
+  } catch (const std::exception& ex) {  // allocation failure on an absurd document
+    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON could not be read: ") + ex.what());
+  }
+  return {};
+}
+
 Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  return loadSkeletonWith(data, size, out);
+  return loadSkeletonAndExtensions(data, size, out, nullptr);
 }
 
 }  // namespace springbones

@@ -1,5 +1,6 @@
 // The glTF JSON inside a GLB or a glTF text input (see gltf_json.h): stage 1 of loadSkeleton
-// (glb_loader.cpp) and of the VRM reader, so both report a bad container alike.
+// (glb_loader.cpp). Our own check rather than tinygltf's, which reports these as text only, so
+// each kind of bad container gets its error code.
 #include "gltf_json.h"
 
 #include <string>

@@ -1,7 +1,6 @@
 // VRM spring bones into a Rig (see vrm_loader.h for the two formats).
 //
-// How the file's model becomes ours, and the choices where the references disagree
-// (shared/research/algorithms.md sections 3, 4, 5 and 8):
+// How the file's model becomes ours, and the choices where the references disagree:
 //  - Joints. VRMC_springBone: pair (joints[k], joints[k+1]) is one joint on joints[k]'s node with
 //    joints[k]'s parameters; the last listed joint is only a tail. VRM 0.x: every node of a root's
 //    subtree is a joint with its first child as tail. The Rig holds every joint once, parents
@@ -73,6 +72,9 @@ using nlohmann::json;
 
 constexpr float kMinBoneLength = 1e-6f;
 constexpr std::size_t kMaxNamesInWarning = 8;
+// Bytes of a node name shown in a message: a file can name one node in a warning per spring or
+// per collider, and its whole name in each would grow the warnings as springs x name length.
+constexpr std::size_t kMaxNameBytesInWarning = 64;
 
 constexpr float kDefaultStiffness = 1.0f;
 constexpr float kDefaultGravityPower = 0.0f;
@@ -138,7 +140,8 @@ bool readVec3Object(const json& value, glm::vec3& out) {
 struct SpringInfo {
   std::string path;
   int center_node = -1;  // -1: world space
-  std::vector<int> colliders;  // file collider ids, first appearance order
+  std::vector<int> groups;     // collider group ids, first appearance order, no repeats
+  std::vector<int> colliders;  // file collider ids of those groups, no repeats (emitColliders)
   int center_driver = -2;      // -2: not resolved yet
 };
 
@@ -231,7 +234,14 @@ class VrmRigBuilder {
  private:
   const std::vector<SkeletonNode>& nodes() const { return rig_->skeleton.nodes; }
 
-  std::string nodeLabel(int n) const { return "node " + std::to_string(n) + " ('" + nodes()[n].name + "')"; }
+  static std::string shownName(const std::string& name) {
+    if (name.size() <= kMaxNameBytesInWarning) return name;
+    std::size_t cut = kMaxNameBytesInWarning;
+    while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 sequence
+    return name.substr(0, cut) + "...";
+  }
+
+  std::string nodeLabel(int n) const { return "node " + std::to_string(n) + " ('" + shownName(nodes()[n].name) + "')"; }
 
   void warn(const char* code, std::string message, std::string path = {}) {
     rig_->warnings.push_back(Warning{code, std::move(message), std::move(path)});
@@ -318,8 +328,8 @@ class VrmRigBuilder {
         file_colliders_.push_back(readVrmcCollider((*colliders)[i], base + "/colliders/" + std::to_string(i)));
       }
     }
-    std::vector<std::vector<int>> group_colliders;
     if (groups != nullptr) {
+      std::vector<std::size_t> listed(file_colliders_.size(), 0);  // group index + 1 that last listed it
       for (std::size_t g = 0; g < groups->size(); ++g) {
         const std::string path = base + "/colliderGroups/" + std::to_string(g);
         const json& group = (*groups)[g];
@@ -336,16 +346,16 @@ class VrmRigBuilder {
                    path + "/colliders/" + std::to_string(k));
               continue;
             }
+            if (listed[id] == g + 1) continue;  // a repeat within the group counts once
+            listed[id] = g + 1;
             ids.push_back(id);
           }
         }
-        group_colliders.push_back(std::move(ids));
+        group_colliders_.push_back(std::move(ids));
       }
     }
     if (springs != nullptr) {
-      for (std::size_t s = 0; s < springs->size(); ++s) {
-        readVrmcSpring((*springs)[s], base + "/springs/" + std::to_string(s), group_colliders);
-      }
+      for (std::size_t s = 0; s < springs->size(); ++s) readVrmcSpring((*springs)[s], base + "/springs/" + std::to_string(s));
     }
     return {};
   }
@@ -394,22 +404,17 @@ class VrmRigBuilder {
     return out;
   }
 
-  // Adds a collider group to the spring being read (the last of springs_ + 1), without repeats:
-  // stamps keep this linear however often a file repeats groups or colliders.
-  void addSpringColliders(SpringInfo& spring, int group, const std::vector<int>& ids) {
+  // Adds a collider group to the spring being read (springs_.size() is its index), once however
+  // often the file lists it. Its colliders are gathered when the joints are known (emitColliders).
+  void addSpringGroup(SpringInfo& spring, int group) {
     const int stamp = static_cast<int>(springs_.size()) + 1;
-    if (group_stamp_.size() <= static_cast<std::size_t>(group)) group_stamp_.resize(group + 1, 0);
+    group_stamp_.resize(group_colliders_.size(), 0);
     if (group_stamp_[group] == stamp) return;
     group_stamp_[group] = stamp;
-    collider_stamp_.resize(file_colliders_.size(), 0);
-    for (int id : ids) {
-      if (collider_stamp_[id] == stamp) continue;
-      collider_stamp_[id] = stamp;
-      spring.colliders.push_back(id);
-    }
+    spring.groups.push_back(group);
   }
 
-  void readVrmcSpring(const json& s, const std::string& path, const std::vector<std::vector<int>>& group_colliders) {
+  void readVrmcSpring(const json& s, const std::string& path) {
     if (!s.is_object()) {
       warn("vrm-spring-invalid", "spring is not an object; ignored", path);
       return;
@@ -428,12 +433,12 @@ class VrmRigBuilder {
       } else {
         for (std::size_t k = 0; k < groups->size(); ++k) {
           int g = -1;
-          if (!readIndex((*groups)[k], group_colliders.size(), g)) {
+          if (!readIndex((*groups)[k], group_colliders_.size(), g)) {
             warn("vrm-collider-group-invalid", "spring names a collider group that does not exist; ignored",
                  path + "/colliderGroups/" + std::to_string(k));
             continue;
           }
-          addSpringColliders(spring, g, group_colliders[g]);
+          addSpringGroup(spring, g);
         }
       }
     }
@@ -520,7 +525,7 @@ class VrmRigBuilder {
             names += ", ...";
             break;
           }
-          names += (names.empty() ? "'" : ", '") + nodes()[between[i]].name + "'";
+          names += (names.empty() ? "'" : ", '") + shownName(nodes()[between[i]].name) + "'";
         }
         warn("vrm-fixed-nodes", "joints " + std::to_string(k) + " and " + std::to_string(k + 1) + " are not parent and child: " +
                                     std::to_string(between.size()) + " node(s) between them (" + names +
@@ -559,7 +564,6 @@ class VrmRigBuilder {
     if (Error e = optionalArray(sa, "colliderGroups", base, groups)) return e;
     if (Error e = optionalArray(sa, "boneGroups", base, bone_groups)) return e;
 
-    std::vector<std::vector<int>> group_colliders;
     if (groups != nullptr) {
       for (std::size_t g = 0; g < groups->size(); ++g) {
         const std::string path = base + "/colliderGroups/" + std::to_string(g);
@@ -597,18 +601,16 @@ class VrmRigBuilder {
           warn("vrm-collider-group-invalid", "collider group " + std::to_string(g) + ": colliders is not an array; ignored",
                path + "/colliders");
         }
-        group_colliders.push_back(std::move(ids));
+        group_colliders_.push_back(std::move(ids));
       }
     }
     if (bone_groups != nullptr) {
-      for (std::size_t g = 0; g < bone_groups->size(); ++g) {
-        readVrm0Group((*bone_groups)[g], base + "/boneGroups/" + std::to_string(g), group_colliders);
-      }
+      for (std::size_t g = 0; g < bone_groups->size(); ++g) readVrm0Group((*bone_groups)[g], base + "/boneGroups/" + std::to_string(g));
     }
     return {};
   }
 
-  void readVrm0Group(const json& group, const std::string& path, const std::vector<std::vector<int>>& group_colliders) {
+  void readVrm0Group(const json& group, const std::string& path) {
     if (!group.is_object()) {
       warn("vrm-spring-invalid", "bone group is not an object; ignored", path);
       return;
@@ -626,12 +628,12 @@ class VrmRigBuilder {
       } else {
         for (std::size_t k = 0; k < list->size(); ++k) {
           int g = -1;
-          if (!readIndex((*list)[k], group_colliders.size(), g)) {
+          if (!readIndex((*list)[k], group_colliders_.size(), g)) {
             warn("vrm-collider-group-invalid", "bone group names a collider group that does not exist; ignored",
                  path + "/colliderGroups/" + std::to_string(k));
             continue;
           }
-          addSpringColliders(spring, g, group_colliders[g]);
+          addSpringGroup(spring, g);
         }
       }
     }
@@ -730,7 +732,7 @@ class VrmRigBuilder {
       }
       std::string names;
       for (std::size_t i = 0; i < held.size() && i < kMaxNamesInWarning; ++i) {
-        names += (i == 0 ? "'" : ", '") + all[held[i]].name + "'";
+        names += (i == 0 ? "'" : ", '") + shownName(all[held[i]].name) + "'";
       }
       if (held.size() > kMaxNamesInWarning) names += ", ...";
       warn("vrm-fixed-nodes", nodeLabel(n) + " starts a spring below another spring's joint; the " + std::to_string(held.size()) +
@@ -807,7 +809,41 @@ class VrmRigBuilder {
     }
   }
 
+  // The springs' collider lists, counted against kMaxVrmColliderReferences before they are built:
+  // a spring's joints x the colliders of its groups (a collider in two of its groups counts
+  // twice), so one pass over the springs' group lists bounds all the work after it.
+  Error gatherSpringColliders() {
+    std::vector<std::uint64_t> joints_of(springs_.size(), 0);
+    for (const Joint& joint : rig_->joints) {
+      if (role_[joint.node] == Role::kSimulated) ++joints_of[sims_[sim_of_node_[joint.node]].spring];
+    }
+    std::uint64_t references = 0;  // at most kMaxNodes joints x the file's group entries: no overflow
+    for (std::size_t s = 0; s < springs_.size(); ++s) {
+      std::uint64_t width = 0;
+      for (int g : springs_[s].groups) width += group_colliders_[g].size();
+      references += joints_of[s] * width;
+    }
+    if (references > kMaxVrmColliderReferences) {
+      return fail(ErrorCode::kLimitExceeded, "the springs' joints reference colliders " + std::to_string(references) +
+                                                 " times, more than the limit of " +
+                                                 std::to_string(kMaxVrmColliderReferences));
+    }
+    std::vector<std::size_t> taken(file_colliders_.size(), 0);  // spring index + 1 that last took it
+    for (std::size_t s = 0; s < springs_.size(); ++s) {
+      if (joints_of[s] == 0) continue;
+      for (int g : springs_[s].groups) {
+        for (int id : group_colliders_[g]) {
+          if (taken[id] == s + 1) continue;
+          taken[id] = s + 1;
+          springs_[s].colliders.push_back(id);
+        }
+      }
+    }
+    return {};
+  }
+
   Error emitColliders() {
+    if (Error e = gatherSpringColliders()) return e;
     std::vector<bool> used(file_colliders_.size(), false);
     for (const Joint& joint : rig_->joints) {
       if (role_[joint.node] != Role::kSimulated) continue;
@@ -830,23 +866,13 @@ class VrmRigBuilder {
       rig_index[id] = static_cast<int>(rig_->colliders.size());
       rig_->colliders.push_back(collider);
     }
-    std::size_t references = 0;
-    for (const Joint& joint : rig_->joints) {
-      if (role_[joint.node] != Role::kSimulated) continue;
-      references += springs_[sims_[sim_of_node_[joint.node]].spring].colliders.size();
-    }
-    if (references > kMaxVrmColliderReferences) {
-      return fail(ErrorCode::kLimitExceeded, "the springs' joints reference colliders " + std::to_string(references) +
-                                                 " times, more than the limit of " +
-                                                 std::to_string(kMaxVrmColliderReferences));
-    }
     for (Joint& joint : rig_->joints) {
       if (role_[joint.node] != Role::kSimulated) continue;
+      // The spring's colliders are distinct, so their rig indices are too.
       for (int id : springs_[sims_[sim_of_node_[joint.node]].spring].colliders) {
         if (rig_index[id] >= 0) joint.colliders.push_back(rig_index[id]);
       }
       std::sort(joint.colliders.begin(), joint.colliders.end());
-      joint.colliders.erase(std::unique(joint.colliders.begin(), joint.colliders.end()), joint.colliders.end());
     }
     return {};
   }
@@ -863,7 +889,8 @@ class VrmRigBuilder {
   std::vector<SpringInfo> springs_;
   std::vector<FileCollider> file_colliders_;
   std::unordered_map<int, int> driver_of_node_;
-  std::vector<int> group_stamp_, collider_stamp_;
+  std::vector<std::vector<int>> group_colliders_;  // file collider ids per collider group, no repeats
+  std::vector<int> group_stamp_;
 };
 
 }  // namespace
@@ -888,23 +915,8 @@ Error loadVrmRig(const std::uint8_t* data, std::size_t size, std::shared_ptr<con
   out.reset();
   if (format != nullptr) *format = VrmSpringFormat::kNone;
   Skeleton skeleton;
-  if (Error e = loadSkeleton(data, size, skeleton)) return e;
-  const char* begin = nullptr;
-  std::size_t length = 0;
-  if (Error e = findGltfJson(data, size, begin, length)) return e;
   json extensions;
-  try {
-    // Only the root's "extensions" is kept; loadSkeleton has already parsed the rest.
-    const json::parser_callback_t keep_extensions = [](int depth, json::parse_event_t event, json& parsed) {
-      return !(depth == 1 && event == json::parse_event_t::key && parsed != "extensions");
-    };
-    json doc = json::parse(begin, begin + length, keep_extensions);
-    if (doc.is_object()) {
-      if (auto it = doc.find("extensions"); it != doc.end()) extensions = std::move(*it);
-    }
-  } catch (const std::exception& ex) {
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what());
-  }
+  if (Error e = loadSkeletonAndExtensions(data, size, skeleton, &extensions)) return e;
   return buildVrmRig(std::move(skeleton), extensions, out, format);
 }
 

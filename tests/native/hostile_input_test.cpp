@@ -278,8 +278,9 @@ TEST(HostileInput, TenThousandDeepHierarchyLoadsBuildsStepsAndDestroysWithoutRec
 }
 
 TEST(HostileInput, DeeplyNestedExtrasAreDroppedBeforeAnythingRecursesIntoThem) {
-  // 100,000 levels in one node's extras and 10 levels in each of 1,000 nodes: the loader keeps
-  // name/children/TRS only, so nothing dumps, copies or compares the nested values.
+  // 100,000 levels in one node's extras and 10 levels in each of 1,000 nodes: the loader erases a
+  // node's extras and extensions before tinygltf's node reader sees it, and drops the root ones, so
+  // nothing converts, copies or compares the nested values recursively.
   constexpr int kDepth = 100000;
   const std::string deep = std::string(kDepth, '[') + std::string(kDepth, ']');
   std::string text = R"({"asset":{"version":"2.0","extras":)" + deep +
@@ -359,7 +360,7 @@ TEST(HostileInput, BuilderEditsRefuseMetadataNestedDeeperThanTheyCanCopy) {
 
 TEST(HostileInput, InvalidUtf8InNodeNamesIsAGltfBadJsonError) {
   // glTF JSON must be UTF-8; nlohmann's parser rejects ill-formed bytes and lone surrogates, so
-  // no invalid string ever reaches reduced.dump() in the loader.
+  // no invalid string ever reaches a node name.
   const std::vector<std::string> names = {"springbone_\xff\xfe", "springbone_\xc3", "springbone_\xed\xa0\x80",
                                           "\xc0\xaf"};
   for (const std::string& name : names) {

@@ -879,3 +879,129 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
 
 }  // namespace
 }  // namespace springbones
+
+namespace springbones {
+namespace {
+
+// Shapes that took superlinear time. Each runs an instance large enough that the old quadratic
+// behaviour would take minutes (or run out of memory); no timer, the assertions are about results.
+
+// `n` copies of `item`, comma-separated.
+std::string repeated(const std::string& item, std::size_t n) {
+  std::string out;
+  out.reserve(n * (item.size() + 1));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) out += ',';
+    out += item;
+  }
+  return out;
+}
+
+Error loadText(const std::string& text, std::shared_ptr<const Rig>& rig) {
+  return loadVrmRig(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), rig);
+}
+
+// The JSON was parsed with nlohmann's callback parser, which scans a container's elements each
+// time one of them ends: quadratic in the length of every array and object, kept or dropped.
+TEST(VrmLoaderScaling, LongArraysOfSmallObjectsAnywhereLoadInLinearTime) {
+  constexpr std::size_t kCount = 400000;  // 8e10 element visits when quadratic
+  constexpr std::size_t kNodes = 200000;
+  const std::string text = R"({"asset":{"version":"2.0"},"nodes":[{"name":"root","children":[1]},)"
+                           R"({"name":"tip","translation":[0,-0.1,0]},)" +
+                           repeated("{}", kNodes) + R"(],"accessors":[)" + repeated(R"({"count":1})", kCount) +
+                           R"(],"extensions":{"VRMC_springBone":{"specVersion":"1.0","springs":[{"joints":[{"node":0},)"
+                           R"({"node":1}]}],"extras":[)" + repeated("[{}]", kCount) + "]}}}";
+  std::shared_ptr<const Rig> rig;
+  const Error e = loadText(text, rig);
+  ASSERT_FALSE(e) << e.message;
+  EXPECT_EQ(rig->skeleton.nodes.size(), kNodes + 2);
+  ASSERT_EQ(rig->joints.size(), 1u);
+  EXPECT_EQ(rig->joints[0].node, 0);
+}
+
+// Each spring's collider list was built from its groups while reading, before the limit was
+// checked: springs x colliders of work and memory (here 4e8 ids, 1.6 GB). Now the count comes
+// first, from the group sizes.
+TEST(VrmLoaderScaling, ManySpringsSharingALargeColliderGroupHitTheLimitBeforeBuildingLists) {
+  constexpr int kSprings = 20000, kColliders = 20000;
+  std::string nodes = R"([{"name":"body"})";
+  std::string springs;
+  for (int s = 0; s < kSprings; ++s) {
+    const int head = 1 + 2 * s;
+    nodes += R"(,{"children":[)" + std::to_string(head + 1) + R"(]},{"translation":[0,-0.1,0]})";
+    springs += (s ? "," : "") + std::string(R"({"joints":[{"node":)") + std::to_string(head) + R"(},{"node":)" +
+               std::to_string(head + 1) + R"(}],"colliderGroups":[0,0]})";
+  }
+  std::string ids;
+  for (int c = 0; c < kColliders; ++c) ids += (c ? "," : "") + std::to_string(c);
+  const std::string text =
+      R"({"asset":{"version":"2.0"},"nodes":)" + nodes + R"(],"extensions":{"VRMC_springBone":{"colliders":[)" +
+      repeated(R"({"node":0,"shape":{"sphere":{"radius":0.1}}})", kColliders) + R"(],"colliderGroups":[{"colliders":[)" +
+      ids + "," + ids + R"(]}],"springs":[)" + springs + "]}}}";
+  std::shared_ptr<const Rig> rig;
+  const Error e = loadText(text, rig);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded) << e.message;
+  EXPECT_NE(e.message.find("400000000 times"), std::string::npos) << e.message;  // repeats count once
+  EXPECT_FALSE(rig);
+}
+
+// A collider listed by two of a spring's groups counts twice toward the limit (the count is taken
+// from the group sizes), but the joint tests it once.
+TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnceOnTheJoint) {
+  json nodes = json::array({gnode("body", {1}), gnode("root", {2}), gnode("tip", {}, {0, -0.1f, 0})});
+  json colliders = json::array();
+  for (int c = 0; c < 3; ++c) colliders.push_back({{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}});
+  json groups = json::array({{{"colliders", {0, 1}}}, {{"colliders", {1, 2}}}});
+  json springs = json::array({{{"joints", joints({1, 2})}, {"colliderGroups", {0, 1}}}});
+  const auto rig = mustLoad(nodes, vrmc(springs, colliders, groups));
+  ASSERT_EQ(rig->joints.size(), 1u);
+  EXPECT_EQ(rig->joints[0].colliders, (std::vector<int>{0, 1, 2}));
+
+  // 1,000 joints x two groups of the same 2,100 colliders: 4.2 million references, 2.1 million distinct.
+  constexpr int kJoints = 1000, kColliders = 2100;
+  json chain = json::array({gnode("body", {1})});
+  std::vector<int> listed;
+  for (int i = 1; i <= kJoints + 1; ++i) {
+    chain.push_back(gnode("n" + std::to_string(i), i <= kJoints ? std::vector<int>{i + 1} : std::vector<int>{}, {0, -0.01f, 0}));
+    listed.push_back(i);
+  }
+  json many = json::array();
+  std::vector<int> ids;
+  for (int c = 0; c < kColliders; ++c) {
+    many.push_back({{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}});
+    ids.push_back(c);
+  }
+  std::shared_ptr<const Rig> limited;
+  const Error e = loadDoc(chain, vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", {0, 1}}}}), many,
+                                      json::array({{{"colliders", ids}}, {{"colliders", ids}}})),
+                          limited);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded) << e.message;
+  EXPECT_NE(e.message.find("4200000 times"), std::string::npos) << e.message;
+}
+
+// Warnings named the node with its whole name: one 1 MB name in a warning per spring made the
+// warnings springs x 1 MB (here 100 GB).
+TEST(VrmLoaderScaling, ALongNodeNameRepeatedInManyWarningsIsShortened) {
+  constexpr int kSprings = 100000;
+  const std::string name = "\xc3\xa9" + std::string(1 << 20, 'x');  // a two-byte character first
+  const std::string text = R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + name +
+                           R"(","children":[1]},{"translation":[0,-0.1,0]}],"extensions":{"VRMC_springBone":{"springs":[)" +
+                           repeated(R"({"joints":[{"node":0},{"node":1}]})", kSprings) + "]}}}";
+  std::shared_ptr<const Rig> rig;
+  ASSERT_FALSE(loadText(text, rig));
+  ASSERT_EQ(test::countWarnings(rig->warnings, "vrm-joint-conflict"), kSprings - 1);
+  for (const Warning& w : rig->warnings) {
+    if (w.code != "vrm-joint-conflict") continue;
+    EXPECT_LT(w.message.size(), 200u);
+    EXPECT_NE(w.message.find("node 0 ('" + name.substr(0, 64) + "...')"), std::string::npos) << w.message;
+  }
+  // A cut inside a UTF-8 sequence moves back to its start.
+  std::string one = text;
+  one.replace(one.find(name), name.size(), std::string(63, 'y') + "\xc3\xa9" + "tail");
+  ASSERT_FALSE(loadText(one, rig));
+  EXPECT_NE(rig->warnings.back().message.find("('" + std::string(63, 'y') + "...')"), std::string::npos)
+      << rig->warnings.back().message;
+}
+
+}  // namespace
+}  // namespace springbones
