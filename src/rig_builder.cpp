@@ -40,15 +40,6 @@ bool containsSpringBoneToken(const std::string& name) {
   return false;
 }
 
-// Keeps a function out of its caller. In WebAssembly with JavaScript-based exceptions, every call
-// made from a frame that has destructors to run (a warning's message string, say) goes through a
-// JavaScript trampoline; the hot loops below have none, and their warnings are built in separate
-// functions marked this way.
-#if defined(__GNUC__) || defined(__clang__)
-#define SPRINGBONES_NOINLINE __attribute__((noinline))
-#else
-#define SPRINGBONES_NOINLINE
-#endif
 
 // Name -> first index with that name, over views of strings that outlive it. Open addressing in
 // one flat array: std::unordered_map allocated a node per name (7,000 for a large wearable) and
@@ -121,9 +112,7 @@ class RigBuilder {
     rig_->warnings = std::move(warnings);
   }
 
-  // Kept out of buildRig, whose frame owns this builder: inlined there, every call of the phases
-  // would sit behind an exception landing pad (a JavaScript trampoline in WebAssembly).
-  SPRINGBONES_NOINLINE std::shared_ptr<const Rig> build() {
+  std::shared_ptr<const Rig> build() {
     if (!model_.enabled) return rig_;
     indexNodes();
     matchEntries();
@@ -140,7 +129,7 @@ class RigBuilder {
     rig_->warnings.push_back(Warning{code, std::move(message), std::move(path)});
   }
 
-  SPRINGBONES_NOINLINE void indexNodes() {
+  void indexNodes() {
     const auto& all = nodes();
     is_candidate_.resize(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) is_candidate_[i] = containsSpringBoneToken(all[i].name);
@@ -149,7 +138,7 @@ class RigBuilder {
   // The first node named `name`, or -1. Only centers and colliders look nodes up by name, and most
   // wearables have neither: the index is built on the first lookup (for 7,000 nodes it was a
   // tenth of the build).
-  SPRINGBONES_NOINLINE int nodeNamed(std::string_view name) {
+  int nodeNamed(std::string_view name) {
     if (!nodes_indexed_) {
       const auto& all = nodes();
       first_node_by_name_.reserve(all.size());
@@ -167,7 +156,7 @@ class RigBuilder {
     }
   }
 
-  SPRINGBONES_NOINLINE void matchNodes() {
+  void matchNodes() {
     const auto& all = nodes();
     entry_of_node_.assign(all.size(), -1);
     entry_by_name_.reserve(model_.bones.size());
@@ -189,7 +178,7 @@ class RigBuilder {
     }
   }
 
-  SPRINGBONES_NOINLINE void warnEntry(std::size_t e) {
+  void warnEntry(std::size_t e) {
     const BoneEntry& entry = model_.bones[e];
     const int matches = matches_[e];
     if (matches == 0) {
@@ -207,7 +196,7 @@ class RigBuilder {
   }
 
   // chain_of_node_[n] = index of the root joint's node for nodes inside a chain, else -1.
-  SPRINGBONES_NOINLINE void assignChains() {
+  void assignChains() {
     const auto& all = nodes();
     chain_of_node_.assign(all.size(), -1);
     for (int n : rig_->skeleton.parents_first) {
@@ -225,7 +214,7 @@ class RigBuilder {
     }
   }
 
-  SPRINGBONES_NOINLINE void warnNestedRoot(int n, int parent_chain, int entry) {
+  void warnNestedRoot(int n, int parent_chain, int entry) {
     const auto& all = nodes();
     warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
                             all[parent_chain].name +
@@ -247,7 +236,7 @@ class RigBuilder {
 
   // The driver of an entry's center, or -1 (world space) with a warning when it cannot be used.
   // Resolved once per entry so a chain sharing an entry warns once.
-  SPRINGBONES_NOINLINE int resolveCenter(int entry_index) {
+  int resolveCenter(int entry_index) {
     auto cached = center_of_entry_.find(entry_index);
     if (cached != center_of_entry_.end()) return cached->second;
     const BoneEntry& entry = model_.bones[entry_index];
@@ -270,7 +259,7 @@ class RigBuilder {
     return driver;
   }
 
-  SPRINGBONES_NOINLINE void buildJoints() {
+  void buildJoints() {
     const auto& all = nodes();
     auto& joint_of_node = joint_of_node_;
     joint_of_node.assign(all.size(), -1);
@@ -294,8 +283,6 @@ class RigBuilder {
           if (entry >= 0 && n != root) warnTipEntry(n, entry);
           continue;
         }
-        // Built in place: a local Joint (it owns a vector) would put every call of this loop
-        // behind an exception landing pad, which in WebAssembly is a JavaScript trampoline.
         const int joint_index = static_cast<int>(rig_->joints.size());
         const int parent_joint = node.parent >= 0 ? joint_of_node[node.parent] : -1;
         rig_->joints.emplace_back();
@@ -331,26 +318,26 @@ class RigBuilder {
     }
   }
 
-  SPRINGBONES_NOINLINE void warnTipEntry(int n, int entry) {
+  void warnTipEntry(int n, int entry) {
     warn("tip-entry-ignored", "'" + nodes()[n].name +
                                   "' is a chain tip (no children): it only marks where its parent bone ends, so "
                                   "its parameters are ignored",
          model_.entryPath(model_.bones[entry]));
   }
 
-  SPRINGBONES_NOINLINE void warnZeroLength(int n, int tail) {
+  void warnZeroLength(int n, int tail) {
     warn("zero-length-bone", "'" + nodes()[n].name + "' and its tail '" + nodes()[tail].name +
                                  "' are at the same place; the bone keeps its rest rotation");
   }
 
-  SPRINGBONES_NOINLINE void warnRootWithoutTail(int root) {
+  void warnRootWithoutTail(int root) {
     warn("root-without-tail",
          "spring root '" + nodes()[root].name + "' has no child bone, so there is nothing to simulate");
   }
 
   // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
   // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
-  SPRINGBONES_NOINLINE void addColliders() {
+  void addColliders() {
     if (options_.colliders.empty() || rig_->joints.empty()) return;
     const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
     std::unordered_map<std::string, int> external;
