@@ -1,4 +1,4 @@
-// The benchmark of issue 7: springbones against @pixiv/three-vrm-springbone on the same synthetic
+// The benchmark: springbones against @pixiv/three-vrm-springbone on the same synthetic
 // rigs (scripts/lib/bench_rigs.mjs), in Node and then in Chromium. Run through scripts/bench
 // (which sets up and builds first). Prints the Node table, writes build/bench/<timestamp>.json and
 // build/bench/latest.json, then runs the Chromium benchmark (scripts/lib/bench_browser.mjs), whose

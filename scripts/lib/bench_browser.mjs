@@ -6,7 +6,7 @@
 //     rigs of scripts/lib/bench_rigs.mjs (page: scripts/bench_pages/frames.html);
 //   - the cold start on the demo's sample, each sample in a new browser with a new profile
 //     (pages: scripts/bench_pages/cold_*.html), medians;
-// and returns the summary line of issue 8 (ratios are three-vrm's time over ours). Also writes
+// and returns the summary line (ratios are three-vrm's time over ours). Also writes
 // build/bench/browser-latest.json.
 //
 // Environment: CHROMIUM_PATH (default /usr/bin/chromium), BENCH_COLD_SAMPLES (default 9, at least

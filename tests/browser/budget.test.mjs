@@ -1,4 +1,4 @@
-// The demo's "simulate nearest" control (issue 7): a crowd in one springbones scene with a budget,
+// The demo's "simulate nearest" control: a crowd in one springbones scene with a budget,
 // the viewer at the camera. Only the N avatars nearest to the camera are simulated; the others'
 // joints hold still (the core's behaviour) while the animation goes on, and moving the camera
 // changes which ones move. The readout counts the simulated avatars. With "all" every avatar

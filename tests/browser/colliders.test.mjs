@@ -1,4 +1,4 @@
-// The avatar's colliders in the demo (issue 9): the page passes a head sphere and two torso
+// The avatar's colliders in the demo: the page passes a head sphere and two torso
 // capsules to loadRig, and with them no joint tail of the sample enters the head sphere while the
 // avatar is shaken and spun hard, with either integrator. Without them the same motion does put
 // hair inside the head, so the check can fail.

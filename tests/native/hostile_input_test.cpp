@@ -1,4 +1,4 @@
-// Hostile input, end to end (issue 8): every named case goes through the whole path a wearable
+// Hostile input, end to end: every named case goes through the whole path a wearable
 // takes (GLB bytes -> loadSkeleton -> springBones -> buildRig -> Instance -> step) and must end in
 // a clear Error or in a documented clamp with a warning, never in a crash, a hang or a NaN. The
 // loader's and the reader's own unit tests (glb_loader_test.cpp, metadata_test.cpp) check each

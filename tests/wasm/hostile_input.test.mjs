@@ -1,4 +1,4 @@
-// Hostile input through the JavaScript API (issue 8), the same named cases as
+// Hostile input through the JavaScript API, the same named cases as
 // tests/native/hostile_input_test.cpp: each ends in a SpringBonesError with the core's code, or in
 // a documented clamp with a warning; rotations are always finite unit quaternions; nothing traps
 // (the WebAssembly stack is far smaller than a native one) and nothing leaks.

@@ -1,4 +1,4 @@
-// The avatar's colliders (issue 9): a head sphere and two torso capsules on the Decentraland
+// The avatar's colliders: a head sphere and two torso capsules on the Decentraland
 // armature, handed to sb.loadRig next to the wearable's metadata (the GLB is not touched), and a
 // wireframe drawing of a rig's colliders.
 //
