@@ -10,29 +10,15 @@
 // repeated unit, so N and 4N differ only in how many units they hold.
 import { performance } from 'node:perf_hooks';
 import { createSpringBones } from '../web/springbones.js';
+import { glbOfText } from '../tests/wasm/helpers.mjs';
 
 const SMALL = 256 * 1024, LARGE = 4 * SMALL, MAX_RATIO = 6, TARGET_MS = 100;
 // A run of the small input longer than this is already too slow to be linear at 1 MiB (4x would
 // blow the target): the large one is not run, so a quadratic shape cannot stall the bench.
 const GIVE_UP_MS = 2000;
-const encoder = new TextEncoder();
 const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
 
-function glb(doc) {
-  const json = encoder.encode(typeof doc === 'string' ? doc : JSON.stringify(doc));
-  const padded = (json.length + 3) & ~3;
-  const out = new Uint8Array(20 + padded);
-  const view = new DataView(out.buffer);
-  view.setUint32(0, 0x46546c67, true);
-  view.setUint32(4, 2, true);
-  view.setUint32(8, out.length, true);
-  view.setUint32(12, padded, true);
-  view.setUint32(16, 0x4e4f534a, true);
-  out.set(json, 20);
-  out.fill(0x20, 20 + json.length);
-  return out;
-}
-
+const glb = (doc) => glbOfText(typeof doc === 'string' ? doc : JSON.stringify(doc));
 const repeat = (count, unit) => Array.from({ length: count }, (_, i) => unit(i));
 const nested = (depth, open, close, leaf = '0') => open.repeat(depth) + leaf + close.repeat(depth);
 const asset = { version: '2.0' };

@@ -24,7 +24,12 @@ export function gltfBytes(doc) {
 
 /** A GLB 2.0 container around a glTF document (JSON chunk only, padded with spaces). */
 export function glbBytes(doc) {
-  const json = encoder.encode(JSON.stringify(doc));
+  return glbOfText(JSON.stringify(doc));
+}
+
+/** A GLB 2.0 container around raw JSON text or bytes (which may be anything, even invalid UTF-8). */
+export function glbOfText(text) {
+  const json = typeof text === 'string' ? encoder.encode(text) : text;
   const padded = (json.length + 3) & ~3;
   const out = new Uint8Array(12 + 8 + padded);
   const view = new DataView(out.buffer);

@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { fixture, glbBytes, gltfBytes } from './helpers.mjs';
+import { fixture, glbBytes, glbOfText, gltfBytes } from './helpers.mjs';
 
 let sb;
 before(async () => {
@@ -15,22 +15,6 @@ before(async () => {
 
 const kHash = 'bafkreihostile';
 const encoder = new TextEncoder();
-
-// A GLB around raw JSON text (which may be anything, including invalid UTF-8 bytes).
-function glbOfText(text) {
-  const json = typeof text === 'string' ? encoder.encode(text) : text;
-  const padded = (json.length + 3) & ~3;
-  const out = new Uint8Array(20 + padded);
-  const view = new DataView(out.buffer);
-  view.setUint32(0, 0x46546c67, true);
-  view.setUint32(4, 2, true);
-  view.setUint32(8, out.length, true);
-  view.setUint32(12, padded, true);
-  view.setUint32(16, 0x4e4f534a, true);
-  out.set(json, 20);
-  out.fill(0x20, 20 + json.length);
-  return out;
-}
 
 // The wearable of the native test: Avatar_Head driving a hair chain of two joints and an earring.
 const hairDoc = {
