@@ -16,6 +16,7 @@ import { performance } from 'node:perf_hooks';
 import { createSpringBones } from '../web/springbones.js';
 import { RIGS, median, rigName, setupAdapter, setupSolver, setupThreeVrm, tightLoop, tightLoopSplit, wearableGltf } from './lib/bench_rigs.mjs';
 import { runBrowserBench } from './lib/bench_browser.mjs';
+import { measureSampleLoad } from './lib/bench_sample_load.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const FRAMES = Number(process.env.BENCH_FRAMES ?? 600), RUNS = 5;
@@ -79,6 +80,8 @@ async function runNodeBench() {
     compileMs: median(compileRuns), createSpringBonesMs: createMs, compileInstantiateWarmMs: median(instantiateRuns),
   };
 
+  const sampleLoad = await measureSampleLoad();
+
   const results = [];
   for (const [A, C, J] of RIGS) {
     const joints = A * C * J;
@@ -122,6 +125,9 @@ async function runNodeBench() {
   console.log(`module: wasm ${moduleInfo.wasmBytes} B (${moduleInfo.wasmGzip} B gzip), js ${moduleInfo.jsBytes} B (${moduleInfo.jsGzip} B gzip), ` +
     `total ${((moduleInfo.wasmGzip + moduleInfo.jsGzip) / 1024).toFixed(1)} KB gzip; compile ${moduleInfo.compileMs.toFixed(2)} ms, ` +
     `compile+instantiate ${moduleInfo.compileInstantiateWarmMs.toFixed(2)} ms (first createSpringBones, with the glue import and file read: ${createMs.toFixed(2)} ms)`);
+  console.log(`sample wearable (web/demo/assets, ${sampleLoad.joints} joints): loadRig warm ${sampleLoad.warmMs.toFixed(2)} ms (target < 1); ` +
+    `the first loadRig of a fresh process ${sampleLoad.firstMs.toFixed(1)} ms (median of ${sampleLoad.processes} processes, ` +
+    `${sampleLoad.firstRangeMs.map((x) => x.toFixed(1)).join('-')}; target < 20)`);
   // Per library: its update alone (ms and ns per joint-step), then the whole frame with the scene
   // work both share (animating the parents, updateMatrixWorld) for three-vrm and the adapter.
   console.log('rig          joints | three-vrm update ms  ns/j  frame ms | solver ms  ns/j | adapter update ms  ns/j  frame ms | load ms: three-vrm  springbones(1 avatar)  springbones(all joints, warm: object / JSON text)');
@@ -137,7 +143,7 @@ async function runNodeBench() {
   const at5000 = results.find((r) => r.joints === 5000);
   const solverX = at5000.threeVrm.updateMs / at5000.solver.msPerFrame;
   const adapterX = at5000.threeVrm.updateMs / at5000.adapter.updateMs;
-  const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, results, budget: budgetRun, speedupAt5000: { solver: solverX, adapter: adapterX } };
+  const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, sampleLoad, results, budget: budgetRun, speedupAt5000: { solver: solverX, adapter: adapterX } };
   const outDir = join(root, 'build', 'bench');
   mkdirSync(outDir, { recursive: true });
   const json = JSON.stringify(report, null, 2);
