@@ -32,8 +32,11 @@ void Scene::setBudget(int max_active, const glm::vec3& viewer) {
 }
 
 void Scene::step(double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) return;
   const std::size_t count = members_.size();
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    Instance::stepAll(members_.data(), count, dt);  // steps nothing; each one's lastSteps() is 0
+    return;
+  }
   stepping_.clear();
   if (max_active_ < 0 || static_cast<std::size_t>(max_active_) >= count) {
     for (std::size_t i = 0; i < count; ++i) {
@@ -60,7 +63,11 @@ void Scene::step(double dt) {
     const bool wanted = rank < budget;
     if (wanted && !next[i]) members_[i]->reset();
     next[i] = wanted ? 1 : 0;
-    if (wanted) stepping_.push_back(members_[i]);
+    if (wanted) {
+      stepping_.push_back(members_[i]);
+    } else {
+      members_[i]->step(0.0);  // a frame of no time: holds the pose, and lastSteps() says 0
+    }
   }
   Instance::stepAll(stepping_.data(), stepping_.size(), dt);
 }

@@ -429,6 +429,8 @@ const float* Instance::worldMatrices() const {
   return s.world_output.data();
 }
 
+int Instance::lastSteps() const { return state_->frame_steps; }
+
 void Instance::reset() {
   state_->seeded = false;
   state_->accumulator = 0.0;
@@ -445,7 +447,6 @@ void Instance::step(double dt) {
 }
 
 void Instance::stepAll(Instance* const* instances, std::size_t count, double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) return;
   // A step of the lane path for one copy: which pool, at which rate, which copy. Kept between
   // calls so a frame allocates nothing.
   struct LaneStep {

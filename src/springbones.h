@@ -262,6 +262,10 @@ class Instance {
   static void stepAll(Instance* const* instances, std::size_t count, double dt);
   /// Forgets the motion; the next step re-seeds the tails at rest under the current drivers.
   void reset();
+  /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
+  /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
+  /// max_substeps when the frame was longer than that many steps and its excess was dropped.
+  int lastSteps() const;
 
   const Rig& rig() const;
   const InstanceOptions& options() const;

@@ -241,6 +241,11 @@ bool step(int instance, double dt) {
   return true;
 }
 
+int lastSteps(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? i->lastSteps() : -1;
+}
+
 bool reset(int instance) {
   Instance* i = findInstance(instance);
   if (i == nullptr) return false;
@@ -411,6 +416,7 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("jointCount", &jointCount);
   emscripten::function("step", &step);
   emscripten::function("reset", &reset);
+  emscripten::function("lastSteps", &lastSteps);
   emscripten::function("disposeRig", &disposeRig);
   emscripten::function("disposeInstance", &disposeInstance);
   emscripten::function("createScene", &createScene);

@@ -319,6 +319,12 @@ export interface Instance {
    * @throws TypeError if dt is not a number, RangeError if it is NaN or infinite
    */
   step(dt: number): void;
+  /**
+   * Fixed steps (substeps) the last frame ran, by this instance's step() or its scene's: 0 when
+   * dt did not reach the next step, was <= 0, or a scene's budget held the instance;
+   * maxSubsteps when the frame was longer than that many steps (the rest of it is dropped).
+   */
+  readonly lastSteps: number;
   /** Forgets the motion (teleport, avatar swap): the next step starts at rest under the drivers. */
   reset(): void;
   /**

@@ -460,6 +460,15 @@ class Instance {
     this.#m.step(this.#handle, dt);
   }
 
+  /**
+   * Fixed steps the last frame ran (its step, or its scene's): 0 when dt did not reach the next
+   * step or a scene's budget held the instance; maxSubsteps when the frame was longer.
+   */
+  get lastSteps() {
+    if (this.#handle === 0) throw disposedError('instance');
+    return this.#m.lastSteps(this.#handle);
+  }
+
   /** Forgets the motion (teleports, avatar swaps): the next step starts at rest. */
   reset() {
     if (this.#handle === 0) throw disposedError('instance');

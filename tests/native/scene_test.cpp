@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -132,6 +133,45 @@ TEST(Scene, NonFinitePositionsSortLast) {
   scene.step(1.0 / 60);
   EXPECT_FALSE(scene.isActive(l));
   EXPECT_TRUE(scene.isActive(f));
+}
+
+TEST(Scene, LastStepsCountsTheFixedStepsOfTheLastFrame) {
+  auto rig = hangingBone();
+  Instance instance(rig);  // 60 Hz, at most 4 steps a frame
+  instance.step(1.0 / 60);
+  EXPECT_EQ(instance.lastSteps(), 1);
+  instance.step(1.0 / 30);
+  EXPECT_EQ(instance.lastSteps(), 2);
+  instance.step(1.0);  // 60 steps' worth: 4 run, the rest is dropped
+  EXPECT_EQ(instance.lastSteps(), 4);
+  instance.step(1.0 / 240);  // a quarter of a step: none yet
+  EXPECT_EQ(instance.lastSteps(), 0);
+  for (int i = 0; i < 3; ++i) instance.step(1.0 / 240);  // the fourth quarter completes one
+  EXPECT_EQ(instance.lastSteps(), 1);
+  instance.step(1.0 / 60);
+  instance.step(-1.0);
+  EXPECT_EQ(instance.lastSteps(), 0);
+  instance.step(1.0 / 60);
+  instance.step(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(instance.lastSteps(), 0);
+}
+
+TEST(Scene, LastStepsIsZeroForAnInstanceTheBudgetHolds) {
+  auto rig = hangingBone();
+  Instance near(rig), far(rig);
+  Scene scene;
+  placeAt(scene, scene.add(&near), 1.0f);
+  placeAt(scene, scene.add(&far), 30.0f);
+  scene.step(1.0 / 30);
+  EXPECT_EQ(near.lastSteps(), 2);
+  EXPECT_EQ(far.lastSteps(), 2);
+  scene.setBudget(1, glm::vec3(0.0f));
+  scene.step(1.0 / 30);
+  EXPECT_EQ(near.lastSteps(), 2);
+  EXPECT_EQ(far.lastSteps(), 0);
+  scene.step(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(near.lastSteps(), 0);
+  EXPECT_EQ(far.lastSteps(), 0);
 }
 
 }  // namespace

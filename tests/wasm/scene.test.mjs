@@ -130,6 +130,36 @@ describe('budget', () => {
   });
 });
 
+describe('lastSteps', () => {
+  test('says how many fixed steps the last frame ran, by the instance or its scene', () => {
+    const [hair] = rigs();
+    const alone = hair.createInstance();  // 60 Hz, at most 4 steps a frame
+    const fast = hair.createInstance({ integrator: 'xpbd' });  // 120 Hz, at most 8
+    assert.equal(alone.lastSteps, 0, 'before any frame');
+    for (const [dt, steps, fastSteps] of [[1 / 60, 1, 2], [1 / 30, 2, 4], [1, 4, 8], [0, 0, 0], [1 / 240, 0, 0]]) {
+      alone.step(dt);
+      fast.step(dt);
+      assert.deepEqual([alone.lastSteps, fast.lastSteps], [steps, fastSteps], `dt ${dt}`);
+    }
+
+    const scene = sb.createScene();
+    const near = hair.createInstance(), far = hair.createInstance();
+    scene.add(near);
+    scene.add(far);
+    scene.positions.set([1, 0, 0, 20, 0, 0]);
+    scene.step(1 / 30);
+    assert.deepEqual([near.lastSteps, far.lastSteps], [2, 2]);
+    scene.setBudget(1, 0, 0, 0);
+    scene.step(1 / 30);
+    assert.deepEqual([near.lastSteps, far.lastSteps], [2, 0], 'the budget held the far one');
+    scene.step(0);
+    assert.deepEqual([near.lastSteps, far.lastSteps], [0, 0]);
+    scene.dispose();
+    for (const x of [alone, fast, near, far, hair]) x.dispose();
+    assert.throws(() => alone.lastSteps, (e) => e instanceof SpringBonesError && e.code === 'disposed');
+  });
+});
+
 describe('memory and lifetime', () => {
   test('10,000 scene steps allocate nothing: heap, handles and the positions view are stable', () => {
     const [hair, small] = rigs();

@@ -14,7 +14,7 @@ import { createSpringBones } from '../../springbones.js';
 import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
-import { RecentFrames, SubstepCounter } from './readout.js';
+import { RecentFrames } from './readout.js';
 
 const $ = (id) => document.getElementById(id);
 export const ASSETS = new URL('../assets/', import.meta.url);
@@ -26,12 +26,6 @@ const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
 const kViewerScratch = new THREE.Vector3();      // the camera's world position, for the budget
-// Each integrator's fixed rate and step cap, given to every instance explicitly (they are the
-// API's defaults) so that the readout's substep count follows the same numbers.
-const kStepping = {
-  vrm: { stepHz: 60, maxSubsteps: 4 },
-  xpbd: { stepHz: 120, maxSubsteps: 8 },
-};
 // Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
 const kViews = {
   body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
@@ -57,10 +51,7 @@ class Preview {
     this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
     this.springFrames = new RecentFrames(1000);  // ms per frame in group.update (drivers, scene.step, rotations)
-    // The first avatar's step clock (the others step alike, unless they joined the crowd later or
-    // the budget held them).
-    this.substeps = new SubstepCounter(kStepping[this.integrator]);
-    this.lastSubsteps = null;  // steps of the last simulated frame, null before one
+    this.lastSubsteps = null;  // the most fixed steps an avatar took in the last frame, null before one
     this.lastDt = NaN;
     this.frameTimes = new Float64Array(120);
     this.frameCount = 0;
@@ -226,7 +217,7 @@ class Preview {
     const { gltf, rig } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
-      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator, ...kStepping[this.integrator] },
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
     });
     avatar.wearableRoot = clone;
     avatar.helper = new SpringBonesHelper(avatar.attachment);
@@ -331,7 +322,6 @@ class Preview {
     this.placeAvatars();
     this.scene.updateMatrixWorld();
     for (const a of this.avatars) a.attachment?.reset();
-    this.substeps.reset();
   }
 
   setShowChains(show) {
@@ -349,7 +339,6 @@ class Preview {
     if (name !== 'vrm' && name !== 'xpbd') throw new RangeError(`unknown integrator ${name}`);
     this.integrator = name;
     $('integrator').value = name;
-    this.substeps = new SubstepCounter(kStepping[name]);
     if (!this.wearable) return;
     for (const a of this.avatars) {
       this.unwear(a);
@@ -364,7 +353,6 @@ class Preview {
    */
   restartReadout() {
     this.springFrames.clear();
-    this.substeps.reset();
     this.lastSubsteps = null;
     this.lastDt = NaN;
   }
@@ -461,7 +449,10 @@ class Preview {
     this.group.update(dt);
     const t1 = performance.now();
     this.springFrames.add(t1, t1 - t0, this.jointCount, this.integrator);
-    this.lastSubsteps = this.substeps.frame(dt);
+    // The core's count; with a budget some avatars are held (0 steps), so the most any took.
+    let steps = 0;
+    for (const a of this.avatars) if (a.attachment) steps = Math.max(steps, a.attachment.instance.lastSteps);
+    this.lastSubsteps = steps;
     this.lastDt = dt;
   }
 

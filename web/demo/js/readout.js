@@ -1,6 +1,7 @@
 // The numbers of the preview's readout: the springs' cost per frame as the median over the last
 // second of frames (an average over a long ring kept the first, compiling frames and frames of
-// another wearable in the number for many seconds), and how many fixed steps the last frame took.
+// another wearable in the number for many seconds). How many fixed steps the last frame took comes
+// from the core (instance.lastSteps).
 
 /**
  * The last `windowMs` of frame samples: { at (performance.now() at the frame's end), ms, joints,
@@ -46,35 +47,5 @@ export class RecentFrames {
   medianMs(now = performance.now()) {
     const ms = this.samples(now).map((s) => s.ms).sort((a, b) => a - b);
     return ms.length ? ms[ms.length >> 1] : NaN;
-  }
-}
-
-/**
- * The fixed steps an instance takes per frame, counted as the core counts them (an accumulator of
- * frame time; a step wherever it crosses a multiple of 1/stepHz, with the same tolerance; at most
- * maxSubsteps, the rest of a longer frame dropped), because the JavaScript API does not report
- * them. Kept in step with the instances it mirrors: reset() whenever they are created or reset.
- */
-export class SubstepCounter {
-  constructor({ stepHz, maxSubsteps }) {
-    this.stepSeconds = 1 / stepHz;
-    this.maxSubsteps = maxSubsteps;
-    this.accumulator = 0;
-  }
-
-  reset() {
-    this.accumulator = 0;
-  }
-
-  /** The steps of a frame of dt seconds (0 for dt <= 0, as the core skips such frames). */
-  frame(dt) {
-    if (!(dt > 0) || !Number.isFinite(dt)) return 0;
-    const h = this.stepSeconds;
-    this.accumulator += dt;
-    const crossed = Math.floor((this.accumulator + h * 1e-6) / h);
-    const dropped = crossed > this.maxSubsteps;
-    const steps = dropped ? this.maxSubsteps : crossed;
-    this.accumulator = dropped ? 0 : Math.max(0, this.accumulator - steps * h);
-    return steps;
   }
 }
