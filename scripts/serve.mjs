@@ -70,14 +70,26 @@ export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, 
       if (log) console.log(`404 ${pathname}`);
       return send(404, `not found: ${pathname}\n`);
     }
-    res.writeHead(200, {
-      'Content-Type': MIME[extname(target).toLowerCase()] ?? 'application/octet-stream',
-      'Content-Length': stat.size,
-      'Cache-Control': 'no-store',  // a development server: always the file on disk
+    // Kept by the browser but revalidated on every use: a rebuilt file (new size or mtime) is
+    // always the one served, and an unchanged one is a 304, so Chromium reuses its cached copy and,
+    // for the .wasm, the machine code it cached from compiling it on an earlier visit.
+    const etag = `"${stat.size.toString(36)}-${Math.floor(stat.mtimeMs).toString(36)}"`;
+    const headers = {
+      'Cache-Control': 'no-cache',
+      ETag: etag,
       // Cross-origin isolation: everything is same-origin, and an isolated page gets a 5 us
       // performance.now() instead of 100 us, which the demo's per-frame solver readout needs.
       'Cross-Origin-Opener-Policy': 'same-origin',
       'Cross-Origin-Embedder-Policy': 'require-corp',
+    };
+    if (req.headers['if-none-match'] === etag) {
+      res.writeHead(304, headers);
+      return res.end();
+    }
+    res.writeHead(200, {
+      ...headers,
+      'Content-Type': MIME[extname(target).toLowerCase()] ?? 'application/octet-stream',
+      'Content-Length': stat.size,
     });
     if (req.method === 'HEAD') return res.end();
     createReadStream(target).on('error', () => res.destroy()).pipe(res);

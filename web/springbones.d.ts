@@ -35,6 +35,16 @@ export class SpringBonesError extends Error {
 }
 
 export interface CreateOptions {
+  /**
+   * The module, from a download the page started itself, so that it runs in parallel with the
+   * page's other fetches and with the import of this library: a Response (compiled while it
+   * streams when served as application/wasm), a WebAssembly.Module, or a promise of either, e.g.
+   * `createSpringBones({ wasm: fetch(moduleUrl) })` with `moduleUrl` the URL of
+   * dist/springbones_wasm.wasm (the package's `springbones/wasm` export). A failed download or
+   * compile rejects with SpringBonesError 'module-load-failed'. At most one of wasm, wasmBinary
+   * and wasmUrl.
+   */
+  wasm?: Response | WebAssembly.Module | PromiseLike<Response | WebAssembly.Module>;
   /** The .wasm bytes, when the caller has them (bundlers, service workers, tests). */
   wasmBinary?: ArrayBuffer | Uint8Array;
   /** Where the .wasm is, resolved against web/dist/springbones_wasm.wasm. Default: that file. */

@@ -13,7 +13,8 @@
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file. In Node the .wasm is read with fs and handed to the glue as
 // wasmBinary (the glue is built for the web only, see wasm/CMakeLists.txt); in browsers the glue
-// fetches it from dist/, relative to this file, with streaming compilation.
+// fetches it from dist/, relative to this file, with streaming compilation, unless the page
+// started that fetch itself and hands over the Response (the `wasm` option).
 
 import { version } from './version.js';
 
@@ -40,14 +41,20 @@ export class SpringBonesError extends Error {
 /**
  * Loads and instantiates the WebAssembly module. Each call creates an independent module (its own
  * memory); one per page or process is the normal case.
- * @param {{wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL}} [options]
+ * @param {{wasm?: Response | WebAssembly.Module | Promise<Response | WebAssembly.Module>,
+ *          wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL}} [options]
  */
 export async function createSpringBones(options = {}) {
   if (options === null || typeof options !== 'object') {
     throw new TypeError('createSpringBones: options must be an object');
   }
-  checkKeys('createSpringBones', options, ['wasmBinary', 'wasmUrl']);
-  const { wasmBinary, wasmUrl } = options;
+  checkKeys('createSpringBones', options, ['wasm', 'wasmBinary', 'wasmUrl']);
+  const { wasm, wasmBinary, wasmUrl } = options;
+  const given = [wasm, wasmBinary, wasmUrl].filter((x) => x !== undefined).length;
+  if (given > 1) throw new TypeError('createSpringBones: give one of wasm, wasmBinary and wasmUrl');
+  if (wasm !== undefined && !(wasm instanceof WebAssembly.Module || isResponse(wasm) || typeof wasm?.then === 'function')) {
+    throw new TypeError('createSpringBones: wasm must be a Response, a WebAssembly.Module or a promise of one');
+  }
   if (wasmBinary !== undefined && !(wasmBinary instanceof ArrayBuffer || wasmBinary instanceof Uint8Array)) {
     throw new TypeError('createSpringBones: wasmBinary must be an ArrayBuffer or a Uint8Array');
   }
@@ -65,9 +72,20 @@ export async function createSpringBones(options = {}) {
         `with scripts/build wasm (${cause?.message ?? cause})`), cause);
   }
 
+  const loading = { source: wasm !== undefined ? 'the wasm option' : url.href };  // for the error
   const moduleOptions = {};
   try {
-    if (wasmBinary !== undefined) {
+    // The glue waits for the instance forever if instantiateWasm fails: the race reports it.
+    let instantiationFailed = new Promise(() => {});
+    if (wasm !== undefined) {
+      const compiled = await compileGiven(wasm, loading);
+      instantiationFailed = new Promise((_, reject) => {
+        moduleOptions.instantiateWasm = (imports, receiveInstance) => {
+          WebAssembly.instantiate(compiled, imports).then((instance) => receiveInstance(instance, compiled)).catch(reject);
+          return {};
+        };
+      });
+    } else if (wasmBinary !== undefined) {
       moduleOptions.wasmBinary = wasmBinary;
     } else if (kIsNode && url.protocol === 'file:') {
       const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ 'node:fs/promises');
@@ -75,14 +93,37 @@ export async function createSpringBones(options = {}) {
     } else {
       moduleOptions.locateFile = () => url.href;
     }
-    const module = await factory(moduleOptions);
+    const module = await Promise.race([factory(moduleOptions), instantiationFailed]);
     // The core's limits and defaults (api_json.h limitsJson), read once: the argument checks below
     // use them, so the JS API never types a limit of its own.
     return new SpringBones(module, deepFreeze(JSON.parse(module.limits())));
   } catch (cause) {
     throw withCause(new SpringBonesError('module-load-failed',
-        `the WebAssembly module (${url.href}) could not be loaded: ${cause?.message ?? cause}`), cause);
+        `the WebAssembly module (${loading.source}) could not be loaded: ${cause?.message ?? cause}`), cause);
   }
+}
+
+const isResponse = (x) => typeof Response === 'function' && x instanceof Response;
+
+/**
+ * The `wasm` option as a compiled module: a Response (or its promise, e.g. a fetch the page started
+ * before importing this library) compiles while it streams; a server that does not send
+ * application/wasm gets the bytes compiled instead.
+ */
+async function compileGiven(wasm, loading) {
+  const given = await wasm;
+  if (given instanceof WebAssembly.Module) {
+    if (!WebAssembly.Module.exports(given).some((e) => e.kind === 'memory')) {
+      throw new TypeError('the WebAssembly.Module given is not the springbones module (it exports no memory)');
+    }
+    return given;
+  }
+  if (!isResponse(given)) throw new TypeError('the wasm option resolved to neither a Response nor a WebAssembly.Module');
+  loading.source = given.url || 'a Response';
+  if (!given.ok) throw new Error(`HTTP ${given.status} ${given.statusText}`.trim());
+  const streams = typeof WebAssembly.compileStreaming === 'function' &&
+      (given.headers.get('Content-Type') ?? '').split(';')[0].trim() === 'application/wasm';
+  return streams ? WebAssembly.compileStreaming(given) : WebAssembly.compile(await given.arrayBuffer());
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import { join } from 'node:path';
 import { test } from 'node:test';
 import { gzipSync } from 'node:zlib';
 
-import { createSpringBones } from '../../web/springbones.js';
+import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { loadFixtureRig, root } from './helpers.mjs';
 
 const dist = join(root, 'web', 'dist');
@@ -56,4 +56,44 @@ test('loads over HTTP like a browser: fetch + instantiateStreaming with applicat
 
   await assert.rejects(createSpringBones({ wasmUrl: new URL('missing.wasm', base) }),
                        (e) => e.code === 'module-load-failed');
+});
+
+test('takes the module from the page: a Response, a fetch promise, a WebAssembly.Module or its promise', async (t) => {
+  const bytes = readFileSync(join(dist, 'springbones_wasm.wasm'));
+  const server = createServer((req, res) => {
+    if (req.url === '/ok.wasm') res.writeHead(200, { 'content-type': 'application/wasm' }).end(bytes);
+    else if (req.url === '/octet.wasm') res.writeHead(200, { 'content-type': 'application/octet-stream' }).end(bytes);
+    else if (req.url === '/garbage.wasm') res.writeHead(200, { 'content-type': 'application/wasm' }).end('not a module');
+    else res.writeHead(404).end();
+  });
+  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
+  t.after(() => server.close());
+  const at = (path) => `http://127.0.0.1:${server.address().port}${path}`;
+  const works = async (sb) => {
+    const inst = loadFixtureRig(sb, 'avatar_hair.glb').createInstance();
+    inst.driverMatrices[12] += 0.1;
+    inst.step(1 / 60);
+    assert.equal(inst.lastSteps, 1);
+    assert.ok(inst.rotations.every(Number.isFinite));
+  };
+
+  await works(await createSpringBones({ wasm: fetch(at('/ok.wasm')) }));
+  await works(await createSpringBones({ wasm: await fetch(at('/ok.wasm')) }));
+  await works(await createSpringBones({ wasm: fetch(at('/octet.wasm')) }));  // compiled from its bytes
+  await works(await createSpringBones({ wasm: WebAssembly.compile(bytes) }));
+  await works(await createSpringBones({ wasm: await WebAssembly.compile(bytes) }));
+
+  const failed = (pattern) => (e) => e instanceof SpringBonesError && e.code === 'module-load-failed' && pattern.test(e.message);
+  await assert.rejects(createSpringBones({ wasm: fetch(at('/missing.wasm')) }), failed(/missing\.wasm.*HTTP 404/));
+  await assert.rejects(createSpringBones({ wasm: fetch(at('/garbage.wasm')) }), failed(/garbage\.wasm/));
+  await assert.rejects(createSpringBones({ wasm: Promise.reject(new Error('offline')) }), failed(/offline/));
+  await assert.rejects(createSpringBones({ wasm: Promise.resolve('bytes') }), failed(/neither a Response nor a WebAssembly\.Module/));
+  // A module that compiles but is not ours is refused, not run.
+  const empty = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0]);
+  await assert.rejects(createSpringBones({ wasm: WebAssembly.compile(empty) }), failed(/not the springbones module/));
+
+  await assert.rejects(createSpringBones({ wasm: bytes }), TypeError);
+  const pending = fetch(at('/ok.wasm'));
+  await assert.rejects(createSpringBones({ wasm: pending, wasmBinary: bytes }), TypeError);
+  await pending;
 });

@@ -18,6 +18,9 @@ import { RecentFrames } from './readout.js';
 
 const $ = (id) => document.getElementById(id);
 export const ASSETS = new URL('../assets/', import.meta.url);
+// The module's download, started as this file runs (index.html preloads it), in parallel with the
+// avatar's; createSpringBones compiles it as it arrives.
+const kModuleDownload = fetch(new URL('../../dist/springbones_wasm.wasm', import.meta.url));
 
 const kSpacing = 1.1;         // metres between avatars of a crowd
 const kSpinSpeed = 120;       // degrees per second with "spin"
@@ -90,9 +93,10 @@ class Preview {
     this.resize();
 
     this.loader = new GLTFLoader();
-    this.sb = await createSpringBones();
+    const avatarDownload = fetchBytes(new URL('avatar.glb', ASSETS));
+    this.sb = await createSpringBones({ wasm: kModuleDownload });
     this.group = new SpringBonesGroup(this.sb);  // every attachment, stepped by one scene.step
-    const avatarBytes = await fetchBytes(new URL('avatar.glb', ASSETS));
+    const avatarBytes = await avatarDownload;
     this.avatarGltf = await this.loader.parseAsync(avatarBytes.buffer, ASSETS.href);
     this.timer = new THREE.Timer();
     this.timer.connect(document);  // a hidden tab's pause does not come back as one long frame
