@@ -5,7 +5,8 @@
 //   - per frame, rAF-paced and in a tight loop, three-vrm, our solver path and our adapter on the
 //     rigs of scripts/lib/bench_rigs.mjs (page: scripts/bench_pages/frames.html);
 //   - the cold start on the demo's sample, each sample in a new browser with a new profile
-//     (pages: scripts/bench_pages/cold_*.html), medians;
+//     (pages: scripts/bench_pages/cold_*.html), then the same page once more in that browser (a
+//     second visit), medians;
 // and returns the summary line (ratios are three-vrm's time over ours). Also writes
 // build/bench/browser-latest.json.
 //
@@ -25,6 +26,7 @@ import { median, rigName } from './bench_rigs.mjs';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
 const COLD_SAMPLES = Number(process.env.BENCH_COLD_SAMPLES ?? 9);
+const REVISIT_AFTER_MS = 3000;
 const LOOP = {
   frames: Number(process.env.BENCH_FRAMES ?? 600), runs: 5,
   warmup: 60, batches: Number(process.env.BENCH_RAF_BATCHES ?? 5), batchSize: 60,
@@ -89,17 +91,25 @@ async function perFrame(base, log) {
   }
 }
 
-/** COLD_SAMPLES cold starts of each library, interleaved so that the machine's load hits both. */
+/**
+ * COLD_SAMPLES cold starts of each library, interleaved so that the machine's load hits both; after
+ * each, the same page again in the same browser (a second visit: HTTP cache, and Chromium's cache of
+ * the code it compiled, which it writes a while after the first compilation: REVISIT_AFTER_MS).
+ */
 async function coldStarts(base, log) {
-  const samples = { springbones: [], 'three-vrm': [] };
+  const samples = { springbones: [], 'three-vrm': [] }, revisits = { springbones: [], 'three-vrm': [] };
   for (let s = 0; s < COLD_SAMPLES; s++) {
     const order = s % 2 === 0 ? ['springbones', 'threevrm'] : ['threevrm', 'springbones'];
     for (const page of order) {
       const browser = await freshBrowser();
       try {
-        await open(browser, `${base}scripts/bench_pages/cold_${page}.html`, 'coldResult');
+        const pageUrl = `${base}scripts/bench_pages/cold_${page}.html`;
+        await open(browser, pageUrl, 'coldResult');
         const result = await browser.page.evaluate(() => window.coldResult);
         samples[result.library].push(result);
+        await browser.page.waitForTimeout(REVISIT_AFTER_MS);
+        await open(browser, pageUrl, 'coldResult');
+        revisits[result.library].push(await browser.page.evaluate(() => window.coldResult));
       } finally {
         await browser.close();
       }
@@ -108,14 +118,17 @@ async function coldStarts(base, log) {
   }
   const joints = new Set([...samples.springbones, ...samples['three-vrm']].map((r) => r.joints));
   assert.equal(joints.size, 1, `both pages must simulate the same joints, got ${[...joints]}`);
-  const medians = {};
-  for (const [library, list] of Object.entries(samples)) {
-    medians[library] = {};
-    for (const key of Object.keys(list[0])) {
-      if (typeof list[0][key] === 'number') medians[library][key] = median(list.map((r) => r[key]));
+  const mediansOf = (byLibrary) => {
+    const medians = {};
+    for (const [library, list] of Object.entries(byLibrary)) {
+      medians[library] = {};
+      for (const key of Object.keys(list[0])) {
+        if (typeof list[0][key] === 'number') medians[library][key] = median(list.map((r) => r[key]));
+      }
     }
-  }
-  return { samples, medians, joints: [...joints][0] };
+    return medians;
+  };
+  return { samples, medians: mediansOf(samples), revisits, revisitMedians: mediansOf(revisits), joints: [...joints][0] };
 }
 
 const gzipKB = (paths) => paths.reduce((n, p) => n + gzipSync(readFileSync(join(root, p)), { level: 9 }).length, 0) / 1024;
@@ -178,6 +191,11 @@ export async function runBrowserBench({ log = console.log } = {}) {
   row('first step', sb.stepMs, vrm.stepMs);
   row('library total (median of per-sample sums)', sb.libraryMs, vrm.libraryMs);
   row('navigation to the first simulated frame', sb.navigationToFirstFrameMs, vrm.navigationToFirstFrameMs);
+  const sb2 = cold.revisitMedians.springbones, vrm2 = cold.revisitMedians['three-vrm'];
+  out(`the same page again in the same browser, ${REVISIT_AFTER_MS / 1000} s later (HTTP and compiled-code caches warm), medians, ms:`);
+  row('library total', sb2.libraryMs, vrm2.libraryMs);
+  row('  of which loadRig / joints', sb2.loadRigMs, vrm2.loadMs);
+  row('navigation to the first simulated frame', sb2.navigationToFirstFrameMs, vrm2.navigationToFirstFrameMs);
   out(`download, gzip -9: springbones ${download.springbones.toFixed(1)} KB (API, adapter, glue, wasm), three-vrm-springbone ${download.threeVrm.toFixed(1)} KB ` +
     `(the module build the page imports; ${download.threeVrmMinified.toFixed(1)} KB minified)`);
 
