@@ -45,7 +45,10 @@ export function useDemoPage(opened) {
 
 /**
  * Serves the repository, opens web/demo/ and waits until the sample wearable is loaded.
- * @returns {Promise<{ page, consoleErrors: string[], close: () => Promise<void> }>}
+ * `requests` lists the paths the page asked the server for, in order; `consoleWarnings` its
+ * console warnings.
+ * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
+ *                     close: () => Promise<void> }>}
  */
 export async function openDemo() {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
@@ -72,12 +75,14 @@ export async function openDemo() {
     server.close();
     rmSync(profileDir, { recursive: true, force: true });
   };
-  const consoleErrors = [];
+  const consoleErrors = [], consoleWarnings = [], requests = [];
   let page;
   try {
     page = context.pages()[0] ?? await context.newPage();
     page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
     page.on('pageerror', (e) => consoleErrors.push(`page error: ${e.message}`));
+    page.on('console', (m) => { if (m.type() === 'warning') consoleWarnings.push(m.text()); });
+    page.on('request', (r) => requests.push(new URL(r.url()).pathname));
     // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
@@ -89,7 +94,7 @@ export async function openDemo() {
     await close().catch(() => {});
     throw error;
   }
-  return { page, consoleErrors, close };
+  return { page, consoleErrors, consoleWarnings, requests, close };
 }
 
 /** Largest absolute difference between two equally long arrays. */

@@ -15,8 +15,8 @@ const sampleManifest = JSON.parse(readFileSync(join(root, 'web/demo/assets/manif
 const fixtures = JSON.parse(readFileSync(join(root, 'tests/fixtures/manifest.json'), 'utf8')).files;
 
 let page;
-let consoleErrors;
-useDemoPage((demo) => ({ page, consoleErrors } = demo));
+let consoleErrors, consoleWarnings, requests;
+useDemoPage((demo) => ({ page, consoleErrors, consoleWarnings, requests } = demo));
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 
@@ -37,6 +37,13 @@ test('opens on the sample wearable with WebGL and no console errors', { skip }, 
   assert.equal(await page.locator('#tree .badge.root:not([hidden])').count(), 5);
   assert.equal(await page.locator('#tree .node[data-node="SpringBone_ponytail_3"] .badge.override:not([hidden])').count(), 1);
   assert.deepEqual(consoleErrors, []);
+});
+
+test('the module is downloaded once: the preload is the download createSpringBones compiles', { skip }, async () => {
+  const count = (path) => requests.filter((p) => p === path).length;
+  assert.equal(count('/web/dist/springbones_wasm.wasm'), 1, requests.join('\n'));
+  assert.equal(count('/web/dist/springbones_wasm.js'), 1, requests.join('\n'));
+  assert.deepEqual(consoleWarnings.filter((w) => /preload/i.test(w)), [], 'no preload went unused');
 });
 
 test('the joints move while the avatar walks and settle when it stops', { skip }, async () => {
