@@ -444,11 +444,13 @@ test('attachment.update and group.update allocate nothing per frame', () => {
     group.update(DT);
   };
   // Optimizing compilers allocate code on the heap while the loop warms up, and now and then
-  // later (a deopt): warm up long, then take the best of several windows, each after a full GC.
-  // A real per-frame allocation shows in every window: one 16-byte object per frame is 32,000
-  // bytes per window (or, had it triggered a scavenge, a drop below zero).
+  // later (a deopt), and V8's own bookkeeping grows the heap by a few KB now and then (4-5 KB
+  // per window seen in CI): warm up long, then take the best of several windows, each after a
+  // full GC. A real per-frame allocation shows in every window: the smallest JavaScript object
+  // (12 bytes) once per frame is 48,000 bytes per window, three times the bound (or, had it
+  // triggered a scavenge, a drop below zero).
   for (let f = 0; f < 20000; f++) frame();
-  const frames = 2000;
+  const frames = 4000;
   const growths = [];
   for (let window = 0; window < 5; window++) {
     gc();
@@ -457,7 +459,7 @@ test('attachment.update and group.update allocate nothing per frame', () => {
     growths.push(process.memoryUsage().heapUsed - before);
   }
   const best = growths.reduce((m, g) => (g >= 0 && g < Math.abs(m) ? g : m), Infinity);
-  assert.ok(best >= 0 && best < 4096, `heap growth per ${frames}-frame window: ${growths.join(', ')} bytes`);
+  assert.ok(best >= 0 && best < 16384, `heap growth per ${frames}-frame window: ${growths.join(', ')} bytes`);
   group.dispose();
   for (const w of walkers) w.attachment.dispose();
 });
