@@ -165,6 +165,13 @@ describe('the tarball', () => {
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
+      'package/web/babylon/handedness.js',
+      'package/web/babylon/index.d.ts',
+      'package/web/babylon/index.js',
+      'package/web/babylon/springBoneSimulation.d.ts',
+      'package/web/babylon/springBoneSimulation.js',
+      'package/web/babylon/wearableMetadata.js',
+      'package/web/babylon/wearableSkeleton.js',
       'package/web/dist/springbones_wasm.js',
       'package/web/dist/springbones_wasm.wasm',
       'package/web/springbones.d.ts',
@@ -187,8 +194,8 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './wasm']);
-    for (const entry of ['.', './three']) {
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './package.json', './three', './wasm']);
+    for (const entry of ['.', './three', './babylon']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
     }
