@@ -165,6 +165,7 @@ describe('the tarball', () => {
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
+      'package/web/babylon/currentWorldMatrices.js',
       'package/web/babylon/handedness.js',
       'package/web/babylon/index.d.ts',
       'package/web/babylon/index.js',

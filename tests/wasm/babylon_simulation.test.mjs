@@ -199,28 +199,27 @@ for (const which of kBabylonVersions) {
       simulation.dispose(scene);
     });
 
-    /** babylon_frame_heap.mjs in a child process; its JSON. */
-    const frameHeap = (flags, ...args) => {
-      const child = spawnSync(process.execPath, [...flags, join(here, 'babylon_frame_heap.mjs'), which, ...args], { encoding: 'utf8' });
+    /** babylon_frame_heap.mjs in a child process with these V8 flags: its JSON. */
+    const ownAllocations = (flags) => {
+      const child = spawnSync(process.execPath, ['--allow-natives-syntax', ...flags, join(here, 'babylon_frame_heap.mjs'), which],
+        { encoding: 'utf8' });
       assert.equal(child.status, 0, child.stderr);
       return JSON.parse(child.stdout.trim().split('\n').pop());
     };
 
-    test('a frame allocates nothing: 4,000-frame windows (child process)', () => {
-      const { growths } = frameHeap(['--expose-gc'], 'growth');
-      // As in three_adapter_frame.test.mjs: the best of five windows, each after a full GC; one
-      // 12-byte object per frame would be 48,000 bytes in every window.
-      const best = growths.reduce((m, g) => (g >= 0 && g < Math.abs(m) ? g : m), Infinity);
-      assert.ok(best >= 0 && best < 16384, `heap growth per 4,000-frame window: ${growths.join(', ')} bytes`);
+    test('a frame allocates nothing: no bytes allocated by web/babylon/ over 4,000 frames (child process)', () => {
+      const { own, total, frames } = ownAllocations([]);
+      assert.ok(total >= 0);
+      assert.deepEqual(own, {}, `bytes allocated by web/babylon/ functions over ${frames} frames`);
     });
 
-    test('a frame allocates nothing: no escape analysis to hide an object (child process)', () => {
+    test('a frame allocates nothing, with no escape analysis to hide an object (child process)', () => {
       // With the optimizing compilers off altogether the interpreter boxes every double it
       // handles (each value read from a Float32Array is a new HeapNumber), so no JavaScript is
       // allocation-free there. What optimizing could hide is a temporary object that escape
-      // analysis removes: with --no-turbo-escape it is allocated, and V8's sampling heap profiler
-      // names the function that allocated it.
-      const { own, total, frames } = frameHeap(['--allow-natives-syntax', '--no-turbo-escape']);
+      // analysis removes: with --no-turbo-escape it is allocated, and the sampling profiler names
+      // the function that allocated it (a `{}` per frame in the adapter shows as ~130 KB here).
+      const { own, total, frames } = ownAllocations(['--no-turbo-escape']);
       assert.ok(total > 0, 'the profiler saw the frames (Babylon\'s own work allocates there)');
       assert.deepEqual(own, {}, `bytes allocated by web/babylon/ functions over ${frames} frames`);
     });

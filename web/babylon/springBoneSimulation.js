@@ -13,12 +13,13 @@
 // A wearable is read from its container (wearableSkeleton.js): the glTF nodes Babylon's loader
 // made, their rest transforms, in the glTF's space (handedness.js). Per frame, in the scene's
 // before-render (after the animations moved the nodes): each driver's world matrix, made current
-// with computeWorldMatrix(true), goes into its instance's driverMatrices (mirrored into the glTF's
+// (currentWorldMatrices.js), goes into its instance's driverMatrices (mirrored into the glTF's
 // space), one scene.step(dt) steps every registered wearable, and each joint's rotation goes
 // into its rotationQuaternion. No allocation per frame.
 //
 // Babylon itself is never imported: everything comes from the scene and containers passed in,
 // so the same file serves Babylon 4.2 (its UMD build) and the current @babylonjs/core.
+import { nodesToRecompute } from './currentWorldMatrices.js';
 import { copyWorldMatrix, isMirroredScene } from './handedness.js';
 import { entryAsSpringBones, resolveMetadata, rigOptions } from './wearableMetadata.js';
 import { readWearableSkeleton } from './wearableSkeleton.js';
@@ -129,6 +130,7 @@ class FrameCopies {
     this.driverCounts = wearables.map((w) => w.driverNodes.length);
     this.jointCounts = wearables.map((w) => w.jointNodes.length);
     this.driverNodes = wearables.flatMap((w) => w.driverNodes);
+    ({ nodes: this.recompute, force: this.forceRecompute } = nodesToRecompute(this.driverNodes));
     this.jointNodes = wearables.flatMap((w) => w.jointNodes);
     this.driverViews = wearables.map(() => kNoView);
     this.rotationViews = wearables.map(() => kNoView);
@@ -136,7 +138,8 @@ class FrameCopies {
 
   /** Each driver's current world matrix into its instance, in the glTF's space. */
   readDrivers(mirrored) {
-    const { instances, driverCounts, driverViews, driverNodes } = this;
+    const { instances, driverCounts, driverViews, driverNodes, recompute, forceRecompute } = this;
+    for (let i = 0; i < recompute.length; i++) recompute[i].computeWorldMatrix(forceRecompute);
     for (let i = 0, d = 0; i < instances.length; i++) {
       const count = driverCounts[i];
       let view = driverViews[i];
@@ -144,7 +147,7 @@ class FrameCopies {
       if (view.length !== 16 * count) view = driverViews[i] = instances[i].driverMatrices;
       for (let o = 0, end = d + count; d < end; d++, o += 16) {
         const node = driverNodes[d];
-        if (node !== null) copyWorldMatrix(node.computeWorldMatrix(true).m, view, o, mirrored);
+        if (node !== null) copyWorldMatrix(node.getWorldMatrix().m, view, o, mirrored);
       }
     }
   }
