@@ -171,6 +171,8 @@ describe('the tarball', () => {
       'package/web/babylon/index.js',
       'package/web/babylon/springBoneSimulation.d.ts',
       'package/web/babylon/springBoneSimulation.js',
+      'package/web/babylon/springBonesLoaderExtension.d.ts',
+      'package/web/babylon/springBonesLoaderExtension.js',
       'package/web/babylon/wearableMetadata.js',
       'package/web/babylon/wearableSkeleton.js',
       'package/web/dist/springbones_wasm.js',

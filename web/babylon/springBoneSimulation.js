@@ -22,6 +22,7 @@
 import { nodesToRecompute } from './currentWorldMatrices.js';
 import { copyWorldMatrix, isMirroredScene } from './handedness.js';
 import { entryAsSpringBones, resolveMetadata, rigOptions } from './wearableMetadata.js';
+import { springBonesOf } from './springBonesLoaderExtension.js';
 import { readWearableSkeleton } from './wearableSkeleton.js';
 
 const kNoView = new Float32Array(0);
@@ -228,7 +229,9 @@ export class SpringBoneSimulation {
    * starts: its current pose is taken as the rest pose). `springBonesParams`: the models entry
    * (node name -> parameters), the whole springBones (the entry under itemId), or
    * { springBones, entity, bodyShape } / { springBones, contentHash } / { springBones, glb };
-   * left out, the wearable has no chains until updateParams gives it some. Registering an itemId
+   * left out, the springBones the loader extension was given for this file, else no chains until
+   * updateParams gives it some. A container loaded with the extension is read by the file's own
+   * node list rather than from its Babylon nodes. Registering an itemId
    * again replaces the earlier registration.
    * @throws TypeError for arguments of the wrong kind; SpringBonesError for metadata the core
    *   rejects (registered before the module is there: a console warning, and the wearable stays
@@ -239,14 +242,18 @@ export class SpringBoneSimulation {
       throw new TypeError('registerWearable: scene must be a Babylon Scene');
     }
     if (typeof itemId !== 'string' || itemId === '') throw new TypeError('registerWearable: itemId must be a non-empty string');
-    const metadata = resolveMetadata(itemId, springBonesParams);
+    const loaded = springBonesOf(container);  // the loader extension's node list, when it ran
+    const metadata = springBonesParams === undefined && loaded?.metadata
+      ? { springBones: loaded.metadata.springBones, options: { ...loaded.metadata.options }, key: loaded.metadata.options.contentHash ?? null }
+      : resolveMetadata(itemId, springBonesParams);
     const earlier = this._wearables.get(itemId);
     if (earlier) {
       earlier.dispose();  // first, so its joints are back at rest when the container is read
       this._wearables.delete(itemId);
       this._membersChanged();
     }
-    const wearable = new RegisteredWearable(scene, container, itemId, readWearableSkeleton(container), metadata);
+    const skeleton = loaded ? { nodes: loaded.nodes, gltfText: loaded.gltfText } : readWearableSkeleton(container);
+    const wearable = new RegisteredWearable(scene, container, itemId, skeleton, metadata);
     if (this._sb) wearable.build(this._sb, metadata.springBones, metadata.options);
     this._wearables.set(itemId, wearable);
     this._membersChanged();
