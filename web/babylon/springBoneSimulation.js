@@ -350,7 +350,11 @@ export class SpringBoneSimulation {
     this._copies.set(members);
   }
 
-  /** Subscribes to every animation group of the scene, once; runs only when their number changes. */
+  /**
+   * Subscribes to every animation group of the scene, once; runs only when their number changes.
+   * A group starting to play snaps the avatar to its first pose: the next frame carries the
+   * chains across (carryAcrossJump), as the preview re-seeds its chains there.
+   */
   _watchAnimationGroups(scene) {
     const groups = scene.animationGroups;
     if (groups.length === this._watchedGroupCount) return;
@@ -359,6 +363,8 @@ export class SpringBoneSimulation {
       if (this._watchedGroups.has(group)) continue;
       this._watchedGroups.add(group);
       group.onAnimationGroupPlayObservable.add(this._onGroupPlay);
+      // A group made and started since the last frame started before anyone listened.
+      if (group.isPlaying) this._jumpPending = true;
     }
   }
 
