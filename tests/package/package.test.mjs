@@ -172,6 +172,7 @@ describe('the tarball', () => {
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
+      'package/web/babylon/README.md',
       'package/web/babylon/currentWorldMatrices.js',
       'package/web/babylon/handedness.js',
       'package/web/babylon/index.d.ts',
