@@ -195,6 +195,7 @@ export class SpringBoneSimulation {
     this._onGroupPlay = () => {
       this._jumpPending = true;
     };
+    this._disposed = false;
     this._frame = () => this._step();
     if (isThenable(sb)) {
       /** Resolves once the module is there and every wearable registered so far has its rig. */

@@ -41,7 +41,6 @@ export function rigOptions(sb, options) {
 export function resolveMetadata(itemId, input) {
   const key = String(itemId);
   if (input === undefined || input === null) return { springBones: null, options: { contentHash: key }, key };
-  if (typeof input === 'string') input = JSON.parse(input);
   if (!isObject(input)) {
     throw new TypeError('registerWearable: springBonesParams must be a models entry, a springBones object or { springBones, ...hash options }');
   }
