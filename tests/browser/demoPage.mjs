@@ -30,11 +30,11 @@ export const skip = !existsSync(chromiumPath) && process.env.SPRINGBONES_REQUIRE
  *   let page, consoleErrors;
  *   useDemoPage((demo) => ({ page, consoleErrors } = demo));
  */
-export function useDemoPage(opened) {
+export function useDemoPage(opened, options) {
   let close;
   before(async () => {
     if (skip) return;
-    const demo = await openDemo();
+    const demo = await openDemo(options);
     close = demo.close;
     opened(demo);
   });
@@ -44,13 +44,14 @@ export function useDemoPage(opened) {
 }
 
 /**
- * Serves the repository, opens web/demo/ and waits until the sample wearable is loaded.
+ * Serves the repository, opens web/demo/ (or `page`, e.g. 'babylon.html', waiting for
+ * window[readyHook].ready) and waits until the sample wearable is loaded.
  * `requests` lists the paths the page asked the server for, in order; `consoleWarnings` its
  * console warnings.
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export async function openDemo() {
+export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo' } = {}) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -86,8 +87,8 @@ export async function openDemo() {
     // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
-    await page.goto(`http://127.0.0.1:${port}/web/demo/`);
-    await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
+    await page.goto(`http://127.0.0.1:${port}/web/demo/${demoPage}`);
+    await page.waitForFunction((hook) => window[hook]?.ready === true, readyHook, { timeout: 180000 });
   } catch (error) {
     // The caller gets no close(): without this, Chromium and the server would keep the test
     // process alive forever after a failed start.

@@ -1,7 +1,7 @@
 // The npm package as its users take it: scripts/package packs the tarball, and throwaway projects
 // outside the repository install it with npm and use it (a Node test suite, a Vite app and an
-// esbuild bundle opened in Debian's Chromium, a strict TypeScript check, and the Node suite again
-// under the lowest `three` of the peer range). Nothing here imports the checkout's web/: the
+// esbuild bundle opened in Debian's Chromium, a strict TypeScript check, the Node suite again
+// under the lowest `three` of the peer range, and springbones/babylon with Babylon 4.2 and 9.x). Nothing here imports the checkout's web/: the
 // consumers' files are in tests/package/consumer/, copied into each project.
 //
 // Needs npm and the registry (the projects install pinned versions), /usr/bin/chromium (or
@@ -28,6 +28,13 @@ const repoPackage = JSON.parse(readFileSync(join(root, 'package.json'), 'utf8'))
 const kThreeHighest = '0.187.0';
 const kThreeLowest = '0.160.0';
 const kTools = { vite: '7.3.8', esbuild: '0.28.2', typescript: '5.9.3', '@types/three': '0.187.0' };
+// The two Babylon.js lines springbones/babylon is tested with, as the repository pins them: 4.2
+// (what Decentraland's preview pins; its UMD build, as its ES modules do not load in Node) and the
+// current major.
+const kBabylon = {
+  '4.2': { babylonjs: '4.2.2', 'babylonjs-loaders': '4.2.2' },
+  current: { '@babylonjs/core': '9.28.0', '@babylonjs/loaders': '9.28.0' },
+};
 
 /** Runs a command; on failure the assertion shows its output. */
 function run(command, args, cwd, env = {}) {
@@ -165,6 +172,17 @@ describe('the tarball', () => {
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
+      'package/web/babylon/README.md',
+      'package/web/babylon/currentWorldMatrices.js',
+      'package/web/babylon/handedness.js',
+      'package/web/babylon/index.d.ts',
+      'package/web/babylon/index.js',
+      'package/web/babylon/springBoneSimulation.d.ts',
+      'package/web/babylon/springBoneSimulation.js',
+      'package/web/babylon/springBonesLoaderExtension.d.ts',
+      'package/web/babylon/springBonesLoaderExtension.js',
+      'package/web/babylon/wearableMetadata.js',
+      'package/web/babylon/wearableSkeleton.js',
       'package/web/dist/springbones_wasm.js',
       'package/web/dist/springbones_wasm.wasm',
       'package/web/springbones.d.ts',
@@ -187,8 +205,8 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './wasm']);
-    for (const entry of ['.', './three']) {
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './package.json', './three', './wasm']);
+    for (const entry of ['.', './three', './babylon']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
     }
@@ -197,6 +215,13 @@ describe('the tarball', () => {
     const next = `0.${Number(kThreeHighest.split('.')[1]) + 1}.0`;
     assert.equal(pkg.peerDependencies.three, `>=${kThreeLowest} <${next}`);
     assert.equal(repoPackage.devDependencies.three, kThreeHighest, 'the repository tests the highest too');
+    // Babylon: optional peers whose ranges hold the versions tested below, as the repository pins them.
+    assert.equal(pkg.peerDependencies.babylonjs, '>=4.2.0 <4.3.0');
+    assert.equal(pkg.peerDependencies['@babylonjs/core'], `>=${kBabylon.current['@babylonjs/core']} <10.0.0`);
+    for (const name of ['babylonjs', '@babylonjs/core']) assert.equal(pkg.peerDependenciesMeta[name].optional, true);
+    for (const deps of Object.values(kBabylon)) {
+      for (const [name, version] of Object.entries(deps)) assert.equal(repoPackage.devDependencies[name], version, name);
+    }
   });
 });
 
@@ -261,3 +286,24 @@ describe(`a Node project with three ${kThreeLowest}, the lowest of the peer rang
         project, { SPRINGBONES_THREE_REVISION: kThreeLowest.split('.')[1] });
   });
 });
+
+for (const [which, babylon] of Object.entries(kBabylon)) {
+  describe(`a Node project with Babylon.js ${Object.values(babylon)[0]} (${Object.keys(babylon).join(' + ')})`, () => {
+    let project;
+    before(() => {
+      project = makeProject(`babylon-${which}`, { springbones: `file:${tarball}`, ...babylon },
+        which === 'current' ? { typescript: kTools.typescript } : {});
+    });
+    after(() => removeProject(project));
+
+    test('springbones/babylon on a NullEngine: the drop-in class and the loader extension', () => {
+      run(process.execPath, ['--test', 'babylon/babylon.spec.mjs'], project, { SPRINGBONES_BABYLON: which });
+    });
+
+    if (which === 'current') {
+      test('TypeScript: tsc --noEmit --strict on a consumer of springbones/babylon with @babylonjs/core', () => {
+        run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', 'ts/tsconfig.babylon.json'], project);
+      });
+    }
+  });
+}

@@ -1,0 +1,67 @@
+// The demo's Babylon.js page (web/demo/babylon.html) in Debian's Chromium, headless, software
+// WebGL: Babylon 4.2's UMD build from a script tag, the sample avatar walking with its hair
+// simulated by springbones/babylon's SpringBoneSimulation, and the chain panel's controls driving
+// updateParams. Leaves a screenshot in tests/artifacts/babylon.png.
+import assert from 'node:assert/strict';
+import { mkdirSync } from 'node:fs';
+import { join } from 'node:path';
+import { test } from 'node:test';
+import { artifacts, maxAbsDiff, skip, useDemoPage } from './demoPage.mjs';
+
+let page;
+let consoleErrors;
+useDemoPage((demo) => ({ page, consoleErrors } = demo), { page: 'babylon.html', readyHook: 'springbonesBabylonDemo' });
+
+const demo = (fn, arg) => page.evaluate(fn, arg);
+
+test('opens on the sample with Babylon 4.2, its five chains and no console errors', { skip }, async () => {
+  assert.match(await demo(() => window.springbonesBabylonDemo.babylonVersion), /^4\.2\./);
+  const joints = await demo(() => window.springbonesBabylonDemo.joints());
+  assert.equal(joints.length, 15);
+  assert.equal(new Set(joints.map((j) => j.chain)).size, 5);
+  assert.equal(await page.locator('#readout-joints').textContent(), '15');
+  assert.deepEqual(consoleErrors, []);
+});
+
+test('the hair moves while the avatar walks', { skip }, async () => {
+  const a = await demo(() => window.springbonesBabylonDemo.rotations());
+  await page.waitForTimeout(600);
+  const b = await demo(() => window.springbonesBabylonDemo.rotations());
+  assert.ok(maxAbsDiff(a, b) > 1e-3, `rotations changed by only ${maxAbsDiff(a, b)} in 0.6 s of walking`);
+});
+
+test('the panel drives updateParams: a slider sets a chain\'s parameter, switching a chain off puts it at rest', { skip }, async () => {
+  await page.locator('#root').selectOption('SpringBone_ponytail');
+  await page.locator('#stiffness').fill('3.5');
+  const ponytail = (await demo(() => window.springbonesBabylonDemo.joints())).find((j) => j.name === 'SpringBone_ponytail');
+  assert.equal(ponytail.params.stiffness, 3.5);
+  assert.equal(await page.locator('#stiffness-value').textContent(), '3.50');
+
+  const names = ['SpringBone_ponytail', 'SpringBone_ponytail_1', 'SpringBone_ponytail_2'];
+  const before = await demo((n) => window.springbonesBabylonDemo.rotations(n), names);
+  await page.locator('#simulated').uncheck();
+  assert.equal(await page.locator('#readout-chains').textContent(), '4');
+  const off = await demo((n) => window.springbonesBabylonDemo.rotations(n), names);
+  await page.waitForTimeout(300);
+  const stillOff = await demo((n) => window.springbonesBabylonDemo.rotations(n), names);
+  assert.ok(maxAbsDiff(before, off) > 1e-4, 'the chain was bent before');
+  assert.deepEqual(stillOff, off, 'at rest and staying there while the avatar walks');
+  await page.locator('#simulated').check();
+  assert.equal(await page.locator('#readout-chains').textContent(), '5');
+  await page.waitForTimeout(300);
+  const on = await demo((n) => window.springbonesBabylonDemo.rotations(n), names);
+  assert.ok(maxAbsDiff(on, off) > 1e-4, 'simulated again');
+  assert.deepEqual(consoleErrors, []);
+});
+
+test('teleport: the avatar moves and the page keeps running; screenshot', { skip }, async () => {
+  await page.locator('#teleport').click();
+  await page.waitForTimeout(400);
+  const rotations = await demo(() => window.springbonesBabylonDemo.rotations());
+  assert.ok(rotations.every(Number.isFinite));
+  await page.locator('#teleport').click();
+  await page.waitForTimeout(500);
+  mkdirSync(artifacts, { recursive: true });
+  await page.locator('#view').screenshot({ path: join(artifacts, 'babylon.png') });
+  assert.deepEqual(consoleErrors, []);
+});

@@ -1,0 +1,108 @@
+// No whip on a jump: an animation group starting to play (the avatar snaps to its first pose) and
+// a teleport of the avatar told with simulation.jump() leave the hair calm, where the same snap
+// untold makes it whip. The simulation carries its instances across (instance.jump() where the
+// core has it, else reset(): carryAcrossJump in web/babylon/springBoneSimulation.js).
+import assert from 'node:assert/strict';
+import { before, describe, test } from 'node:test';
+import { createSpringBones } from '../../web/springbones.js';
+import { SpringBoneSimulation } from '../../web/babylon/index.js';
+import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+
+const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+const [hash] = Object.keys(metadata.models);
+const glb = readAsset('hair_wearable.glb');
+const SETTLE = 60;
+const AFTER = 40;
+
+let sb;
+before(async () => {
+  sb = await createSpringBones();
+});
+
+/** The angle (radians) between two unit quaternions. */
+const angle = (a, b) => 2 * Math.acos(Math.min(1, Math.abs(a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w)));
+
+for (const which of kBabylonVersions) {
+  describe(`Babylon ${which}`, () => {
+    let kit;
+    before(async () => {
+      kit = await babylonKit(which);
+    });
+
+    /**
+     * The sample settled at rest, then `snap(context)` before one frame, then AFTER frames: the
+     * largest angle of a ponytail joint from its rest rotation over those frames.
+     */
+    async function whipAfter(snap, setup = () => null) {
+      const scene = kit.scene();
+      const container = await kit.load(scene, glb);
+      container.addAllToScene();
+      const simulation = new SpringBoneSimulation(sb);
+      simulation.registerWearable(scene, container, hash, metadata.models[hash]);
+      simulation.start(scene);
+      const byName = (name) => container.transformNodes.find((n) => n.name === name);
+      const joints = ['SpringBone_ponytail', 'SpringBone_ponytail_1', 'SpringBone_ponytail_2', 'SpringBone_ponytail_3', 'SpringBone_ponytail_4'].map(byName);
+      const prepared = setup({ scene, byName, BABYLON: kit.BABYLON });
+      for (let f = 0; f < SETTLE; f++) scene.render();
+      const settled = joints.map((j) => j.rotationQuaternion.clone());
+      snap({ scene, byName, simulation, BABYLON: kit.BABYLON, prepared });
+      let worst = 0;
+      for (let f = 0; f < AFTER; f++) {
+        scene.render();
+        joints.forEach((j, i) => {
+          worst = Math.max(worst, angle(j.rotationQuaternion, settled[i]));
+        });
+      }
+      simulation.dispose(scene);
+      return worst;
+    }
+
+    /** The head turned 100 degrees about its up axis, as a pose. */
+    const turnedHead = (BABYLON, head) => head.rotationQuaternion.multiply(BABYLON.Quaternion.RotationAxis(new BABYLON.Vector3(0, 1, 0), 1.75));
+
+    test('an animation group starting to play leaves the hair calm; the same snap untold whips it', async () => {
+      const untold = await whipAfter(({ byName, BABYLON }) => {
+        const head = byName('Avatar_Head');
+        head.rotationQuaternion = turnedHead(BABYLON, head);
+      });
+      const emote = ({ scene, byName, BABYLON }) => {
+        const head = byName('Avatar_Head');
+        const pose = turnedHead(BABYLON, head);
+        const animation = new BABYLON.Animation('turn', 'rotationQuaternion', 60,
+          BABYLON.Animation.ANIMATIONTYPE_QUATERNION, BABYLON.Animation.ANIMATIONLOOPMODE_CONSTANT);
+        animation.setKeys([{ frame: 0, value: pose }, { frame: 60, value: pose }]);
+        const group = new BABYLON.AnimationGroup('emote', scene);
+        group.addTargetedAnimation(animation, head);
+        return group;
+      };
+      // A group made and played between two frames, and one the scene had all along.
+      const played = await whipAfter((context) => emote(context).play(false));
+      const playedLater = await whipAfter(({ prepared }) => prepared.play(false), emote);
+      assert.ok(untold > 0.3, `an untold snap swings the ponytail by ${untold} rad`);
+      assert.ok(played < untold / 3, `after a new group starts: ${played} rad against ${untold} untold`);
+      assert.ok(playedLater < untold / 3, `after a known group starts: ${playedLater} rad against ${untold} untold`);
+    });
+
+    test('a teleport told with jump() leaves the hair calm; untold it whips', async () => {
+      const teleport = (byName) => {
+        byName('Armature').position.z += 3;
+      };
+      const untold = await whipAfter(({ byName }) => teleport(byName));
+      const told = await whipAfter(({ byName, simulation }) => {
+        teleport(byName);
+        simulation.jump();
+      });
+      assert.ok(untold > 0.3, `an untold teleport swings the ponytail by ${untold} rad`);
+      assert.ok(told < untold / 3, `told: ${told} rad against ${untold} untold`);
+    });
+
+    test('reset() and jump() name a wearable or take all; an unknown one is an error', async () => {
+      const simulation = new SpringBoneSimulation(sb);
+      assert.throws(() => simulation.reset('nothing'), /no wearable registered/);
+      assert.throws(() => simulation.jump('nothing'), /no wearable registered/);
+      simulation.reset();
+      simulation.jump();
+      simulation.dispose();
+    });
+  });
+}

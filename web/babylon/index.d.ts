@@ -1,0 +1,2 @@
+export * from './springBoneSimulation.js';
+export * from './springBonesLoaderExtension.js';

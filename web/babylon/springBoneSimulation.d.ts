@@ -1,0 +1,79 @@
+// Types of the Babylon.js drop-in (springBoneSimulation.js). Babylon is not imported: the
+// parameters are described by the few members the class uses, which Babylon 4.2's `babylonjs`
+// and the current `@babylonjs/core` both have, so a consumer of either type-checks.
+import type { ColliderOptions, Instance, Rig, SpringBoneEntry, SpringBones, SpringBonesData } from '../springbones.js';
+
+/** A Babylon Scene, as the simulation uses it. */
+export interface BabylonSceneLike {
+  getEngine(): { getDeltaTime(): number };
+  useRightHandedSystem: boolean;
+  onBeforeRenderObservable: { add(callback: (...args: any[]) => void): unknown; remove(observer: any): boolean };
+  animationGroups: readonly unknown[];
+  getTransformNodeByName(name: string): unknown;
+}
+
+/** A Babylon AssetContainer (a loaded GLB), as the simulation reads it. */
+export interface BabylonAssetContainerLike {
+  transformNodes: readonly unknown[];
+  meshes: readonly unknown[];
+}
+
+/** A models entry: node name -> parameters, as `springBones.models[hash]`. */
+export type SpringBonesModelEntry = Record<string, SpringBoneEntry>;
+
+/** The whole springBones with loadRig's choice of entry (and its colliders). */
+export type SpringBonesWithHashOptions = {
+  springBones: SpringBonesData | object | null;
+  colliders?: readonly ColliderOptions[];
+  hitRadius?: number;
+} & (
+  | { contentHash: string }
+  | { entity: object | string; bodyShape: string }
+  | { glb: Uint8Array | ArrayBuffer }
+);
+
+/**
+ * The spring bones of every registered wearable, stepped before each render of the scene, all in
+ * one scene.step of springbones: the surface of Decentraland's wearable-preview class.
+ */
+export class SpringBoneSimulation {
+  /**
+   * @param sb the springbones module, or a promise of it (wearables registered before it resolves
+   *   stay at rest until it does)
+   */
+  constructor(sb: SpringBones | PromiseLike<SpringBones>);
+  /** Resolves once the module is there and every wearable registered so far has its rig. */
+  readonly ready: Promise<void>;
+  /**
+   * Registers a wearable's container (after addAllToScene, before its animation moves it: the
+   * current pose is the rest pose). `springBonesParams`: the models entry, the whole springBones
+   * (the entry under itemId) or the springBones with hash options; left out: no chains until
+   * updateParams. Registering an itemId again replaces it.
+   * @throws TypeError for arguments of the wrong kind; SpringBonesError for metadata the core rejects
+   */
+  registerWearable(
+    scene: BabylonSceneLike,
+    container: BabylonAssetContainerLike,
+    itemId: string,
+    springBonesParams?: SpringBonesModelEntry | SpringBonesData | SpringBonesWithHashOptions | null,
+  ): void;
+  /**
+   * The Builder's live tuning: `params` becomes the wearable's models entry at once (added chains
+   * start, removed ones go back to rest; the chains restart from rest).
+   * @throws Error for an itemId never registered; TypeError for params that are not an object
+   */
+  updateParams(itemId: string, params: SpringBonesModelEntry): void;
+  /** Steps every registered wearable before each render of `scene`. Idempotent. */
+  start(scene: BabylonSceneLike): void;
+  /** Stops, puts the joints back at rest, frees every rig and instance. */
+  dispose(scene?: BabylonSceneLike): void;
+  /** Forgets the motion of every wearable (or itemId's): the next frame starts at rest. */
+  reset(itemId?: string): void;
+  /** The avatar moves discontinuously before the next frame (a teleport): carry the hair across. */
+  jump(itemId?: string): void;
+  /** The rig of a registered wearable; null before the module is there or after a load error. */
+  rigOf(itemId: string): Rig | null;
+}
+
+/** Carries an instance across a jump of its drivers: instance.jump() where the core has it, else reset(). */
+export function carryAcrossJump(instance: Instance): void;

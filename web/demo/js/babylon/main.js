@@ -1,0 +1,115 @@
+// The demo's Babylon.js page: the sample avatar walking with its hair, simulated by
+// springbones/babylon's SpringBoneSimulation as Decentraland's preview would use it (one
+// AssetContainer per GLB, the wearable registered before its animation starts, one before-render
+// step for every wearable), on Babylon 4.2's UMD build (the global BABYLON, loaded by the page).
+//
+// As the preview assembles an avatar, the wearable keeps its own copy of the armature bones it
+// carries; the avatar's animation groups drive those too, by bone name (the hair follows the
+// wearable's own Avatar_Head).
+import { createSpringBones } from '../../../springbones.js';
+import { SpringBoneSimulation } from '../../../babylon/index.js';
+import { ChainPanel } from './chainPanel.js';
+
+const BABYLON = globalThis.BABYLON;
+const ASSETS = new URL('../../assets/', import.meta.url);
+// The module's download starts at once; the simulation takes the module as a promise, so the
+// wearables are registered (and drawn at rest) while it compiles.
+const sbPromise = createSpringBones({ wasm: fetch(new URL('../../../dist/springbones_wasm.wasm', import.meta.url)) });
+
+const boot = document.getElementById('boot');
+const canvas = document.getElementById('view');
+const engine = new BABYLON.Engine(canvas, true, { preserveDrawingBuffer: true, stencil: true });
+const scene = new BABYLON.Scene(engine);
+scene.clearColor = new BABYLON.Color4(0.086, 0.094, 0.114, 1);
+// A three-quarter view from the avatar's front left: it faces the file's +Z, Babylon's +Z too.
+const camera = new BABYLON.ArcRotateCamera('camera', Math.PI / 2 - 0.8, Math.PI / 2.3, 2.6, new BABYLON.Vector3(0, 1.25, 0), scene);
+camera.minZ = 0.05;
+camera.attachControl(canvas, true);
+new BABYLON.HemisphericLight('sky', new BABYLON.Vector3(0.2, 1, -0.4), scene).intensity = 1.1;
+new BABYLON.DirectionalLight('sun', new BABYLON.Vector3(-0.4, -1, 0.6), scene).intensity = 1.6;
+
+async function loadContainer(name) {
+  const container = await BABYLON.SceneLoader.LoadAssetContainerAsync(ASSETS.href, name, scene);
+  for (const group of container.animationGroups) group.stop();  // the loader starts the first one
+  return container;
+}
+
+const [avatar, wearable, springBones] = await Promise.all([
+  loadContainer('avatar.glb'),
+  loadContainer('hair_wearable.glb'),
+  fetch(new URL('hair_wearable.metadata.json', ASSETS)).then((r) => r.json()),
+]);
+const [itemHash] = Object.keys(springBones.models);
+// Both files under one node that the page moves (the teleport).
+const avatarRoot = new BABYLON.TransformNode('avatar', scene);
+for (const container of [avatar, wearable]) {
+  container.addAllToScene();
+  container.meshes.find((m) => m.name === '__root__').parent = avatarRoot;
+}
+
+// Registered before any animation moves it: its current pose is the rest pose.
+const simulation = new SpringBoneSimulation(sbPromise);
+simulation.registerWearable(scene, wearable, itemHash, springBones.models[itemHash]);
+simulation.start(scene);
+
+// The avatar's clips drive the wearable's bones of the same names too.
+const wearableNodes = new Map(wearable.transformNodes.map((n) => [n.name, n]));
+for (const group of avatar.animationGroups) {
+  for (const { animation, target } of [...group.targetedAnimations]) {
+    const twin = wearableNodes.get(target.name);
+    if (twin) group.addTargetedAnimation(animation, twin);
+  }
+}
+let playing = null;
+function play(name) {
+  playing?.stop();
+  playing = avatar.animationGroups.find((g) => g.name === name) ?? null;
+  playing?.play(true);
+}
+document.getElementById('animation').addEventListener('change', (event) => play(event.target.value));
+document.getElementById('teleport').addEventListener('click', () => {
+  avatarRoot.position.z = avatarRoot.position.z > 0.5 ? 0 : 1;
+  simulation.jump();  // carried across the move: no whip
+});
+document.getElementById('reset').addEventListener('click', () => simulation.reset());
+
+await simulation.ready;
+const sb = await sbPromise;
+play('walk');
+
+const showRig = () => {
+  const rig = simulation.rigOf(itemHash);
+  document.getElementById('readout-joints').textContent = rig.joints.length;
+  document.getElementById('readout-chains').textContent = rig.chains.length;
+  document.getElementById('warnings').textContent = rig.warnings.map((w) => `${w.code}: ${w.message}`).join('\n');
+};
+const panel = new ChainPanel(springBones.models[itemHash], (entry) => {
+  simulation.updateParams(itemHash, entry);
+  showRig();
+});
+showRig();
+document.getElementById('readout-babylon').textContent = BABYLON.Engine.Version;
+
+const fps = document.getElementById('readout-fps');
+let frames = 0;
+engine.runRenderLoop(() => {
+  scene.render();
+  if (++frames % 30 === 0) fps.textContent = engine.getFps().toFixed(0);
+});
+window.addEventListener('resize', () => engine.resize());
+boot.hidden = true;
+
+/** For the browser tests (tests/browser/babylon.test.mjs). */
+window.springbonesBabylonDemo = {
+  ready: true,
+  babylonVersion: BABYLON.Engine.Version,
+  springbonesVersion: sb.version,
+  /** The rig's joints: name, chain root, parameters. */
+  joints: () => simulation.rigOf(itemHash).joints.map((j, i, all) => ({ name: j.name, chain: all[j.chain].name, params: j.params })),
+  /** Every simulated node's rotationQuaternion, in the rig's joint order, flat. */
+  rotations: (names = simulation.rigOf(itemHash).joints.map((j) => j.name)) => names.flatMap((name) => {
+    const q = wearableNodes.get(name).rotationQuaternion;
+    return [q.x, q.y, q.z, q.w];
+  }),
+  entry: () => structuredClone(panel.entry),
+};
