@@ -165,8 +165,14 @@ describe('the tarball', () => {
       'package/LICENSE',
       'package/README.md',
       'package/package.json',
+      'package/web/arguments.js',
+      'package/web/creator_tools.js',
+      'package/web/dist/springbones_creator_tools.js',
+      'package/web/dist/springbones_creator_tools.wasm',
       'package/web/dist/springbones_wasm.js',
       'package/web/dist/springbones_wasm.wasm',
+      'package/web/errors.js',
+      'package/web/module_loader.js',
       'package/web/springbones.d.ts',
       'package/web/springbones.js',
       'package/web/three/README.md',
@@ -177,6 +183,7 @@ describe('the tarball', () => {
       'package/web/three/springBonesThree.d.ts',
       'package/web/three/springBonesThree.js',
       'package/web/version.js',
+      'package/web/wasm_memory.js',
     ]);
   });
 
@@ -187,7 +194,7 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './wasm']);
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './creator-tools-wasm', './package.json', './three', './wasm']);
     for (const entry of ['.', './three']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
