@@ -55,7 +55,12 @@ export interface CreateOptions {
   wasmUrl?: string | URL;
 }
 
-/** Loads the WebAssembly module. Node: reads the .wasm with fs; browsers: fetches it. */
+/**
+ * Loads the runtime WebAssembly module. Node: reads the .wasm with fs; browsers: fetches it. In a
+ * browser, the first idle period after it resolves loads, steps and frees a built-in two-joint
+ * rig (requestIdleCallback), so that compiling the load path is not part of the page's first
+ * loadRig; nothing of it remains (stats() is as before).
+ */
 export function createSpringBones(options?: CreateOptions): Promise<SpringBones>;
 
 /** data.springBones of a wearable (ADR-316). Unknown fields are tolerated. */

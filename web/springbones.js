@@ -18,6 +18,7 @@ import { checkKeys, optionsObject, toBytes, toJsonText } from './arguments.js';
 import { SpringBonesError, call, takeError } from './errors.js';
 import { instantiateModule, loadFailed } from './module_loader.js';
 import { version } from './version.js';
+import { warmUpWhenIdle } from './warm_up.js';
 import { withBytes, withUtf8 } from './wasm_memory.js';
 
 export { SpringBonesError };
@@ -44,7 +45,9 @@ export async function createSpringBones(options = {}) {
   } catch (cause) {
     throw loadFailed(kModuleUrl.href, cause);
   }
-  return new SpringBones(module, limits);
+  const sb = new SpringBones(module, limits);
+  warmUpWhenIdle(sb);
+  return sb;
 }
 
 // ---------------------------------------------------------------------------------------------
