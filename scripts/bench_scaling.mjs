@@ -154,7 +154,7 @@ function time(call) {
   return { ms: median(runs.slice(1).length ? runs.slice(1) : runs), outcome };
 }
 
-function cases(sb) {
+function cases(sb, tools) {
   const list = [];
   const dispose = (r) => r?.dispose?.();
   const wearableGlb = glb({ asset, nodes: wearableNodes() });
@@ -166,7 +166,7 @@ function cases(sb) {
   for (const [shape, make] of Object.entries(GLTF_SHAPES)) {
     const springBones = JSON.stringify(wearableSpringBones());
     list.push({ fn: 'loadRig', shape: `glTF: ${shape}`, make, input: (d) => glb(d), call: (x) => dispose(sb.loadRig(x, springBones, { contentHash: HASH })) });
-    list.push({ fn: 'detectSpringBones', shape: `glTF: ${shape}`, make, input: (d) => glb(d), call: (x) => sb.detectSpringBones(x, springBones, { contentHash: HASH }) });
+    list.push({ fn: 'detectSpringBones', shape: `glTF: ${shape}`, make, input: (d) => glb(d), call: (x) => tools.detectSpringBones(x, springBones, { contentHash: HASH }) });
     if (!shape.startsWith('nodes, deep springbone') && !shape.startsWith('nodes, one deep')) {
       list.push({ fn: 'loadVrm', shape: `glTF: ${shape}`, make, input: (d) => glb(typeof d === 'string' && shape.includes('deep') ? d : withVrm(d)), call: (x) => dispose(sb.loadVrm(x)) });
     } else {
@@ -176,12 +176,12 @@ function cases(sb) {
   }
   for (const [shape, make] of Object.entries(METADATA_SHAPES)) {
     list.push({ fn: 'loadRig', shape: `springBones: ${shape}`, make, input: textOf, call: (x) => dispose(sb.loadRig(wearableGlb, x, { contentHash: HASH })) });
-    list.push({ fn: 'detectSpringBones', shape: `springBones: ${shape}`, make, input: textOf, call: (x) => sb.detectSpringBones(wearableGlb, x, { contentHash: HASH }) });
-    list.push({ fn: 'setSpringBoneParams', shape: `springBones: ${shape}`, make, input: (d) => (typeof d === 'string' ? JSON.parse(d) : d), call: (x) => sb.setSpringBoneParams(x, entity(), 'BaseMale', 'springbone_0', entry) });
+    list.push({ fn: 'detectSpringBones', shape: `springBones: ${shape}`, make, input: textOf, call: (x) => tools.detectSpringBones(wearableGlb, x, { contentHash: HASH }) });
+    list.push({ fn: 'setSpringBoneParams', shape: `springBones: ${shape}`, make, input: (d) => (typeof d === 'string' ? JSON.parse(d) : d), call: (x) => tools.setSpringBoneParams(x, entity(), 'BaseMale', 'springbone_0', entry) });
   }
   for (const [shape, make] of Object.entries(ENTITY_SHAPES)) {
-    list.push({ fn: 'validateSpringBones', shape: `entity: ${shape}`, make, input: (d) => d, call: (x) => sb.validateSpringBones(x) });
-    list.push({ fn: 'setSpringBoneParams', shape: `entity: ${shape}`, make, input: (d) => d, call: (x) => sb.setSpringBoneParams(x.metadata.data.springBones, x, 'BaseMale', 'springbone_0', entry) });
+    list.push({ fn: 'validateSpringBones', shape: `entity: ${shape}`, make, input: (d) => d, call: (x) => tools.validateSpringBones(x) });
+    list.push({ fn: 'setSpringBoneParams', shape: `entity: ${shape}`, make, input: (d) => d, call: (x) => tools.setSpringBoneParams(x.metadata.data.springBones, x, 'BaseMale', 'springbone_0', entry) });
     list.push({ fn: 'loadRig', shape: `entity: ${shape}`, make, input: (d) => d, call: (x) => dispose(sb.loadRig(wearableGlb, x.metadata.data.springBones, { entity: x, bodyShape: 'BaseMale' })) });
   }
   for (const [shape, make] of Object.entries(VRM_SHAPES)) {
@@ -192,11 +192,12 @@ function cases(sb) {
 
 export async function runScaling({ filter = '' } = {}) {
   const sb = await createSpringBones();
+  const tools = await sb.creatorTools();
   const rows = [];
   const pad = (s, n) => String(s).padEnd(n);
   console.log(`scaling: each shape at N = ${SMALL / 1024} KiB and 4N = ${LARGE / 1024} KiB; ratio = time(4N) / time(N), linear ~4, flagged above ${MAX_RATIO}; 1 MiB target ${TARGET_MS} ms`);
   console.log(`${pad('function', 20)} ${pad('shape', 48)} ${pad('N ms', 9)} ${pad('4N ms', 9)} ${pad('ratio', 7)} outcome`);
-  for (const c of cases(sb)) {
+  for (const c of cases(sb, tools)) {
     if (filter && !`${c.fn} ${c.shape}`.includes(filter)) continue;
     const small = c.input(c.make(unitsFor(c.make, SMALL)));
     const rSmall = time(() => c.call(small));

@@ -199,8 +199,8 @@ async function validate({ entity: path, values }, out) {
     throw new LoadError(`${path}: not an entity or item (expected metadata.data or data with representations ` +
                         'and springBones; the models keys are checked against the representations\' main files)');
   }
-  const sb = await createSpringBones();
-  const errors = sb.validateSpringBones(entity);
+  const tools = await (await createSpringBones()).creatorTools();
+  const errors = tools.validateSpringBones(entity);
   if (values.json) {
     out.write(JSON.stringify({ file: path, valid: errors.length === 0, errors }, null, 2) + '\n');
   } else if (errors.length === 0) {

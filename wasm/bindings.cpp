@@ -1,9 +1,11 @@
-// embind bindings of the core: declarations over integers, pointers and strings, and nothing else.
+// embind bindings of the runtime module: declarations over integers, pointers and strings, and
+// nothing else. The creator tools (validation, Builder edits) are a second module with its own
+// bindings, wasm/creator_tools_bindings.cpp.
 //
 // Contract with web/springbones.js (the only caller; nothing here is public API):
 //  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
-//    then read once with takeError() as JSON {code, message, path}.
+//    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
 //  - Bulk data crosses as pointers into WASM memory (GLB bytes and springBones text in, driver
 //    matrices in, rotations out); structured data crosses as one JSON string each way, written and
 //    read by the core (rig_description.h, api_json.h).
@@ -26,12 +28,11 @@
 #include <nlohmann/json.hpp>
 
 #include "api_json.h"
-#include "builder_edits.h"
+#include "binding_errors.h"
 #include "content_hash.h"
 #include "entity.h"
 #include "rig_description.h"
 #include "springbones.h"
-#include "validation.h"
 #include "vrm_loader.h"
 
 namespace springbones {
@@ -54,35 +55,14 @@ std::unordered_map<int, std::unique_ptr<Instance>> g_instances;
 std::unordered_map<int, std::unique_ptr<Scene>> g_scenes;
 int g_next_handle = 1;
 
-// The pending error. Its code is the core's errorCodeName(), one of api_json.h's argument codes,
-// or one that only exists here: "out-of-memory", "internal-error", "bad-handle".
-ApiFailure g_error;
-
-int fail(ApiFailure failure) {
-  g_error = std::move(failure);
-  return 0;
-}
-int fail(std::string code, std::string message) { return fail(ApiFailure{std::move(code), std::move(message), ""}); }
-int fail(const Error& error) { return fail(toFailure(error)); }
+using bindings::fail;
+using bindings::guarded;
+using bindings::takeError;
 
 int newHandle() {
   // 2^31 - 1 handles per module lifetime; past that, refuse rather than wrap onto live ones.
   if (g_next_handle == INT32_MAX) throw std::length_error("out of handles");
   return g_next_handle++;
-}
-
-// Runs body, turning any C++ exception into the pending error. Returns body's result or 0.
-template <typename Body>
-int guarded(Body&& body) {
-  try {
-    return body();
-  } catch (const std::bad_alloc&) {
-    return fail("out-of-memory", "out of memory");
-  } catch (const std::exception& ex) {
-    return fail("internal-error", std::string("internal error: ") + ex.what());
-  } catch (...) {
-    return fail("internal-error", "internal error");
-  }
 }
 
 Instance* findInstance(int handle) {
@@ -96,17 +76,6 @@ int badHandle(const char* what, int handle) {
 
 // ---------------------------------------------------------------------------------------------
 // Entry points
-
-/// The pending error as JSON {code, message, path}, then clears it.
-std::string takeError() {
-  try {
-    const std::string text = failureJson(g_error);
-    g_error = ApiFailure{};
-    return text;
-  } catch (...) {
-    return R"({"code":"out-of-memory","message":"out of memory","path":""})";
-  }
-}
 
 /// The limits and defaults of the core (api_json.h limitsJson), read once by the JS API.
 std::string limits() { return limitsJson(); }
@@ -337,59 +306,6 @@ bool sceneIsActive(int scene, int slot) {
 
 bool disposeScene(int scene) { return g_scenes.erase(scene) == 1; }
 
-// ---------------------------------------------------------------------------------------------
-// Deploy-time validation and Builder edits
-
-/// The catalyst's errors for the entity as JSON [{path, message}], or "" with the error pending.
-std::string validateEntity(const std::string& entity_text, const std::string& marker) {
-  std::string text;
-  guarded([&] {
-    json entity;
-    if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
-    restoreNonFinite(entity, marker);
-    text = validationErrorsJson(validateSpringBones(entity));
-    return 1;
-  });
-  return text;
-}
-
-/// The spring-bone candidates of a GLB with their prefill values, as JSON {contentHash,
-/// candidates: [...], warnings: [...]}, or "" with the error pending. Same inputs as loadRig.
-std::string detectCandidates(std::uintptr_t data, std::size_t size, const std::string& metadata,
-                             const std::string& hash) {
-  std::string text;
-  guarded([&] {
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
-    Skeleton skeleton;
-    if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
-    const std::string key = hash.empty() ? contentHash(bytes, size) : hash;
-    ModelEntry model;
-    std::vector<Warning> warnings;
-    if (Error e = parseSpringBonesText(metadata, key, model, warnings)) return fail(e);
-    text = candidatesJson(key, detectSpringBones(skeleton, model), warnings);
-    return 1;
-  });
-  return text;
-}
-
-/// springBones with node_name's entry under the body shape's GLB hash set to params (JSON text;
-/// "null" removes it), as JSON text, or "" with the error pending.
-std::string setParams(const std::string& springbones_text, const std::string& entity_text,
-                      const std::string& body_shape, const std::string& node_name,
-                      const std::string& params_text) {
-  std::string text;
-  guarded([&] {
-    json springBones, entity, params, out;
-    if (ApiFailure f = parseArgument(springbones_text, "metadata", springBones)) return fail(std::move(f));
-    if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
-    if (ApiFailure f = parseArgument(params_text, "params", params)) return fail(std::move(f));
-    if (Error e = setSpringBoneParams(springBones, entity, body_shape, node_name, params, out)) return fail(e);
-    text = dumpReplacingInvalidUtf8(out);  // at most 64 levels deep
-    return 1;
-  });
-  return text;
-}
-
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
@@ -429,8 +345,5 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("sceneIsActive", &sceneIsActive);
   emscripten::function("sceneActivePtr", &sceneActivePtr);
   emscripten::function("disposeScene", &disposeScene);
-  emscripten::function("validateEntity", &validateEntity);
-  emscripten::function("detectCandidates", &detectCandidates);
-  emscripten::function("setParams", &setParams);
   emscripten::function("stats", &stats);
 }

@@ -23,7 +23,8 @@ export type SpringBonesErrorCode =
   | 'out-of-memory'               // WebAssembly memory could not grow
   | 'internal-error'              // a bug: please report it with the input
   | 'disposed'                    // the rig, instance or scene was used after dispose()
-  | 'module-not-found'            // web/dist/springbones_wasm.js is missing (not built)
+  | 'module-not-found'            // a module's glue (web/dist/springbones_wasm.js or
+                                  // springbones_creator_tools.js) is missing (not built)
   | 'module-load-failed';         // the .wasm could not be fetched, compiled or instantiated
 
 export class SpringBonesError extends Error {
@@ -47,11 +48,19 @@ export interface CreateOptions {
   wasm?: Response | WebAssembly.Module | PromiseLike<Response | WebAssembly.Module>;
   /** The .wasm bytes, when the caller has them (bundlers, service workers, tests). */
   wasmBinary?: ArrayBuffer | Uint8Array;
-  /** Where the .wasm is, resolved against web/dist/springbones_wasm.wasm. Default: that file. */
+  /**
+   * Where the .wasm is, resolved against the default: web/dist/springbones_wasm.wasm for
+   * createSpringBones, web/dist/springbones_creator_tools.wasm for sb.creatorTools().
+   */
   wasmUrl?: string | URL;
 }
 
-/** Loads the WebAssembly module. Node: reads the .wasm with fs; browsers: fetches it. */
+/**
+ * Loads the runtime WebAssembly module. Node: reads the .wasm with fs; browsers: fetches it. In a
+ * browser, the first idle period after it resolves loads, steps and frees a built-in two-joint
+ * rig (requestIdleCallback), so that compiling the load path is not part of the page's first
+ * loadRig; nothing of it remains (stats() is as before).
+ */
 export function createSpringBones(options?: CreateOptions): Promise<SpringBones>;
 
 /** data.springBones of a wearable (ADR-316). Unknown fields are tolerated. */
@@ -164,6 +173,25 @@ export interface SpringBones {
   /** The Decentraland content hash (CIDv1, "bafk..."/"bafy...") of the bytes, as the catalyst computes it. */
   contentHash(bytes: Uint8Array | ArrayBuffer): string;
   /**
+   * The creator tools: deploy-time validation and the Builder edits (validateSpringBones,
+   * detectSpringBones, setSpringBoneParams). They are a second WebAssembly module
+   * (dist/springbones_creator_tools.wasm, the package's `springbones/creator-tools-wasm`) that
+   * createSpringBones() never downloads: the first call downloads and starts it, every later call
+   * resolves to the same object (the first call's options apply). The options are
+   * createSpringBones's, for this module: a page can start the download itself and hand it over.
+   * A failed load rejects with SpringBonesError 'module-load-failed' ('module-not-found' when the
+   * glue is missing) and the next call tries again.
+   */
+  creatorTools(options?: CreateOptions): Promise<CreatorTools>;
+  /** A scene for stepping many instances in one call. */
+  createScene(): Scene;
+  /** Diagnostics: live handles, the WebAssembly memory size and the bytes malloc has handed out. */
+  stats(): { rigs: number; instances: number; scenes: number; heapBytes: number; heapInUse: number };
+}
+
+/** What sb.creatorTools() resolves to: the tools a creator (Builder) uses, never a preview. */
+export interface CreatorTools {
+  /**
    * The errors a catalyst would answer for the entity's data.springBones ([] when accepted):
    * the SpringBonesData schema of @dcl/schemas first (NaN and Infinity are "must be number"), then
    * every models key must be the main file hash of a current representation and every bone name
@@ -189,10 +217,8 @@ export interface SpringBones {
    */
   setSpringBoneParams(springBones: SpringBonesData | object | string | null | undefined, entity: object | string,
                       bodyShape: string, nodeName: string, params: SpringBoneParamsInput | null): SpringBonesData;
-  /** A scene for stepping many instances in one call. */
-  createScene(): Scene;
-  /** Diagnostics: live handles, the WebAssembly memory size and the bytes malloc has handed out. */
-  stats(): { rigs: number; instances: number; scenes: number; heapBytes: number; heapInUse: number };
+  /** Diagnostics of the creator-tools module: its memory size and the bytes malloc has handed out. */
+  stats(): { heapBytes: number; heapInUse: number };
 }
 
 export interface BoneParams {

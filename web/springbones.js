@@ -1,42 +1,29 @@
 // springbones: spring-bone physics for avatar wearables, the JavaScript API.
 //
-// A thin ES module over the WebAssembly core (wasm/bindings.cpp). The contract is
+// A thin ES module over the WebAssembly core's runtime module (wasm/bindings.cpp). The contract is
 // springbones.d.ts; docs/design.md ("Across the JavaScript boundary") explains it. What this file adds to the
 // core: argument checks before anything crosses into WASM (TypeError for wrong types, RangeError
 // for out-of-range values), one error type (SpringBonesError) for everything the core rejects,
 // frozen plain data for the rig description, and typed-array views over the instance buffers
 // that are rebuilt when WASM memory grows. Per frame exactly one call crosses the boundary
 // (instance.step, or scene.step for a whole page) and nothing is allocated on either side.
-// Deploy-time validation and the Builder edits run in the core too; structured inputs cross as
-// JSON text, once per call.
+// Deploy-time validation and the Builder edits are the creator tools, a second module loaded on
+// first use by sb.creatorTools() (creator_tools.js); structured inputs cross as JSON text, once
+// per call.
 //
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
-// copied next to this file. In Node the .wasm is read with fs and handed to the glue as
-// wasmBinary (the glue is built for the web only, see wasm/CMakeLists.txt); in browsers the glue
-// fetches it from dist/, relative to this file, with streaming compilation, unless the page
-// started that fetch itself and hands over the Response (the `wasm` option).
+// copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
+import { checkKeys, optionsObject, toBytes, toJsonText } from './arguments.js';
+import { SpringBonesError, call, takeError } from './errors.js';
+import { instantiateModule, loadFailed } from './module_loader.js';
 import { version } from './version.js';
+import { warmUpWhenIdle } from './warm_up.js';
+import { withBytes, withUtf8 } from './wasm_memory.js';
+
+export { SpringBonesError };
 
 const kModuleUrl = new URL('./dist/springbones_wasm.wasm', import.meta.url);
-const kIsNode =
-  typeof process === 'object' && process !== null && typeof process.versions === 'object' &&
-  process.versions !== null && typeof process.versions.node === 'string';
-
-/** Every failure the library reports, apart from TypeError/RangeError for bad arguments. */
-export class SpringBonesError extends Error {
-  /**
-   * @param {string} code stable identifier ("glb-truncated", "metadata-bad-json", "disposed", ...)
-   * @param {string} message human-readable description
-   * @param {string} [path] JSON pointer into springBones (or the entity) for metadata errors
-   */
-  constructor(code, message, path = '') {
-    super(message);
-    this.name = 'SpringBonesError';
-    this.code = code;
-    this.path = path;
-  }
-}
 
 /**
  * Loads and instantiates the WebAssembly module. Each call creates an independent module (its own
@@ -45,85 +32,22 @@ export class SpringBonesError extends Error {
  *          wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL}} [options]
  */
 export async function createSpringBones(options = {}) {
-  if (options === null || typeof options !== 'object') {
-    throw new TypeError('createSpringBones: options must be an object');
-  }
-  checkKeys('createSpringBones', options, ['wasm', 'wasmBinary', 'wasmUrl']);
-  const { wasm, wasmBinary, wasmUrl } = options;
-  const given = [wasm, wasmBinary, wasmUrl].filter((x) => x !== undefined).length;
-  if (given > 1) throw new TypeError('createSpringBones: give one of wasm, wasmBinary and wasmUrl');
-  if (wasm !== undefined && !(wasm instanceof WebAssembly.Module || isResponse(wasm) || typeof wasm?.then === 'function')) {
-    throw new TypeError('createSpringBones: wasm must be a Response, a WebAssembly.Module or a promise of one');
-  }
-  if (wasmBinary !== undefined && !(wasmBinary instanceof ArrayBuffer || wasmBinary instanceof Uint8Array)) {
-    throw new TypeError('createSpringBones: wasmBinary must be an ArrayBuffer or a Uint8Array');
-  }
-  if (wasmUrl !== undefined && typeof wasmUrl !== 'string' && !(wasmUrl instanceof URL)) {
-    throw new TypeError('createSpringBones: wasmUrl must be a string or a URL');
-  }
-  const url = wasmUrl === undefined ? kModuleUrl : new URL(wasmUrl, kModuleUrl);
-
-  let factory;
+  const module = await instantiateModule('createSpringBones', options, {
+    importGlue: () => import('./dist/springbones_wasm.js'),
+    glueFile: 'web/dist/springbones_wasm.js',
+    defaultUrl: kModuleUrl,
+  });
+  let limits;
   try {
-    ({ default: factory } = await import('./dist/springbones_wasm.js'));
-  } catch (cause) {
-    throw withCause(new SpringBonesError('module-not-found',
-        'the WebAssembly module (web/dist/springbones_wasm.js) could not be imported; build it ' +
-        `with scripts/build wasm (${cause?.message ?? cause})`), cause);
-  }
-
-  const loading = { source: wasm !== undefined ? 'the wasm option' : url.href };  // for the error
-  const moduleOptions = {};
-  try {
-    // The glue waits for the instance forever if instantiateWasm fails: the race reports it.
-    let instantiationFailed = new Promise(() => {});
-    if (wasm !== undefined) {
-      const compiled = await compileGiven(wasm, loading);
-      instantiationFailed = new Promise((_, reject) => {
-        moduleOptions.instantiateWasm = (imports, receiveInstance) => {
-          WebAssembly.instantiate(compiled, imports).then((instance) => receiveInstance(instance, compiled)).catch(reject);
-          return {};
-        };
-      });
-    } else if (wasmBinary !== undefined) {
-      moduleOptions.wasmBinary = wasmBinary;
-    } else if (kIsNode && url.protocol === 'file:') {
-      const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ 'node:fs/promises');
-      moduleOptions.wasmBinary = await readFile(url);
-    } else {
-      moduleOptions.locateFile = () => url.href;
-    }
-    const module = await Promise.race([factory(moduleOptions), instantiationFailed]);
     // The core's limits and defaults (api_json.h limitsJson), read once: the argument checks below
     // use them, so the JS API never types a limit of its own.
-    return new SpringBones(module, deepFreeze(JSON.parse(module.limits())));
+    limits = deepFreeze(JSON.parse(module.limits()));
   } catch (cause) {
-    throw withCause(new SpringBonesError('module-load-failed',
-        `the WebAssembly module (${loading.source}) could not be loaded: ${cause?.message ?? cause}`), cause);
+    throw loadFailed(kModuleUrl.href, cause);
   }
-}
-
-const isResponse = (x) => typeof Response === 'function' && x instanceof Response;
-
-/**
- * The `wasm` option as a compiled module: a Response (or its promise, e.g. a fetch the page started
- * before importing this library) compiles while it streams; a server that does not send
- * application/wasm gets the bytes compiled instead.
- */
-async function compileGiven(wasm, loading) {
-  const given = await wasm;
-  if (given instanceof WebAssembly.Module) {
-    if (!WebAssembly.Module.exports(given).some((e) => e.kind === 'memory')) {
-      throw new TypeError('the WebAssembly.Module given is not the springbones module (it exports no memory)');
-    }
-    return given;
-  }
-  if (!isResponse(given)) throw new TypeError('the wasm option resolved to neither a Response nor a WebAssembly.Module');
-  loading.source = given.url || 'a Response';
-  if (!given.ok) throw new Error(`HTTP ${given.status} ${given.statusText}`.trim());
-  const streams = typeof WebAssembly.compileStreaming === 'function' &&
-      (given.headers.get('Content-Type') ?? '').split(';')[0].trim() === 'application/wasm';
-  return streams ? WebAssembly.compileStreaming(given) : WebAssembly.compile(await given.arrayBuffer());
+  const sb = new SpringBones(module, limits);
+  warmUpWhenIdle(sb);
+  return sb;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -131,6 +55,7 @@ async function compileGiven(wasm, loading) {
 class SpringBones {
   #m;
   #limits;
+  #creatorTools;  // the promise of the first creatorTools() call
 
   constructor(module, limits) {
     this.#m = module;
@@ -184,75 +109,24 @@ class SpringBones {
   }
 
   /**
-   * The errors a catalyst would answer for the entity's data.springBones: the SpringBonesData
-   * schema first, then the cross-checks (models keys are mainFile hashes; bone names contain
-   * "springbone"). [] when it would be accepted. Each error: {path, message}.
+   * The creator tools (deploy-time validation and the Builder edits): a second WebAssembly
+   * module, downloaded and started by the first call; every later call returns the same tools.
+   * Takes the options createSpringBones takes, for the creator-tools module's .wasm
+   * (dist/springbones_creator_tools.wasm by default). A failed load rejects, and the next call
+   * tries again.
    */
-  validateSpringBones(entity) {
-    let text;
-    let marker = '';
-    if (typeof entity === 'string') {
-      text = entity;
-    } else if (entity !== null && typeof entity === 'object') {
-      // JSON has no NaN/Infinity; they go across as marked strings the core turns back into numbers.
-      marker = nonFiniteMarker();
-      text = stringifyArgument('validateSpringBones: entity', entity, (_key, value) =>
-        typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value);
-    } else {
-      throw new TypeError('validateSpringBones: entity must be an object or JSON text');
+  creatorTools(options = {}) {
+    if (this.#creatorTools === undefined) {
+      const m = this.#m;
+      const resolve = (where, opts) => resolveHash(m, where, opts);
+      this.#creatorTools = import('./creator_tools.js')
+        .then(({ loadCreatorTools }) => loadCreatorTools(options, resolve))
+        .catch((error) => {
+          this.#creatorTools = undefined;
+          throw error;
+        });
     }
-    const m = this.#m;
-    const result = call(() => m.validateEntity(text, marker));
-    if (result === '') throw takeError(m);
-    return JSON.parse(result);
-  }
-
-  /**
-   * The spring-bone candidates of a GLB (nodes whose name contains "springbone"), parents first,
-   * with the values a Builder should prefill: the existing entry of springBones for this GLB's
-   * models key, else the defaults. Never modifies anything.
-   */
-  detectSpringBones(glbBytes, springBones, options) {
-    const bytes = toBytes('detectSpringBones: glbBytes', glbBytes);
-    const metadataText = toJsonText('detectSpringBones: springBones', springBones, true);
-    const opts = optionsObject('detectSpringBones', options, kHashOptions);
-    const m = this.#m;
-    const hash = resolveHash(m, 'detectSpringBones', opts);
-    const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
-    if (result === '') throw takeError(m);
-    return JSON.parse(result).candidates.map((c) => {
-      const { stiffness, gravityPower, gravityDir, drag } = c.params;
-      const candidate = {
-        name: c.name, node: c.node, parent: c.parent, hasEntry: c.hasEntry, isRoot: c.isRoot,
-        params: { stiffness, gravityPower, gravityDir, drag },
-      };
-      if ('center' in c) candidate.center = c.center;
-      return candidate;
-    });
-  }
-
-  /**
-   * A new springBones object with nodeName's parameters set under the models key of the GLB that
-   * bodyShape wears in the entity (params null removes the entry). One entry serves a GLB shared
-   * by both body shapes; entries under hashes no representation uses are dropped; version is 1.
-   * The inputs are not modified.
-   */
-  setSpringBoneParams(springBones, entity, bodyShape, nodeName, params) {
-    const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true);
-    const entityText = toJsonText('setSpringBoneParams: entity', entity, false);
-    if (typeof bodyShape !== 'string') throw new TypeError('setSpringBoneParams: bodyShape must be a string');
-    if (bodyShape.length === 0) throw new RangeError('setSpringBoneParams: bodyShape must not be empty');
-    if (typeof nodeName !== 'string') throw new TypeError('setSpringBoneParams: nodeName must be a string');
-    if (nodeName.length === 0) throw new RangeError('setSpringBoneParams: nodeName must not be empty');
-    if (params !== null && (typeof params !== 'object' || Array.isArray(params))) {
-      throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
-    }
-    if (params !== null) checkFiniteParams(params);
-    const paramsText = stringifyArgument('setSpringBoneParams: params', params);
-    const m = this.#m;
-    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, paramsText));
-    if (result === '') throw takeError(m);
-    return JSON.parse(result);
+    return this.#creatorTools;
   }
 
   /** A scene: many instances stepped in one call, optionally only the nearest ones. */
@@ -304,7 +178,6 @@ class RigDescription {
 }
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
-const kTextEncoder = new TextEncoder();
 const kIntegrators = ['vrm', 'xpbd'];
 
 // Accessors into the private fields of instances and scenes for the other classes of this file,
@@ -703,21 +576,6 @@ function checkCoordinate(name, v) {
   if (!Number.isFinite(v)) throw new RangeError(`setBudget: ${name} must be finite, got ${v}`);
 }
 
-function checkKeys(where, object, allowed) {
-  for (const key of Object.keys(object)) {
-    if (!allowed.includes(key)) {
-      throw new TypeError(`${where}: unknown option '${key}' (known: ${allowed.join(', ')})`);
-    }
-  }
-}
-
-function optionsObject(where, options, allowed) {
-  if (options === undefined || options === null) return {};
-  if (typeof options !== 'object' || Array.isArray(options)) throw new TypeError(`${where}: options must be an object`);
-  checkKeys(where, options, allowed);
-  return options;
-}
-
 // Which models key applies (docs/semantics.md, "Which models entry"): the caller's hash, then the entity's; '' lets
 // the core hash the GLB itself.
 function resolveHash(m, where, options) {
@@ -798,163 +656,8 @@ function checkDt(dt) {
   if (!Number.isFinite(dt)) throw new RangeError(`step: dt must be finite, got ${dt}`);
 }
 
-// JSON would turn NaN or Infinity into null, which means something else in springBones
-// (center: null is world space): refuse them instead.
-function checkFiniteParams(params) {
-  for (const [key, value] of Object.entries(params)) {
-    const values = Array.isArray(value) ? value : [value];
-    for (const v of values) {
-      if (typeof v === 'number' && !Number.isFinite(v)) {
-        throw new RangeError(`setSpringBoneParams: params.${key} must be finite, got ${v}`);
-      }
-    }
-  }
-}
-
-// A prefix no real string in the entity will start with: drawn at random for each call.
-function nonFiniteMarker() {
-  let random = '';
-  for (let i = 0; i < 4; ++i) random += Math.floor(Math.random() * 0x100000000).toString(36);
-  return `\u0000springbones-non-finite-${random}:`;
-}
-
-function toBytes(what, value) {
-  if (value instanceof Uint8Array) return value;
-  if (value instanceof ArrayBuffer) return new Uint8Array(value);
-  throw new TypeError(`${what} must be a Uint8Array or an ArrayBuffer`);
-}
-
-// Objects are serialised; strings are taken as JSON text (the core parses and reports errors);
-// null/undefined is "no spring bones" where allowed.
-function toJsonText(what, value, allowNull) {
-  if (typeof value === 'string') return value;
-  if (value === null || value === undefined) {
-    if (allowNull) return 'null';
-    throw new TypeError(`${what} must be an object or JSON text`);
-  }
-  if (typeof value !== 'object') {
-    throw new TypeError(`${what} must be an object, JSON text${allowNull ? ', null or undefined' : ''}`);
-  }
-  return stringifyArgument(what, value);
-}
-
-// JSON.stringify of a caller's value. One nested too deeply for the engine's stack (thousands of
-// levels: V8 and JavaScriptCore throw a RangeError, Firefox an InternalError) is an invalid
-// argument, reported as the core reports params nested deeper than it edits, rather than an
-// engine error escaping the API. Cycles and BigInt still throw JSON.stringify's TypeError, and
-// an error thrown by a toJSON or a getter goes through as it is.
-function stringifyArgument(what, value, replacer) {
-  try {
-    return JSON.stringify(value, replacer);
-  } catch (error) {
-    if ((error instanceof RangeError || error?.name === 'InternalError') && nestsDeeperThan(value, kMaxArgumentDepth)) {
-      throw withCause(new SpringBonesError('invalid-argument',
-        `${what} nests too deeply to serialize as JSON (more than ${kMaxArgumentDepth} levels)`), error);
-    }
-    throw error;
-  }
-}
-
-// Far deeper than any springBones, entity or params (the core edits 64 levels), far shallower
-// than where JSON.stringify runs out of stack.
-const kMaxArgumentDepth = 1000;
-
-// Whether objects and arrays nest more than `limit` levels deep, walked without recursion over
-// own enumerable values (what JSON.stringify writes, toJSON aside). On the error path only: it
-// reads the properties a second time, and gives false if that throws.
-function nestsDeeperThan(value, limit) {
-  try {
-    const stack = [[value, 0]];
-    while (stack.length > 0) {
-      const [v, depth] = stack.pop();
-      if (v === null || typeof v !== 'object') continue;
-      if (depth >= limit) return true;
-      for (const child of Object.values(v)) stack.push([child, depth + 1]);
-    }
-  } catch {
-    // a getter or proxy that throws
-  }
-  return false;
-}
-
-// JSON text as UTF-8 bytes for the core. A lone surrogate (possible in a string, never in UTF-8)
-// is written as its 3-byte WTF-8 form instead of TextEncoder's U+FFFD, so the core still sees
-// text that is not UTF-8 and reports metadata-bad-json rather than reading a replaced name.
-function utf8Bytes(text) {
-  if (isWellFormed(text)) return kTextEncoder.encode(text);
-  const out = [];
-  for (const ch of text) {  // by code point: pairs stay together, lone surrogates come alone
-    const cp = ch.codePointAt(0);
-    if (cp >= 0xd800 && cp <= 0xdfff) {
-      out.push(0xe0 | (cp >> 12), 0x80 | ((cp >> 6) & 0x3f), 0x80 | (cp & 0x3f));
-    } else {
-      out.push(...kTextEncoder.encode(ch));
-    }
-  }
-  return Uint8Array.from(out);
-}
-
-// String.prototype.isWellFormed is recent (2023); the regex is the fallback for older engines.
-function isWellFormed(text) {
-  return typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
-}
-
-// Text as UTF-8 bytes in WASM memory for the duration of fn(ptr, size): encoded straight into
-// the heap when it is well formed (no intermediate array), else through utf8Bytes.
-function withUtf8(m, text, fn) {
-  if (!isWellFormed(text)) return withBytes(m, utf8Bytes(text), fn);
-  const capacity = Math.max(1, 3 * text.length);  // UTF-8 takes at most 3 bytes per UTF-16 unit
-  const ptr = m._malloc(capacity);
-  if (ptr === 0) {
-    throw new SpringBonesError('out-of-memory', `could not allocate ${capacity} bytes in WebAssembly memory`);
-  }
-  try {
-    const { written } = kTextEncoder.encodeInto(text, m.HEAPU8.subarray(ptr, ptr + capacity));
-    return call(() => fn(ptr, written));
-  } finally {
-    m._free(ptr);
-  }
-}
-
-// Copies bytes into WASM memory for the duration of fn(ptr, size).
-function withBytes(m, bytes, fn) {
-  const ptr = m._malloc(Math.max(1, bytes.length));
-  if (ptr === 0) {
-    throw new SpringBonesError('out-of-memory', `could not allocate ${bytes.length} bytes in WebAssembly memory`);
-  }
-  try {
-    m.HEAPU8.set(bytes, ptr);  // read HEAPU8 after malloc: it may have grown the memory
-    return call(() => fn(ptr, bytes.length));
-  } finally {
-    m._free(ptr);
-  }
-}
-
-// The bindings catch every C++ exception; what can still come out of a call is a trap (a bug in
-// the core, or running out of stack) or embind's own argument errors. Both become errors of ours.
-function call(fn) {
-  try {
-    return fn();
-  } catch (cause) {
-    if (cause instanceof WebAssembly.RuntimeError) {
-      throw withCause(new SpringBonesError('internal-error', `WebAssembly trap: ${cause.message}`), cause);
-    }
-    throw cause;
-  }
-}
-
-function takeError(m) {
-  const { code, message, path } = JSON.parse(m.takeError());
-  return new SpringBonesError(code, message, path);
-}
-
 function disposedError(what) {
   return new SpringBonesError('disposed', `the ${what} has been disposed`);
-}
-
-function withCause(error, cause) {
-  Object.defineProperty(error, 'cause', { value: cause, configurable: true, writable: true });
-  return error;
 }
 
 function deepFreeze(value) {

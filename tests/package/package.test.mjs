@@ -47,7 +47,7 @@ function run(command, args, cwd, env = {}) {
 function makeProject(name, dependencies, devDependencies = {}) {
   const dir = mkdtempSync(join(tmpdir(), `springbones-${name}-`));
   cpSync(consumer, dir, { recursive: true });
-  for (const target of [join(dir, 'assets'), join(dir, 'web', 'public')]) {
+  for (const target of [join(dir, 'assets'), join(dir, 'web', 'public'), join(dir, 'web-inline', 'public')]) {
     mkdirSync(target, { recursive: true });
     for (const file of sampleAssets) cpSync(join(root, 'web', 'demo', 'assets', file), join(target, file));
   }
@@ -144,12 +144,17 @@ function startViteDevServer(project, dir) {
   });
 }
 
-/** What the page must show in either bundle: the package loaded, the sample's bones moved. */
-function assertPageWorked({ result, messages, wasm }, where) {
+/**
+ * What the page must show in every bundle: the package loaded, the sample's bones moved, and one
+ * .wasm fetched (none for springbones/inline, whose module is in the JavaScript).
+ */
+function assertPageWorked({ result, messages, wasm }, where, { wasmFetched = 1 } = {}) {
   assert.deepEqual(messages, [], `${where}: the console stays clean`);
-  assert.equal(wasm.length, 1, `${where}: one .wasm fetched: ${JSON.stringify(wasm)}`);
-  assert.equal(wasm[0].status, 200);
-  assert.equal(wasm[0].type, 'application/wasm');
+  assert.equal(wasm.length, wasmFetched, `${where}: ${wasmFetched} .wasm fetched: ${JSON.stringify(wasm)}`);
+  for (const response of wasm) {
+    assert.equal(response.status, 200);
+    assert.equal(response.type, 'application/wasm');
+  }
   assert.equal(result.version, repoPackage.version);
   assert.equal(result.joints, 15);
   assert.equal(result.warnings, 0);
@@ -165,7 +170,7 @@ before(() => {
 });
 
 describe('the tarball', () => {
-  test('holds the runtime only: the module, its .wasm and glue, the adapter, their types, the READMEs, CHANGELOG, LICENSE', () => {
+  test('holds what runs: the minified API, adapter and glue, both modules, the inline entry, their types, the READMEs, CHANGELOG, LICENSE', () => {
     const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
     assert.deepEqual(files, [
       'package/CHANGELOG.md',
@@ -173,28 +178,25 @@ describe('the tarball', () => {
       'package/README.md',
       'package/package.json',
       'package/web/babylon/README.md',
-      'package/web/babylon/currentWorldMatrices.js',
-      'package/web/babylon/handedness.js',
       'package/web/babylon/index.d.ts',
-      'package/web/babylon/index.js',
       'package/web/babylon/springBoneSimulation.d.ts',
-      'package/web/babylon/springBoneSimulation.js',
       'package/web/babylon/springBonesLoaderExtension.d.ts',
-      'package/web/babylon/springBonesLoaderExtension.js',
-      'package/web/babylon/wearableMetadata.js',
-      'package/web/babylon/wearableSkeleton.js',
-      'package/web/dist/springbones_wasm.js',
+      'package/web/dist/babylon.min.js',
+      'package/web/dist/chunk.min.js',
+      'package/web/dist/creator_tools.min.js',
+      'package/web/dist/inline.min.js',
+      'package/web/dist/springbones.min.js',
+      'package/web/dist/springbones_creator_tools.min.js',
+      'package/web/dist/springbones_creator_tools.wasm',
+      'package/web/dist/springbones_wasm.min.js',
       'package/web/dist/springbones_wasm.wasm',
+      'package/web/dist/three.min.js',
+      'package/web/inline.d.ts',
       'package/web/springbones.d.ts',
-      'package/web/springbones.js',
       'package/web/three/README.md',
       'package/web/three/index.d.ts',
-      'package/web/three/index.js',
       'package/web/three/springBonesLoaderPlugin.d.ts',
-      'package/web/three/springBonesLoaderPlugin.js',
       'package/web/three/springBonesThree.d.ts',
-      'package/web/three/springBonesThree.js',
-      'package/web/version.js',
     ]);
   });
 
@@ -205,8 +207,8 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './package.json', './three', './wasm']);
-    for (const entry of ['.', './three', './babylon']) {
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './creator-tools-wasm', './inline', './package.json', './three', './wasm']);
+    for (const entry of ['.', './three', './babylon', './inline']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
     }
@@ -233,8 +235,8 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
   after(() => removeProject(project));
 
   test('Node: node --test loads the sample, steps and reads rotations from the installed package', () => {
-    run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs'],
-        project, { SPRINGBONES_THREE_REVISION: kThreeHighest.split('.')[1] });
+    run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs',
+      'node/inline.spec.mjs'], project, { SPRINGBONES_THREE_REVISION: kThreeHighest.split('.')[1] });
   });
 
   test('TypeScript: tsc --noEmit --strict on a consumer of both .d.ts (bundler and NodeNext resolution)', () => {
@@ -271,6 +273,21 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
         .replace('./viteEntry.js', './esbuildEntry.js'));
     const page = await openBundle(dist);
     assertPageWorked(page, 'esbuild');
+  });
+
+  test('springbones/inline, Vite with no configuration: vite build, served, in Chromium: no .wasm fetched, the bones move', async () => {
+    const root = join(project, 'web-inline');
+    run(bin(project, 'vite'), ['build', '--logLevel', 'warn'], root);
+    assertPageWorked(await openBundle(join(root, 'dist')), 'vite inline', { wasmFetched: 0 });
+  });
+
+  test('springbones/inline, esbuild with no configuration (--bundle alone): served, in Chromium: no .wasm fetched, the bones move', async () => {
+    const dist = join(project, 'esbuild-inline-dist');
+    run(bin(project, 'esbuild'), ['web-inline/inlineEntry.js', '--bundle', '--format=esm', '--log-level=warning',
+      `--outdir=${dist}`], project);
+    cpSync(join(project, 'web-inline', 'public'), dist, { recursive: true });
+    cpSync(join(project, 'web-inline', 'index.html'), join(dist, 'index.html'));
+    assertPageWorked(await openBundle(dist), 'esbuild inline', { wasmFetched: 0 });
   });
 });
 

@@ -17,10 +17,12 @@ const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
 const kBaseFemale = 'urn:decentraland:off-chain:base-avatars:BaseFemale';
 
 describe('createSpringBones', () => {
-  test('resolves to an object with every entry point and stats', () => {
-    for (const name of ['loadRig', 'loadVrm', 'contentHash', 'validateSpringBones', 'detectSpringBones',
-                        'setSpringBoneParams', 'createScene', 'stats']) {
+  test('resolves to an object with every entry point of the runtime and stats', () => {
+    for (const name of ['loadRig', 'loadVrm', 'contentHash', 'creatorTools', 'createScene', 'stats']) {
       assert.equal(typeof sb[name], 'function', name);
+    }
+    for (const name of ['validateSpringBones', 'detectSpringBones', 'setSpringBoneParams']) {
+      assert.equal(sb[name], undefined, `${name} is a creator tool (sb.creatorTools())`);
     }
     assert.deepEqual(Object.keys(sb.stats()).sort(), ['heapBytes', 'heapInUse', 'instances', 'rigs', 'scenes']);
   });
@@ -49,6 +51,52 @@ describe('createSpringBones', () => {
     await assert.rejects(createSpringBones({ wasmBinary: 'bytes' }), TypeError);
     await assert.rejects(createSpringBones({ wasmUrl: 7 }), TypeError);
     await assert.rejects(createSpringBones({ wasmURL: 'typo' }), TypeError);
+  });
+});
+
+describe('creatorTools', () => {
+  test('loads the creator-tools module once: every call gives the same tools', async () => {
+    const other = await createSpringBones();
+    const first = other.creatorTools();
+    assert.equal(other.creatorTools(), first, 'a second call while loading waits for the same load');
+    const tools = await first;
+    for (const name of ['validateSpringBones', 'detectSpringBones', 'setSpringBoneParams', 'stats']) {
+      assert.equal(typeof tools[name], 'function', name);
+    }
+    assert.equal(await other.creatorTools(), tools);
+    assert.deepEqual(Object.keys(tools.stats()).sort(), ['heapBytes', 'heapInUse']);
+    assert.equal(other.stats().rigs, 0, 'the tools leave no rig in the runtime');
+  });
+
+  test('takes the module\'s bytes or its URL, as createSpringBones does', async () => {
+    const bytes = await readFile(new URL('../../web/dist/springbones_creator_tools.wasm', import.meta.url));
+    const fromBytes = await (await createSpringBones()).creatorTools({ wasmBinary: bytes });
+    assert.deepEqual(fromBytes.validateSpringBones({ metadata: { data: {} } }), []);
+    const fromUrl = await (await createSpringBones()).creatorTools({ wasmUrl: './springbones_creator_tools.wasm' });
+    assert.equal(fromUrl.detectSpringBones(springRig().glb).length, 4, 'three joints and the tip');
+  });
+
+  test('a failed load rejects with module-load-failed, bad options with TypeError, and the next call tries again', async () => {
+    const other = await createSpringBones();
+    await assert.rejects(other.creatorTools({ wasmUrl: './does-not-exist.wasm' }),
+                         (e) => e instanceof SpringBonesError && e.code === 'module-load-failed');
+    await assert.rejects(other.creatorTools(42), TypeError);
+    await assert.rejects(other.creatorTools({ wasmURL: 'typo' }), TypeError);
+    await assert.rejects(other.creatorTools({ wasmBinary: 'bytes' }), TypeError);
+    const tools = await other.creatorTools();
+    assert.equal(typeof tools.validateSpringBones, 'function');
+  });
+
+  test('detectSpringBones reads the entity through the runtime, as loadRig does', async () => {
+    const tools = await sb.creatorTools();
+    const { glb, springBones, hash } = springRig();
+    const entity = { content: [{ file: 'a.glb', hash }], metadata: { data: { representations: [
+      { bodyShapes: [kBaseMale], mainFile: 'a.glb' }] } } };
+    const byEntity = tools.detectSpringBones(glb, springBones, { entity, bodyShape: kBaseMale });
+    assert.deepEqual(byEntity, tools.detectSpringBones(glb, springBones, { contentHash: hash }));
+    assert.ok(byEntity.some((c) => c.hasEntry));
+    assert.throws(() => tools.detectSpringBones(glb, springBones, { entity, bodyShape: kBaseFemale }),
+                  (e) => e instanceof SpringBonesError && e.code === 'invalid-argument');
   });
 });
 

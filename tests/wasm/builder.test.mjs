@@ -8,8 +8,10 @@ import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { contentHashOf, fixture, springRig } from './helpers.mjs';
 
 let sb;
+let tools;  // sb.creatorTools(): validation and the Builder edits
 before(async () => {
   sb = await createSpringBones();
+  tools = await sb.creatorTools();
 });
 
 const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
@@ -35,7 +37,7 @@ function entityWearing(files, springBones = null) {
 describe('detectSpringBones', () => {
   test('every node whose name contains "springbone", parents first, prefilled from the GLB\'s entry', () => {
     const before = Uint8Array.from(hairGlb);
-    const candidates = sb.detectSpringBones(hairGlb, hairMetadata);
+    const candidates = tools.detectSpringBones(hairGlb, hairMetadata);
     assert.deepEqual(Uint8Array.from(hairGlb), before, 'the GLB bytes are untouched');
     assert.ok(candidates.length > 10);
     for (const [i, c] of candidates.entries()) {
@@ -65,7 +67,7 @@ describe('detectSpringBones', () => {
 
   test('without an entry for the GLB: defaults, and the top-most candidates are roots', () => {
     for (const springBones of [undefined, null, { version: 1, models: { other: {} } }]) {
-      const candidates = sb.detectSpringBones(hairGlb, springBones);
+      const candidates = tools.detectSpringBones(hairGlb, springBones);
       assert.ok(candidates.length > 10);
       for (const c of candidates) {
         assert.equal(c.hasEntry, false);
@@ -77,27 +79,29 @@ describe('detectSpringBones', () => {
 
   test('the models key comes from contentHash or the entity, as in loadRig', () => {
     const { glb, springBones, hash } = springRig({ chains: 2, hash: 'QmRig', params: { stiffness: 3.5 } });
-    assert.ok(sb.detectSpringBones(glb, springBones).every((c) => !c.hasEntry));
-    const byHash = sb.detectSpringBones(glb, springBones, { contentHash: hash });
+    assert.ok(tools.detectSpringBones(glb, springBones).every((c) => !c.hasEntry));
+    const byHash = tools.detectSpringBones(glb, springBones, { contentHash: hash });
     assert.deepEqual(byHash.filter((c) => c.hasEntry).map((c) => [c.name, c.params.stiffness]),
                      [['SpringBone_0_0', 3.5], ['SpringBone_1_0', 3.5]]);
     const entity = entityWearing({ [kBaseMale]: ['rig.glb', hash] });
-    assert.deepEqual(sb.detectSpringBones(glb, springBones, { entity, bodyShape: 'BaseMale' }), byHash);
+    assert.deepEqual(tools.detectSpringBones(glb, springBones, { entity, bodyShape: 'BaseMale' }), byHash);
   });
 
   test('bad input: TypeError before crossing, SpringBonesError after, the module keeps working', () => {
     const before = sb.stats();
-    for (const bad of [undefined, 'x', [1], new Float32Array(2)]) assert.throws(() => sb.detectSpringBones(bad), TypeError);
-    assert.throws(() => sb.detectSpringBones(hairGlb, 42), TypeError);
-    assert.throws(() => sb.detectSpringBones(hairGlb, null, { hash: 'x' }), TypeError);
-    assert.throws(() => sb.detectSpringBones(hairGlb, null, { contentHash: '' }), RangeError);
-    assert.throws(() => sb.detectSpringBones(new Uint8Array([1, 2, 3, 4]), null),
+    const toolsBefore = tools.stats();
+    for (const bad of [undefined, 'x', [1], new Float32Array(2)]) assert.throws(() => tools.detectSpringBones(bad), TypeError);
+    assert.throws(() => tools.detectSpringBones(hairGlb, 42), TypeError);
+    assert.throws(() => tools.detectSpringBones(hairGlb, null, { hash: 'x' }), TypeError);
+    assert.throws(() => tools.detectSpringBones(hairGlb, null, { contentHash: '' }), RangeError);
+    assert.throws(() => tools.detectSpringBones(new Uint8Array([1, 2, 3, 4]), null),
                   (e) => e instanceof SpringBonesError && e.code === 'glb-bad-magic');
-    assert.throws(() => sb.detectSpringBones(hairGlb, '{"version": 1, '),
+    assert.throws(() => tools.detectSpringBones(hairGlb, '{"version": 1, '),
                   (e) => e instanceof SpringBonesError && e.code === 'metadata-bad-json');
-    assert.throws(() => sb.detectSpringBones(hairGlb, null, { entity: {}, bodyShape: 'BaseMale' }), SpringBonesError);
+    assert.throws(() => tools.detectSpringBones(hairGlb, null, { entity: {}, bodyShape: 'BaseMale' }), SpringBonesError);
     assert.deepEqual(sb.stats(), before);
-    assert.ok(sb.detectSpringBones(hairGlb, hairMetadata).length > 10);
+    assert.deepEqual(tools.stats(), toolsBefore);
+    assert.ok(tools.detectSpringBones(hairGlb, hairMetadata).length > 10);
   });
 });
 
@@ -109,7 +113,7 @@ describe('setSpringBoneParams', () => {
     const springBones = { version: 1, models: { QmMale: { Tail_springbone: { ...params, stiffness: 4 } } } };
     const entityCopy = structuredClone(entity);
     const springBonesCopy = structuredClone(springBones);
-    const out = sb.setSpringBoneParams(springBones, entity, kBaseFemale, 'Hair_springbone', params);
+    const out = tools.setSpringBoneParams(springBones, entity, kBaseFemale, 'Hair_springbone', params);
     assert.deepEqual(entity, entityCopy);
     assert.deepEqual(springBones, springBonesCopy);
     assert.deepEqual(out, {
@@ -117,13 +121,13 @@ describe('setSpringBoneParams', () => {
       models: { QmFemale: { Hair_springbone: params }, QmMale: { Tail_springbone: { ...params, stiffness: 4 } } },
     });
     // The result validates against the same entity.
-    assert.deepEqual(sb.validateSpringBones({ ...entity, metadata: { data: { ...entity.metadata.data, springBones: out } } }), []);
+    assert.deepEqual(tools.validateSpringBones({ ...entity, metadata: { data: { ...entity.metadata.data, springBones: out } } }), []);
   });
 
   test('a GLB shared by both body shapes gets one entry, whichever shape is edited', () => {
     const entity = entityWearing({ [kBaseMale]: ['shared.glb', 'QmShared'], [kBaseFemale]: ['shared.glb', 'QmShared'] });
-    const first = sb.setSpringBoneParams(null, entity, 'BaseMale', 'Hair_springbone', params);
-    const second = sb.setSpringBoneParams(first, entity, 'BaseFemale', 'Hair_springbone', { ...params, drag: 0.9 });
+    const first = tools.setSpringBoneParams(null, entity, 'BaseMale', 'Hair_springbone', params);
+    const second = tools.setSpringBoneParams(first, entity, 'BaseFemale', 'Hair_springbone', { ...params, drag: 0.9 });
     assert.deepEqual(Object.keys(second.models), ['QmShared']);
     assert.deepEqual(second.models.QmShared, { Hair_springbone: { ...params, drag: 0.9 } });
   });
@@ -131,14 +135,14 @@ describe('setSpringBoneParams', () => {
   test('entries under hashes no representation uses are dropped (a re-uploaded GLB)', () => {
     const entity = entityWearing({ [kBaseMale]: ['male.glb', 'QmNew'] });
     const springBones = { version: 1, models: { QmOld: { Hair_springbone: params }, QmThumbnail: { Hair_springbone: params } } };
-    const out = sb.setSpringBoneParams(springBones, entity, kBaseMale, 'Ear_SpringBone', params);
+    const out = tools.setSpringBoneParams(springBones, entity, kBaseMale, 'Ear_SpringBone', params);
     assert.deepEqual(out, { version: 1, models: { QmNew: { Ear_SpringBone: params } } });
   });
 
   test('params null removes the entry', () => {
     const entity = entityWearing({ [kBaseMale]: ['male.glb', 'QmMale'] });
     const springBones = { version: 1, models: { QmMale: { Hair_springbone: params, Tail_springbone: params } } };
-    const out = sb.setSpringBoneParams(springBones, JSON.stringify(entity), kBaseMale, 'Hair_springbone', null);
+    const out = tools.setSpringBoneParams(springBones, JSON.stringify(entity), kBaseMale, 'Hair_springbone', null);
     assert.deepEqual(out, { version: 1, models: { QmMale: { Tail_springbone: params } } });
   });
 
@@ -147,7 +151,7 @@ describe('setSpringBoneParams', () => {
     const glbHash = sb.contentHash(glb);
     const entity = entityWearing({ [kBaseMale]: ['rig.glb', glbHash] });
     const before = Uint8Array.from(glb);
-    const springBones = sb.setSpringBoneParams(null, entity, kBaseMale, 'SpringBone_0_0', params);
+    const springBones = tools.setSpringBoneParams(null, entity, kBaseMale, 'SpringBone_0_0', params);
     assert.notEqual(hash, glbHash);
     assert.deepEqual(glb, before);
     const rig = sb.loadRig(glb, springBones, { entity, bodyShape: kBaseMale });
@@ -160,27 +164,29 @@ describe('setSpringBoneParams', () => {
   test('bad input: TypeError / RangeError before crossing, SpringBonesError after, the module keeps working', () => {
     const entity = entityWearing({ [kBaseMale]: ['male.glb', 'QmMale'] });
     const before = sb.stats();
+    const toolsBefore = tools.stats();
     const expectType = (type, fn) => assert.throws(fn, (e) => e instanceof type && !(e instanceof SpringBonesError));
-    expectType(TypeError, () => sb.setSpringBoneParams(42, entity, kBaseMale, 'a_springbone', params));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, null, kBaseMale, 'a_springbone', params));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, entity, 3, 'a_springbone', params));
-    expectType(RangeError, () => sb.setSpringBoneParams(null, entity, '', 'a_springbone', params));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, undefined, params));
-    expectType(RangeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, '', params));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', 'stiff'));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', [1]));
-    expectType(TypeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', undefined));
-    expectType(RangeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', { ...params, drag: NaN }));
-    expectType(RangeError, () => sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', { ...params, gravityDir: [0, Infinity, 0] }));
+    expectType(TypeError, () => tools.setSpringBoneParams(42, entity, kBaseMale, 'a_springbone', params));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, null, kBaseMale, 'a_springbone', params));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, entity, 3, 'a_springbone', params));
+    expectType(RangeError, () => tools.setSpringBoneParams(null, entity, '', 'a_springbone', params));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, undefined, params));
+    expectType(RangeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, '', params));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', 'stiff'));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', [1]));
+    expectType(TypeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', undefined));
+    expectType(RangeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', { ...params, drag: NaN }));
+    expectType(RangeError, () => tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', { ...params, gravityDir: [0, Infinity, 0] }));
     const expectCode = (code, fn) => assert.throws(fn, (e) => e instanceof SpringBonesError && e.code === code && e.message.length > 0);
-    expectCode('invalid-argument', () => sb.setSpringBoneParams(null, entity, kBaseMale, 'Avatar_Head', params));
-    expectCode('invalid-argument', () => sb.setSpringBoneParams(null, entity, kBaseFemale, 'a_springbone', params));
-    expectCode('metadata-invalid', () => sb.setSpringBoneParams('[1]', entity, kBaseMale, 'a_springbone', params));
-    expectCode('metadata-bad-json', () => sb.setSpringBoneParams('{', entity, kBaseMale, 'a_springbone', params));
-    expectCode('entity-bad-json', () => sb.setSpringBoneParams(null, '{', kBaseMale, 'a_springbone', params));
+    expectCode('invalid-argument', () => tools.setSpringBoneParams(null, entity, kBaseMale, 'Avatar_Head', params));
+    expectCode('invalid-argument', () => tools.setSpringBoneParams(null, entity, kBaseFemale, 'a_springbone', params));
+    expectCode('metadata-invalid', () => tools.setSpringBoneParams('[1]', entity, kBaseMale, 'a_springbone', params));
+    expectCode('metadata-bad-json', () => tools.setSpringBoneParams('{', entity, kBaseMale, 'a_springbone', params));
+    expectCode('entity-bad-json', () => tools.setSpringBoneParams(null, '{', kBaseMale, 'a_springbone', params));
     const deep = '{"a":'.repeat(100000) + '1' + '}'.repeat(100000);
-    expectCode('metadata-invalid', () => sb.setSpringBoneParams(deep, entity, kBaseMale, 'a_springbone', params));
+    expectCode('metadata-invalid', () => tools.setSpringBoneParams(deep, entity, kBaseMale, 'a_springbone', params));
     assert.deepEqual(sb.stats(), before);
-    assert.deepEqual(sb.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', params).models.QmMale, { a_springbone: params });
+    assert.deepEqual(tools.stats(), toolsBefore);
+    assert.deepEqual(tools.setSpringBoneParams(null, entity, kBaseMale, 'a_springbone', params).models.QmMale, { a_springbone: params });
   });
 });

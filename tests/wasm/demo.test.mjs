@@ -53,6 +53,7 @@ describe('sample assets', () => {
     const hash = await hashing.hashV1(glb);
     assert.deepEqual(Object.keys(metadata.models), [hash]);
     const sb = await createSpringBones();
+    const tools = await sb.creatorTools();
     assert.equal(sb.contentHash(glb), hash);
     const rig = sb.loadRig(glb, metadata);  // no hash given: the GLB's own
     assert.equal(rig.contentHash, hash);
@@ -61,7 +62,7 @@ describe('sample assets', () => {
     // the entity carries the same data, points its representations at the GLB and would deploy
     const entity = readJson(join(assets, 'hair_wearable.entity.json'));
     assert.deepEqual(entity.metadata.data.springBones, metadata);
-    assert.deepEqual(sb.validateSpringBones(entity), []);
+    assert.deepEqual(tools.validateSpringBones(entity), []);
     assert.deepEqual(representationsOf(entity).map((r) => r.mainFileHash), [hash]);
     const fromEntity = sb.loadRig(glb, entity.metadata.data.springBones, { entity, bodyShape: 'BaseFemale' });
     assert.equal(fromEntity.joints.length, 15);
@@ -71,7 +72,8 @@ describe('sample assets', () => {
     const bytes = readFileSync(join(assets, 'hair_wearable.glb'));
     const doc = gltfJson(bytes);
     const sb = await createSpringBones();
-    const candidates = sb.detectSpringBones(bytes);
+    const tools = await sb.creatorTools();
+    const candidates = tools.detectSpringBones(bytes);
     assert.equal(candidates.length, 20);
     const rootNames = candidates.filter((c) => c.parent === -1).map((c) => c.name);
     assert.deepEqual(rootNames, ['SpringBone_ponytail', 'hair_springbone_l', 'hair_springbone_r', 'springbone_earring_l', 'springbone_earring_r']);
@@ -97,19 +99,21 @@ describe('creator panel entity handling', () => {
 
   test('without an entity: the GLB is the only model, other keys are stale', async () => {
     const sb = await createSpringBones();
+    const tools = await sb.creatorTools();
     const springBones = { version: 1, models: { glbHash: { SpringBone_a: entry }, oldHash: { SpringBone_a: entry } } };
     const entity = entityWearing({ file: 'item.glb', hash: 'glbHash', springBones });
     assert.deepEqual(representationsOf(entity).map((r) => [r.bodyShapes.length, r.mainFileHash]), [[2, 'glbHash']]);
-    const errors = sb.validateSpringBones(entity);
+    const errors = tools.validateSpringBones(entity);
     assert.equal(errors.length, 1);
     assert.match(errors[0].message, /oldHash/);
-    const exported = sb.setSpringBoneParams(springBones, entity, 'BaseMale', 'SpringBone_a', entry);
+    const exported = tools.setSpringBoneParams(springBones, entity, 'BaseMale', 'SpringBone_a', entry);
     assert.deepEqual(Object.keys(exported.models), ['glbHash']);
-    assert.deepEqual(sb.validateSpringBones(entityWearing({ file: 'item.glb', hash: 'glbHash', springBones: exported })), []);
+    assert.deepEqual(tools.validateSpringBones(entityWearing({ file: 'item.glb', hash: 'glbHash', springBones: exported })), []);
   });
 
   test('with an entity of two GLBs: the edited one gets the new hash, the other body shape\'s is kept', async () => {
     const sb = await createSpringBones();
+    const tools = await sb.creatorTools();
     const entity = {
       content: [{ file: 'm.glb', hash: 'hm' }, { file: 'f.glb', hash: 'hf' }],
       metadata: { data: { representations: [
@@ -121,7 +125,7 @@ describe('creator panel entity handling', () => {
     const wearing = entityWearing({ entity, bodyShape: male, file: 'edited.glb', hash: 'newHash', springBones });
     assert.deepEqual(representationsOf(wearing).map((r) => r.mainFileHash), ['newHash', 'hf']);
     assert.deepEqual(representationsOf(entity).map((r) => r.mainFileHash), ['hm', 'hf'], 'the input is not modified');
-    const exported = sb.setSpringBoneParams(springBones, wearing, male, 'SpringBone_a', entry);
+    const exported = tools.setSpringBoneParams(springBones, wearing, male, 'SpringBone_a', entry);
     assert.deepEqual(Object.keys(exported.models).sort(), ['hf', 'newHash'], 'the old male hash is stale');
     // a Builder item ({contents, data}) is patched the same way
     const item = { contents: { 'm.glb': 'hm' }, data: { representations: [{ bodyShapes: [male, female], mainFile: 'm.glb' }] } };

@@ -9,8 +9,10 @@ import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { springRig } from './helpers.mjs';
 
 let sb;
+let tools;  // sb.creatorTools(): validation and the Builder edits
 before(async () => {
   sb = await createSpringBones();
+  tools = await sb.creatorTools();
 });
 
 function makeRandom(seed) {  // mulberry32
@@ -89,23 +91,25 @@ test('2,000 odd entities and edits: results or SpringBonesErrors, nothing leaks,
   const { glb, springBones } = springRig({ hash: 'QmA' });
   const cycle = (i) => {
     const e = entity();
-    const errors = expectReturnsOrSpringBonesError(() => sb.validateSpringBones(e), `validate ${i}`);
+    const errors = expectReturnsOrSpringBonesError(() => tools.validateSpringBones(e), `validate ${i}`);
     if (errors !== undefined) {
       assert.ok(Array.isArray(errors));
       for (const x of errors) assert.ok(typeof x.path === 'string' && typeof x.message === 'string' && x.message.length > 0);
     }
     const shape = pick(['BaseMale', 'urn:decentraland:off-chain:base-avatars:BaseFemale', 'x']);
     const out = expectReturnsOrSpringBonesError(
-      () => sb.setSpringBoneParams(value(3), e, shape, pick(['a_springbone', 'b_SpringBone', 'plain']), pick([null, {}, value(2)])), `set ${i}`);
+      () => tools.setSpringBoneParams(value(3), e, shape, pick(['a_springbone', 'b_SpringBone', 'plain']), pick([null, {}, value(2)])), `set ${i}`);
     if (out !== undefined) assert.equal(out.version, 1);
-    expectReturnsOrSpringBonesError(() => sb.detectSpringBones(glb, value(4), pick([undefined, { entity: e, bodyShape: shape }])), `detect ${i}`);
+    expectReturnsOrSpringBonesError(() => tools.detectSpringBones(glb, value(4), pick([undefined, { entity: e, bodyShape: shape }])), `detect ${i}`);
     const rig = expectReturnsOrSpringBonesError(() => sb.loadRig(glb, springBones, { entity: e, bodyShape: shape }), `load ${i}`);
     rig?.dispose();
   };
   for (let i = 0; i < 50; ++i) cycle(i);
   const before = sb.stats();
+  const toolsBefore = tools.stats();
   for (let i = 50; i < 2000; ++i) cycle(i);
   assert.deepEqual(sb.stats(), before);
+  assert.deepEqual(tools.stats(), toolsBefore);
   const rig = sb.loadRig(glb, springBones, { contentHash: 'QmA' });
   assert.equal(rig.joints.length, 3);
   rig.dispose();

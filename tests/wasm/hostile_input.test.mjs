@@ -9,8 +9,10 @@ import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { fixture, glbBytes, glbOfText, gltfBytes } from './helpers.mjs';
 
 let sb;
+let tools;  // sb.creatorTools(): validation and the Builder edits
 before(async () => {
   sb = await createSpringBones();
+  tools = await sb.creatorTools();
 });
 
 const kHash = 'bafkreihostile';
@@ -50,6 +52,7 @@ function hairMetadata(hairEntry) {
 
 function expectCode(code, fn) {
   const before = sb.stats();
+  const toolsBefore = tools.stats();
   assert.throws(fn, (e) => {
     assert.ok(e instanceof SpringBonesError, `${e}`);
     assert.equal(e.code, code, e.message);
@@ -59,6 +62,7 @@ function expectCode(code, fn) {
   const after = sb.stats();
   assert.equal(after.rigs, before.rigs);
   assert.equal(after.heapInUse, before.heapInUse, 'a failed load frees everything it allocated');
+  assert.equal(tools.stats().heapInUse, toolsBefore.heapInUse, 'a failed edit frees everything it allocated');
 }
 
 function assertFiniteUnit(rotations, when = '') {
@@ -316,12 +320,12 @@ describe('Builder edits', () => {
 
   test('params or springBones nested deeper than 64 levels are errors, 64 levels are edited', () => {
     // params (1 level) + 63 arrays = 64 levels: allowed; one more is invalid-argument.
-    const edited = sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(63) });
+    const edited = tools.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(63) });
     assert.deepEqual(edited.models[kHash].SpringBone_hair.custom, nest(63));
-    expectCode('invalid-argument', () => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(64) }));
+    expectCode('invalid-argument', () => tools.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1, custom: nest(64) }));
     // Existing metadata carried over by the edit: the same limit, metadata-invalid.
     const deepText = `{"version":1,"models":{"${kHash}":{"SpringBone_hair":{"custom":${'['.repeat(200000)}${']'.repeat(200000)}}}}}`;
-    expectCode('metadata-invalid', () => sb.setSpringBoneParams(deepText, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
+    expectCode('metadata-invalid', () => tools.setSpringBoneParams(deepText, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
     // A JavaScript object nested 200,000 deep cannot even be serialized (JSON.stringify runs out
     // of stack): invalid-argument like the 64 levels above, naming the argument, with the engine's
     // error as the cause; nothing reaches WebAssembly and the module keeps working.
@@ -335,11 +339,11 @@ describe('Builder edits', () => {
         return true;
       });
     };
-    expectTooDeep('setSpringBoneParams: params', () => sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { custom: deep }));
+    expectTooDeep('setSpringBoneParams: params', () => tools.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { custom: deep }));
     expectTooDeep('setSpringBoneParams: springBones', () =>
-      sb.setSpringBoneParams({ version: 1, models: { [kHash]: { SpringBone_hair: { custom: deep } } } }, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
-    expectTooDeep('setSpringBoneParams: entity', () => sb.setSpringBoneParams(null, { ...entity, deep }, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
-    assert.equal(sb.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 3 }).models[kHash].SpringBone_hair.stiffness, 3);
+      tools.setSpringBoneParams({ version: 1, models: { [kHash]: { SpringBone_hair: { custom: deep } } } }, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
+    expectTooDeep('setSpringBoneParams: entity', () => tools.setSpringBoneParams(null, { ...entity, deep }, 'BaseMale', 'SpringBone_hair', { stiffness: 1 }));
+    assert.equal(tools.setSpringBoneParams(null, entity, 'BaseMale', 'SpringBone_hair', { stiffness: 3 }).models[kHash].SpringBone_hair.stiffness, 3);
   });
 
   test('objects nested too deeply for JSON.stringify are invalid-argument in every call that serializes them', () => {
@@ -349,8 +353,8 @@ describe('Builder edits', () => {
     const calls = [
       ['loadRig: springBones', () => sb.loadRig(hairGlb, springBones, { contentHash: kHash })],
       ['loadRig: entity', () => sb.loadRig(hairGlb, null, { entity, bodyShape: 'BaseMale' })],
-      ['detectSpringBones: springBones', () => sb.detectSpringBones(hairGlb, springBones, { contentHash: kHash })],
-      ['validateSpringBones: entity', () => sb.validateSpringBones(entity)],
+      ['detectSpringBones: springBones', () => tools.detectSpringBones(hairGlb, springBones, { contentHash: kHash })],
+      ['validateSpringBones: entity', () => tools.validateSpringBones(entity)],
     ];
     for (const [what, fn] of calls) {
       expectCode('invalid-argument', fn);

@@ -15,8 +15,10 @@ import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { fixture } from './helpers.mjs';
 
 let sb;
+let tools;  // sb.creatorTools(): validation and the Builder edits
 before(async () => {
   sb = await createSpringBones();
+  tools = await sb.creatorTools();
 });
 
 const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
@@ -45,7 +47,7 @@ describe('the recorded cases (tests/fixtures/validation_cases.json)', () => {
     for (const c of cases) {
       const input = decodeNonFinite(c.input);
       const entity = { content: c.content, metadata: { data: { representations: c.representations, springBones: input } } };
-      const errors = sb.validateSpringBones(entity);
+      const errors = tools.validateSpringBones(entity);
       // Documented difference (tests/native/validation_test.cpp RejectsFalsyValuesOtherThanNull):
       // the catalyst's rule skips false, 0 and '', but its Wearable schema rejects them first.
       const falsyNotNull = !input && input !== null && input !== undefined;
@@ -157,7 +159,7 @@ describe('documents generated as JavaScript values', () => {
       const doc = next();
       const ajvValid = SpringBonesData.validate(doc);
       const expected = (SpringBonesData.validate.errors ?? []).map((e) => `springBones${e.instancePath} ${e.message}`);
-      const errors = sb.validateSpringBones(entityCovering(doc));
+      const errors = tools.validateSpringBones(entityCovering(doc));
       const label = `case ${i}: ${JSON.stringify(doc, (_k, v) => (typeof v === 'number' && !Number.isFinite(v) ? String(v) : v))}`;
       assert.equal(errors.length === 0, ajvValid, label);
       // Ajv orders some errors by the schema, we by the data's keys: compare as multisets.
@@ -180,7 +182,7 @@ describe('the entity and the API', () => {
     for (const value of [undefined, null]) {
       const entity = entityCovering(springBones);
       entity.metadata.data.springBones = value;
-      assert.deepEqual(sb.validateSpringBones(entity), []);
+      assert.deepEqual(tools.validateSpringBones(entity), []);
     }
   });
 
@@ -188,7 +190,7 @@ describe('the entity and the API', () => {
     const bad = structuredClone(springBones);
     bad.models.Qm1.Hair_springbone.drag = 2;
     bad.models.Qm1['a/b~c'] = { stiffness: NaN, gravityPower: 0, gravityDir: [0, -1, 0], drag: 0.5 };
-    const errors = sb.validateSpringBones(entityCovering(bad));
+    const errors = tools.validateSpringBones(entityCovering(bad));
     assert.deepEqual(errors, [
       { path: '/models/Qm1/Hair_springbone/drag', message: 'springBones/models/Qm1/Hair_springbone/drag must be <= 1' },
       { path: '/models/Qm1/a~1b~0c/stiffness', message: 'springBones/models/Qm1/a~1b~0c/stiffness must be number' },
@@ -201,7 +203,7 @@ describe('the entity and the API', () => {
       version: 1,
       models: { Qm1: springBones.models.Qm1, QmStale: { Hair_001: springBones.models.Qm1.Hair_springbone } },
     };
-    const errors = sb.validateSpringBones(entity);
+    const errors = tools.validateSpringBones(entity);
     assert.deepEqual(errors.map((e) => e.path), ['/models/QmStale', '/models/QmStale/Hair_001']);
     assert.ok(errors.every((e) => isCrossCheck(e.message)));
   });
@@ -210,29 +212,29 @@ describe('the entity and the API', () => {
     const bad = structuredClone(springBones);
     bad.version = 2;
     const entity = entityCovering(bad);
-    assert.deepEqual(sb.validateSpringBones(JSON.stringify(entity)), sb.validateSpringBones(entity));
-    assert.equal(sb.validateSpringBones(entity).length, 1);
+    assert.deepEqual(tools.validateSpringBones(JSON.stringify(entity)), tools.validateSpringBones(entity));
+    assert.equal(tools.validateSpringBones(entity).length, 1);
   });
 
   test('a string that looks like the non-finite marker stays a string', () => {
     const entity = entityCovering(structuredClone(springBones));
     entity.metadata.data.springBones.models.Qm1.Hair_springbone.center = '\u0000springbones-non-finite-x:NaN';
-    assert.deepEqual(sb.validateSpringBones(entity), []);
+    assert.deepEqual(tools.validateSpringBones(entity), []);
   });
 
   test('a Builder item ({contents, data}) is read too', () => {
     const item = { contents: { 'm.glb': 'Qm1' }, data: { representations: [{ bodyShapes: [kBaseMale], mainFile: 'm.glb' }], springBones } };
-    assert.deepEqual(sb.validateSpringBones(item), []);
+    assert.deepEqual(tools.validateSpringBones(item), []);
   });
 
   test('wrong argument types are TypeErrors; bad JSON text is entity-bad-json; the module keeps working', () => {
-    const before = sb.stats();
-    for (const bad of [undefined, null, 42, true, Symbol('x')]) assert.throws(() => sb.validateSpringBones(bad), TypeError);
-    assert.throws(() => sb.validateSpringBones('{"content": ['),
+    const before = tools.stats();
+    for (const bad of [undefined, null, 42, true, Symbol('x')]) assert.throws(() => tools.validateSpringBones(bad), TypeError);
+    assert.throws(() => tools.validateSpringBones('{"content": ['),
                   (e) => e instanceof SpringBonesError && e.code === 'entity-bad-json' && e.message.length > 0);
     const deep = '['.repeat(100000) + ']'.repeat(100000);
-    assert.ok(Array.isArray(sb.validateSpringBones(`{"metadata":{"data":{"springBones":${deep}}}}`)));
-    assert.deepEqual(sb.validateSpringBones(entityCovering(springBones)), []);
-    assert.equal(sb.stats().heapInUse, before.heapInUse);
+    assert.ok(Array.isArray(tools.validateSpringBones(`{"metadata":{"data":{"springBones":${deep}}}}`)));
+    assert.deepEqual(tools.validateSpringBones(entityCovering(springBones)), []);
+    assert.equal(tools.stats().heapInUse, before.heapInUse);
   });
 });

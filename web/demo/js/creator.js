@@ -65,11 +65,12 @@ export class Creator {
   constructor(preview) {
     this.preview = preview;
     this.sb = preview.sb;
+    this.tools = null;      // sb.creatorTools() (validation, Builder edits): loaded with the first GLB
     this.loader = new GLTFLoader();
     this.bytes = null;      // the GLB being edited
     this.name = '';
     this.hash = null;       // its content hash (the models key)
-    this.tree = null;       // { candidates (sb.detectSpringBones, with children), otherNodes }
+    this.tree = null;       // { candidates (tools.detectSpringBones, with children), otherNodes }
     this.entries = {};      // the edited models[hash]
     this.original = null;   // the springBones value that was loaded (other hashes survive export)
     this.entity = null;     // the entity, when one was loaded
@@ -211,6 +212,8 @@ export class Creator {
     const hash = this.sb.contentHash(bytes);
     const probe = this.sb.loadRig(bytes, null, { contentHash: hash });  // throws SpringBonesError
     probe.dispose();
+    // The creator tools are a second module that the preview never needed: downloaded now.
+    this.tools ??= await this.sb.creatorTools();
     const copy = bytes.slice().buffer;  // GLTFLoader may keep views on it
     const gltf = await this.loader.parseAsync(copy, ASSETS.href);
     if (!gltf.scene) await addDefaultScene(gltf);
@@ -219,12 +222,12 @@ export class Creator {
   }
 
   /**
-   * The GLB's spring-bone candidates (sb.detectSpringBones: parents first, defaults as params,
+   * The GLB's spring-bone candidates (tools.detectSpringBones: parents first, defaults as params,
    * top-most ones marked isRoot as the Builder prefills them), each with its children's slots,
    * and the names of the other nodes (the choices for `center`).
    */
   springBoneTree(bytes, hash, gltfJson) {
-    const candidates = this.sb.detectSpringBones(bytes, null, { contentHash: hash }).map((c) => ({ ...c, children: [] }));
+    const candidates = this.tools.detectSpringBones(bytes, null, { contentHash: hash }).map((c) => ({ ...c, children: [] }));
     candidates.forEach((c, slot) => { if (c.parent >= 0) candidates[c.parent].children.push(slot); });
     const spring = new Set(candidates.map((c) => c.node));
     const nodes = Array.isArray(gltfJson?.nodes) ? gltfJson.nodes : [];
@@ -317,10 +320,10 @@ export class Creator {
     return entityWearing({ entity: this.entity, bodyShape: this.bodyShape, file: this.name, hash: this.hash, springBones });
   }
 
-  /** sb.validateSpringBones on `springBones` as part of entityFor: [{path, message}]. */
+  /** tools.validateSpringBones on `springBones` as part of entityFor: [{path, message}]. */
   validate(springBones) {
     try {
-      return this.sb.validateSpringBones(this.entityFor(springBones));
+      return this.tools.validateSpringBones(this.entityFor(springBones));
     } catch (e) {
       return [{ path: e.path ?? '', message: e.message }];
     }
@@ -433,7 +436,7 @@ export class Creator {
 
   /**
    * The parameters the selected node runs with, as the core read them: its rig joint's (own entry,
-   * else inherited; clamped, gravityDir normalised), else the defaults sb.detectSpringBones gave
+   * else inherited; clamped, gravityDir normalised), else the defaults tools.detectSpringBones gave
    * (a tip, or a node in no chain).
    */
   runtimeParams(slot) {
@@ -534,7 +537,7 @@ export class Creator {
   // ---- validation and export
 
   /**
-   * data.springBones to publish, through the Builder edit of the API (sb.setSpringBoneParams): the
+   * data.springBones to publish, through the Builder edit of the API (tools.setSpringBoneParams): the
    * edited entries under this GLB's hash, the other representations' entries kept, every models
    * key no representation uses (stale) dropped. Returns { data, dropped }.
    */
@@ -547,7 +550,7 @@ export class Creator {
     const name = Object.keys(this.entries).find((n) => /springbone/i.test(n)) ?? 'springbone';
     let data;
     try {
-      data = this.sb.setSpringBoneParams(draft, this.entityFor(draft), this.bodyShape ?? 'BaseMale', name, this.entries[name] ?? null);
+      data = this.tools.setSpringBoneParams(draft, this.entityFor(draft), this.bodyShape ?? 'BaseMale', name, this.entries[name] ?? null);
     } catch (e) {
       this.fail(`Export: ${e.message}`);
       data = draft;

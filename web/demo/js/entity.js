@@ -1,6 +1,6 @@
 // What the creator panel does with a dropped metadata file before handing it to the JS API: tell a
 // data.springBones object from a wearable entity, list an entity's body shapes, and build the
-// entity that sb.validateSpringBones and sb.setSpringBoneParams need (they judge models keys
+// entity that tools.validateSpringBones and tools.setSpringBoneParams need (they judge models keys
 // against the representations' main-file hashes, so the panel hands them one that wears the GLB
 // being edited). Plain functions over JSON: no DOM, no three.js, no WebAssembly.
 //

@@ -12,9 +12,9 @@ const installed = createRequire(import.meta.url)('springbones/package.json');
 
 test('springbones resolves to the installed package, not a checkout', () => {
   const entry = fileURLToPath(import.meta.resolve('springbones'));
-  assert.ok(entry.endsWith('/node_modules/springbones/web/springbones.js'), entry);
+  assert.ok(entry.endsWith('/node_modules/springbones/web/dist/springbones.min.js'), entry);
   assert.equal(fileURLToPath(import.meta.resolve('springbones/wasm')),
-      entry.replace(/web\/springbones\.js$/, 'web/dist/springbones_wasm.wasm'));
+      entry.replace(/springbones\.min\.js$/, 'springbones_wasm.wasm'));
 });
 
 test('loads the sample wearable, steps and reads rotations', async () => {

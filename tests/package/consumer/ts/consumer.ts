@@ -1,9 +1,10 @@
-// A TypeScript consumer of both entries' .d.ts, checked with tsc --noEmit --strict. The three
+// A TypeScript consumer of the entries' .d.ts, checked with tsc --noEmit --strict. The four
 // expected errors below fail the check if the types ever let those mistakes through (or are
 // missing: an `any` accepts everything).
 import { AnimationMixer, Object3D, Quaternion } from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import { createSpringBones, SpringBonesError, type Rig, type SpringBones } from 'springbones';
+import { createSpringBones, SpringBonesError, type CreatorTools, type Rig, type SpringBones, type ValidationError } from 'springbones';
+import { createSpringBones as createInlined } from 'springbones/inline';
 import {
   SpringBonesGroup, SpringBonesLoaderPlugin, type SpringBonesAttachment, type SpringBonesWearable,
 } from 'springbones/three';
@@ -29,6 +30,13 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
   const wrong: string = worn.instance.rotations[0];
   // @ts-expect-error version is read-only
   sb.version = '1.0.0';
+  // The creator tools are a second module, loaded on first use; springbones/inline has the same API.
+  const tools: CreatorTools = await sb.creatorTools();
+  const errors: ValidationError[] = tools.validateSpringBones(entity);
+  const inlined: SpringBones = await createInlined();
+  console.log(errors.length, inlined.version);
+  // @ts-expect-error validation is a creator tool, not a method of the runtime
+  sb.validateSpringBones(entity);
   console.log(wrong);
 
   return () => {

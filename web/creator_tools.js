@@ -1,0 +1,141 @@
+// springbones' creator tools: deploy-time validation and the Builder edits (candidate detection,
+// parameter writes), over the creator-tools module (wasm/creator_tools_bindings.cpp), a second
+// WebAssembly module that a preview never downloads. sb.creatorTools() imports this file and
+// loads the module on first use; the contract is springbones.d.ts (CreatorTools).
+//
+// The module files (dist/springbones_creator_tools.js + .wasm) are built by `scripts/build wasm`
+// beside the runtime module's. The tools hold no handles: every call is a pure function of its
+// arguments, and the same argument checks and errors as the runtime API's.
+
+import { optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
+import { call, takeError } from './errors.js';
+import { instantiateModule } from './module_loader.js';
+import { withBytes } from './wasm_memory.js';
+
+const kModuleUrl = new URL('./dist/springbones_creator_tools.wasm', import.meta.url);
+const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+
+/**
+ * The creator tools over a new instance of their module.
+ * @param {object} options createSpringBones's options, for the creator-tools module
+ * @param {(where: string, options: object) => string} resolveHash the runtime's reading of which
+ *   models key applies (contentHash, or the entity's main file for a body shape; '' for the GLB's
+ *   own hash), so that both modules choose it the same way
+ */
+export async function loadCreatorTools(options, resolveHash) {
+  const module = await instantiateModule('creatorTools', options, {
+    importGlue: () => import('./dist/springbones_creator_tools.js'),
+    glueFile: 'web/dist/springbones_creator_tools.js',
+    defaultUrl: kModuleUrl,
+  });
+  return new CreatorTools(module, resolveHash);
+}
+
+class CreatorTools {
+  #m;
+  #resolveHash;
+
+  constructor(module, resolveHash) {
+    this.#m = module;
+    this.#resolveHash = resolveHash;
+    Object.freeze(this);
+  }
+
+  /**
+   * The errors a catalyst would answer for the entity's data.springBones: the SpringBonesData
+   * schema first, then the cross-checks (models keys are mainFile hashes; bone names contain
+   * "springbone"). [] when it would be accepted. Each error: {path, message}.
+   */
+  validateSpringBones(entity) {
+    let text;
+    let marker = '';
+    if (typeof entity === 'string') {
+      text = entity;
+    } else if (entity !== null && typeof entity === 'object') {
+      // JSON has no NaN/Infinity; they go across as marked strings the core turns back into numbers.
+      marker = nonFiniteMarker();
+      text = stringifyArgument('validateSpringBones: entity', entity, (_key, value) =>
+        typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value);
+    } else {
+      throw new TypeError('validateSpringBones: entity must be an object or JSON text');
+    }
+    const m = this.#m;
+    const result = call(() => m.validateEntity(text, marker));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result);
+  }
+
+  /**
+   * The spring-bone candidates of a GLB (nodes whose name contains "springbone"), parents first,
+   * with the values a Builder should prefill: the existing entry of springBones for this GLB's
+   * models key, else the defaults. Never modifies anything.
+   */
+  detectSpringBones(glbBytes, springBones, options) {
+    const bytes = toBytes('detectSpringBones: glbBytes', glbBytes);
+    const metadataText = toJsonText('detectSpringBones: springBones', springBones, true);
+    const opts = optionsObject('detectSpringBones', options, kHashOptions);
+    const m = this.#m;
+    const hash = this.#resolveHash('detectSpringBones', opts);
+    const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result).candidates.map((c) => {
+      const { stiffness, gravityPower, gravityDir, drag } = c.params;
+      const candidate = {
+        name: c.name, node: c.node, parent: c.parent, hasEntry: c.hasEntry, isRoot: c.isRoot,
+        params: { stiffness, gravityPower, gravityDir, drag },
+      };
+      if ('center' in c) candidate.center = c.center;
+      return candidate;
+    });
+  }
+
+  /**
+   * A new springBones object with nodeName's parameters set under the models key of the GLB that
+   * bodyShape wears in the entity (params null removes the entry). One entry serves a GLB shared
+   * by both body shapes; entries under hashes no representation uses are dropped; version is 1.
+   * The inputs are not modified.
+   */
+  setSpringBoneParams(springBones, entity, bodyShape, nodeName, params) {
+    const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true);
+    const entityText = toJsonText('setSpringBoneParams: entity', entity, false);
+    if (typeof bodyShape !== 'string') throw new TypeError('setSpringBoneParams: bodyShape must be a string');
+    if (bodyShape.length === 0) throw new RangeError('setSpringBoneParams: bodyShape must not be empty');
+    if (typeof nodeName !== 'string') throw new TypeError('setSpringBoneParams: nodeName must be a string');
+    if (nodeName.length === 0) throw new RangeError('setSpringBoneParams: nodeName must not be empty');
+    if (params !== null && (typeof params !== 'object' || Array.isArray(params))) {
+      throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
+    }
+    if (params !== null) checkFiniteParams(params);
+    const paramsText = stringifyArgument('setSpringBoneParams: params', params);
+    const m = this.#m;
+    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, paramsText));
+    if (result === '') throw takeError(m);
+    return JSON.parse(result);
+  }
+
+  /** Diagnostics: the creator-tools module's memory size and the bytes malloc has handed out. */
+  stats() {
+    const s = JSON.parse(this.#m.stats());
+    return { heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse };
+  }
+}
+
+// JSON would turn NaN or Infinity into null, which means something else in springBones
+// (center: null is world space): refuse them instead.
+function checkFiniteParams(params) {
+  for (const [key, value] of Object.entries(params)) {
+    const values = Array.isArray(value) ? value : [value];
+    for (const v of values) {
+      if (typeof v === 'number' && !Number.isFinite(v)) {
+        throw new RangeError(`setSpringBoneParams: params.${key} must be finite, got ${v}`);
+      }
+    }
+  }
+}
+
+// A prefix no real string in the entity will start with: drawn at random for each call.
+function nonFiniteMarker() {
+  let random = '';
+  for (let i = 0; i < 4; ++i) random += Math.floor(Math.random() * 0x100000000).toString(36);
+  return `\u0000springbones-non-finite-${random}:`;
+}
