@@ -45,12 +45,13 @@ export function useDemoPage(opened) {
 
 /**
  * Serves the repository, opens web/demo/ and waits until the sample wearable is loaded.
+ * `beforeOpen(page)`, if given, runs before the page is opened (e.g. to route its requests).
  * `requests` lists the paths the page asked the server for, in order; `consoleWarnings` its
  * console warnings.
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export async function openDemo() {
+export async function openDemo({ beforeOpen = null } = {}) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -86,6 +87,7 @@ export async function openDemo() {
     // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
+    if (beforeOpen) await beforeOpen(page);
     await page.goto(`http://127.0.0.1:${port}/web/demo/`);
     await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
   } catch (error) {
