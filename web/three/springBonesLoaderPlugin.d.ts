@@ -48,8 +48,11 @@ export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
 export class SpringBonesWearable {
   private constructor();
   readonly gltf: GLTF;
-  /** The rig, owned by the wearable: dispose() frees it. Null while the module promise is pending. */
-  readonly rig: Rig | null;
+  /**
+   * The rig, owned by the wearable: dispose() frees it. Typed as loaded: with `sb` given as a
+   * promise it is null until `ready` resolves.
+   */
+  readonly rig: Rig;
   /** The rig's warnings; none before it loads. */
   readonly warnings: readonly Warning[];
   /** Resolves to this wearable once its rig is loaded; rejects, once, with the module's or loadRig's error. */

@@ -48,10 +48,13 @@ export class SpringBonesAttachment {
   /** The wearable's skinned meshes, re-bound to the avatar's bones and moved into the avatar. */
   readonly meshes: readonly SkinnedMesh[];
   readonly warnings: readonly AttachWarning[];
-  /** Null while a rig given as a promise has not arrived. */
-  readonly rig: Rig | null;
-  /** Null while a rig given as a promise has not arrived. */
-  readonly instance: Instance | null;
+  /**
+   * The rig. Typed for the attachment that simulates: made with a rig promise, it is null until
+   * `ready` resolves (check `simulating`).
+   */
+  readonly rig: Rig;
+  /** The instance; null, like rig, until `ready` resolves for an attachment made with a promise. */
+  readonly instance: Instance;
   /** Whether update() simulates (false while the rig promise is pending or after it rejected). */
   readonly simulating: boolean;
   /**
