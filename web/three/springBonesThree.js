@@ -567,7 +567,8 @@ export class SpringBonesHelper extends LineSegments {
   }
 
   updateMatrixWorld(force) {
-    const { jointObjects, tailObjects } = this.attachment;
+    const jointObjects = this.attachment.jointObjects;  // per frame: plain reads, nothing allocated
+    const tailObjects = this.attachment.tailObjects;
     const position = this.geometry.getAttribute('position');
     const p = position.array;
     for (let i = 0; i < jointObjects.length; i++) {
