@@ -1,10 +1,9 @@
 // Cold start with springbones: the API and the three.js adapter, createSpringBones, then loadRig
 // and attachWearable as the demo wears the sample (web/demo/js/main.js), one attachment.update.
-// The page draws first: the module's download starts once the avatar and the item are downloaded
-// (on a slow link its bytes would otherwise share the bandwidth with theirs and hold the first
-// drawable frame back), createSpringBones compiles it as it streams in, and the page does not wait
-// for it to wear and draw the item: attachWearable gets the rig as a promise (README "three.js"),
-// and the springs take over once it is there.
+// The page draws first: it wears and draws the item without waiting for the module
+// (attachWearable gets the rig as a promise, README "three.js"), and the module's download starts
+// after that first drawable frame (cold_start.mjs calls start then), compiled by createSpringBones
+// as it streams in; the springs take over once it is there.
 import { coldStart } from './cold_start.mjs';
 
 const MODULE = new URL('../../web/dist/springbones_wasm.wasm', import.meta.url);
@@ -15,7 +14,7 @@ coldStart({
     const [api, adapter] = await Promise.all([import('../../web/springbones.js'), import('../../web/three/springBonesThree.js')]);
     return { api, adapter };
   },
-  start: (lib, downloaded) => lib.api.createSpringBones({ wasm: downloaded.then(() => fetch(MODULE)) }),
+  start: (lib) => lib.api.createSpringBones({ wasm: fetch(MODULE) }),
   wear: (lib, { avatar, wearable, wearableBytes, springBones, contentHash }, started) => {
     let loadStart = 0, loadRigMs = 0;
     const rig = started.then((sb) => {

@@ -3,17 +3,19 @@
 // simulated by one library. The page around the library is the same for both libraries (this
 // module); each library's page passes what is its own:
 //   importLibrary()           its JavaScript (timed: "import")
-//   start(lib, downloaded)    its start-up, e.g. downloading and compiling WebAssembly: a
-//                             promise, or null when there is none (timed: "start", from the call
-//                             to its resolution, less the time the page's own GLB parsing held
-//                             the main thread); `downloaded` resolves when the page's own
-//                             downloads are done, for a library that lets them go first
+//   start(lib)                its start-up, e.g. downloading and compiling WebAssembly: a
+//                             promise, or null when there is none; called once the first
+//                             drawable frame is set (timed: "start", from the call to its
+//                             resolution)
 //   wear(lib, item, started)  puts the wearable on the avatar, at once (the avatar wearing it can
 //                             be drawn: it must not wait for `started`); returns a promise of
 //                             { joints, step(dt), loadMs, details } once the library can simulate
 //                             (loadMs: its own loading of the joints, timed by the library)
-// As a preview should, the page draws before the library is ready: the first animation frame
-// after wear() sets the performance mark 'first-drawable-frame'; the first one after the
+// As a preview should, the page draws before the library is ready, and the library's start
+// (its download and compilation) comes after the drawing, so that on a slow link its bytes do not
+// share the bandwidth with the GLBs' and on a fast one its compilation does not hold the main
+// thread while they are parsed: the first animation frame after wear() sets the performance mark
+// 'first-drawable-frame', then start(lib) is called; the first frame after the
 // simulation is ready steps it once and sets 'first-simulated-frame' (startTime: milliseconds
 // since navigation). Nothing is rendered: WebGL would cost both pages alike. The result goes to
 // window.coldResult (or the error to window.benchError). The pages are not cross-origin isolated
@@ -32,9 +34,6 @@ async function fetchBytes(name) {
 
 const nextFrame = () => new Promise((resolve) => requestAnimationFrame(resolve));
 
-/** How much of [start, end] the interval [from, to] covers. */
-const overlap = (start, end, from, to) => Math.max(0, Math.min(end, to) - Math.max(start, from));
-
 /** Runs the cold start with one library's parts (see the top of this file). */
 export async function coldStart(library) {
   try {
@@ -44,12 +43,8 @@ export async function coldStart(library) {
     let t = performance.now();
     const lib = await library.importLibrary();
     times.importMs = performance.now() - t;
-    const startCalled = performance.now();
-    let startDone = null;
-    const started = Promise.resolve(library.start(lib, downloads.then(() => {}))).then((value) => {
-      startDone = performance.now();
-      return value;
-    });
+    let callStart;
+    const started = new Promise((resolve) => { callStart = resolve; });
     started.catch(() => {});  // reported where it is awaited
 
     const [avatarBuffer, wearableBuffer, entityBuffer] = await downloads;
@@ -57,12 +52,10 @@ export async function coldStart(library) {
     const contentHash = entity.content.find((c) => c.file === WEARABLE).hash;
     const springBones = entity.metadata.data.springBones;
     const wearableBytes = new Uint8Array(wearableBuffer.slice(0));  // GLTFLoader may keep views on its copy
-    const parseStart = performance.now();
     const loader = new GLTFLoader();
     const [avatar, wearable] = await Promise.all([
       loader.parseAsync(avatarBuffer, ASSETS.href), loader.parseAsync(wearableBuffer, ASSETS.href),
     ]);
-    const parseEnd = performance.now();
     const world = new Group();
     world.add(avatar.scene);
     world.updateMatrixWorld(true);
@@ -74,9 +67,10 @@ export async function coldStart(library) {
     world.updateMatrixWorld();
     times.navigationToDrawableMs = performance.mark('first-drawable-frame').startTime;
 
+    t = performance.now();
+    callStart(library.start(lib));
     await started;
-    times.startMs = startDone === null ? 0
-      : startDone - startCalled - overlap(startCalled, startDone, parseStart, parseEnd);
+    times.startMs = performance.now() - t;
     const simulation = await simulating;
     times.loadMs = simulation.loadMs;
 

@@ -273,7 +273,7 @@ export async function runBrowserBench({ log = console.log } = {}) {
   out('the parts, unthrottled (LAN), ms                springbones   three-vrm');
   const row = (label, a, b) => out(`${label.padEnd(44)}${f(a, 1).padStart(12)}${f(b, 1).padStart(12)}`);
   row('import the library JS', sb.importMs, vrm.importMs);
-  row('module start (createSpringBones, own time)', sb.startMs, NaN);
+  row('module start (its download + createSpringBones)', sb.startMs, NaN);
   row('wear the item (attachWearable / add)', sb.wearMs, vrm.wearMs);
   row('first load (loadRig + instance / joints)', sb.loadMs, vrm.loadMs);
   row('  of which loadRig', sb.loadRigMs, NaN);
