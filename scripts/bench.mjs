@@ -3,7 +3,7 @@
 // (which sets up and builds first). Prints the Node table, writes build/bench/<timestamp>.json and
 // build/bench/latest.json, then runs the Chromium benchmark (scripts/lib/bench_browser.mjs), whose
 // summary is the last line:
-//   cold start: springbones <A> ms, three-vrm <B> ms; one wearable per frame: <C>x; 5000 joints: solver <X>x, adapter <Y>x
+//   first visit: drawable +<ms> ms; simulated slow 4G +<ms> ms, 4G +<ms> ms, LAN +<ms> ms; longest task <ms> ms; bytes +<KB> KB; second visit <ms> vs <ms> ms; 5000 joints: solver <x>x, adapter <y>x
 // `--browser` runs the Chromium part alone; `--node` the Node part alone.
 //
 // Node: each measurement is one warm-up run, then the median of 5 runs of 600 frames

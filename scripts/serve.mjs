@@ -1,15 +1,18 @@
 // A tiny static HTTP server for the demo: serves the repository root (the page imports three from
 // node_modules/ and the WebAssembly module from web/dist/), with the MIME types browsers insist
-// on (application/wasm for streaming compilation, text/javascript for modules).
+// on (application/wasm for streaming compilation, text/javascript for modules). A request that
+// accepts gzip gets the file gzip-encoded, as a CDN serves it (images, already compressed, as they
+// are); the compressed bytes are kept in memory per file version.
 //
 //   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1]
 //
-// Also imported by tests/browser/ (startServer) to serve on a free port in-process. No
-// dependencies beyond node:http.
-import { createReadStream, statSync } from 'node:fs';
+// Also imported by tests/browser/ and the benchmark (startServer) to serve on a free port
+// in-process. No dependencies beyond node's own modules.
+import { createReadStream, readFileSync, statSync } from 'node:fs';
 import { createServer } from 'node:http';
 import { extname, join, normalize, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { gzipSync } from 'node:zlib';
 
 const repoRoot = resolve(fileURLToPath(new URL('..', import.meta.url)));
 
@@ -33,8 +36,34 @@ const MIME = {
   '.ts': 'text/plain; charset=utf-8',  // .d.ts files, for reading in the browser
 };
 
-/** Starts serving `root`; resolves to { server, url } once listening. port 0 picks a free port. */
-export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, log = false } = {}) {
+// Formats that are compressed already: sent as they are.
+const kIncompressible = new Set(['.png', '.jpg', '.ico']);
+
+/** `Accept-Encoding` allows gzip (no q=0 for it). */
+function acceptsGzip(header) {
+  return String(header ?? '').split(',').some((part) => {
+    const [coding, ...params] = part.trim().toLowerCase().split(';');
+    if (coding !== 'gzip' && coding !== '*') return false;
+    const q = params.map((p) => p.trim()).find((p) => p.startsWith('q='));
+    return q === undefined || Number(q.slice(2)) > 0;
+  });
+}
+
+/**
+ * Starts serving `root`; resolves to { server, url } once listening. port 0 picks a free port.
+ * isolated (default true): COOP/COEP headers, so pages are cross-origin isolated (the demo's
+ * 5 us timer); false serves like an ordinary host, e.g. a marketplace's preview iframe.
+ */
+export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, log = false, isolated = true } = {}) {
+  const gzipCache = new Map();  // file -> { etag, bytes }
+  const gzipped = (file, etag) => {
+    let entry = gzipCache.get(file);
+    if (entry?.etag !== etag) {
+      entry = { etag, bytes: gzipSync(readFileSync(file), { level: 9 }) };
+      gzipCache.set(file, entry);
+    }
+    return entry.bytes;
+  };
   const server = createServer((req, res) => {
     const send = (status, text) => {
       res.writeHead(status, { 'Content-Type': 'text/plain; charset=utf-8', 'Cache-Control': 'no-store' });
@@ -73,24 +102,38 @@ export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, 
     // Kept by the browser but revalidated on every use: a rebuilt file (new size or mtime) is
     // always the one served, and an unchanged one is a 304, so Chromium reuses its cached copy and,
     // for the .wasm, the machine code it cached from compiling it on an earlier visit.
-    const etag = `"${stat.size.toString(36)}-${Math.floor(stat.mtimeMs).toString(36)}"`;
+    // The gzip encoding is another representation: its own ETag, and caches keyed on the header.
+    const extension = extname(target).toLowerCase();
+    const gzip = !kIncompressible.has(extension) && acceptsGzip(req.headers['accept-encoding']);
+    const version = `${stat.size.toString(36)}-${Math.floor(stat.mtimeMs).toString(36)}`;
+    const etag = gzip ? `"${version}-gz"` : `"${version}"`;
     const headers = {
       'Cache-Control': 'no-cache',
       ETag: etag,
+      Vary: 'Accept-Encoding',
+    };
+    if (isolated) {
       // Cross-origin isolation: everything is same-origin, and an isolated page gets a 5 us
       // performance.now() instead of 100 us, which the demo's per-frame solver readout needs.
-      'Cross-Origin-Opener-Policy': 'same-origin',
-      'Cross-Origin-Embedder-Policy': 'require-corp',
-    };
+      headers['Cross-Origin-Opener-Policy'] = 'same-origin';
+      headers['Cross-Origin-Embedder-Policy'] = 'require-corp';
+    }
     if (req.headers['if-none-match'] === etag) {
       res.writeHead(304, headers);
       return res.end();
     }
-    res.writeHead(200, {
-      ...headers,
-      'Content-Type': MIME[extname(target).toLowerCase()] ?? 'application/octet-stream',
-      'Content-Length': stat.size,
-    });
+    const type = MIME[extension] ?? 'application/octet-stream';
+    if (gzip) {
+      let body;
+      try {
+        body = gzipped(target, etag);
+      } catch {
+        return send(404, `not found: ${pathname}\n`);
+      }
+      res.writeHead(200, { ...headers, 'Content-Type': type, 'Content-Encoding': 'gzip', 'Content-Length': body.length });
+      return res.end(req.method === 'HEAD' ? undefined : body);
+    }
+    res.writeHead(200, { ...headers, 'Content-Type': type, 'Content-Length': stat.size });
     if (req.method === 'HEAD') return res.end();
     createReadStream(target).on('error', () => res.destroy()).pipe(res);
   });

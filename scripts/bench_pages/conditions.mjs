@@ -1,6 +1,7 @@
 // What a Chromium benchmark page reports about where it ran: whether it is cross-origin isolated
-// (without it performance.now() steps by 100 us instead of 5 us, and the numbers mean less, so
-// the pages refuse to run), the smallest timer step observed, and the CPU count.
+// (without it performance.now() steps by 100 us instead of 5 us, and per-frame numbers mean less,
+// so the per-frame page refuses to run; the cold pages run as a preview iframe does, without it),
+// the smallest timer step observed, and the CPU count.
 
 /** Throws unless the page is cross-origin isolated (COOP/COEP headers from scripts/serve.mjs). */
 export function requireIsolation() {

@@ -46,12 +46,13 @@ export function useDemoPage(opened, options) {
 /**
  * Serves the repository, opens web/demo/ (or `page`, e.g. 'babylon.html', waiting for
  * window[readyHook].ready) and waits until the sample wearable is loaded.
+ * `beforeOpen(page)`, if given, runs before the page is opened (e.g. to route its requests).
  * `requests` lists the paths the page asked the server for, in order; `consoleWarnings` its
  * console warnings.
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo' } = {}) {
+export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo', beforeOpen = null } = {}) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -87,6 +88,7 @@ export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDe
     // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
+    if (beforeOpen) await beforeOpen(page);
     await page.goto(`http://127.0.0.1:${port}/web/demo/${demoPage}`);
     await page.waitForFunction((hook) => window[hook]?.ready === true, readyHook, { timeout: 180000 });
   } catch (error) {

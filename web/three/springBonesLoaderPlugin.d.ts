@@ -6,8 +6,11 @@ import type { AttachOptions, SpringBonesAttachment } from './springBonesThree.js
 
 /** sb.loadRig's options (which models entry, colliders, hitRadius) and these. */
 export type SpringBonesLoaderPluginOptions = LoadOptions & {
-  /** The module from createSpringBones(). */
-  sb: SpringBones;
+  /**
+   * The module from createSpringBones(), or the promise of it, not awaited: the GLB then loads
+   * without waiting for the module, and the rig follows (SpringBonesWearable.ready).
+   */
+  sb: SpringBones | PromiseLike<SpringBones>;
   /** The wearable's data.springBones, as an object or JSON text; null or left out: no spring bones. */
   springBones?: object | string | null;
   /**
@@ -33,7 +36,11 @@ export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
   readonly name: 'springbones';
   readonly parser: GLTFParser;
   readonly options: SpringBonesLoaderPluginOptions;
-  /** Loads the rig (sb.loadRig's errors reject the load) into gltf.userData.springBones. */
+  /**
+   * Puts a SpringBonesWearable on gltf.userData.springBones. With the module, the rig is loaded
+   * now (sb.loadRig's errors reject the load); with its promise, the rig follows and its errors
+   * reject the wearable's `ready`.
+   */
   afterRoot(gltf: GLTF): Promise<void>;
 }
 
@@ -41,16 +48,24 @@ export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
 export class SpringBonesWearable {
   private constructor();
   readonly gltf: GLTF;
-  /** The rig, owned by the wearable: dispose() frees it. */
+  /**
+   * The rig, owned by the wearable: dispose() frees it. Typed as loaded: with `sb` given as a
+   * promise it is null until `ready` resolves.
+   */
   readonly rig: Rig;
-  /** The rig's warnings. */
+  /** The rig's warnings; none before it loads. */
   readonly warnings: readonly Warning[];
+  /** Resolves to this wearable once its rig is loaded; rejects, once, with the module's or loadRig's error. */
+  readonly ready: Promise<SpringBonesWearable>;
+  /** What loading the rig failed with (sb given as a promise), else null. */
+  readonly error: unknown;
   /** The attachments wear() made that dispose() has not yet disposed of. */
   readonly attachments: readonly SpringBonesAttachment[];
   /**
    * Wears a clone of gltf.scene on the avatar (gltf.scene stays a template, so one load serves
    * many avatars) and returns the attachment; call its update(dt) every frame after the avatar's
-   * world matrices are current, or add it to a SpringBonesGroup.
+   * world matrices are current, or add it to a SpringBonesGroup. Before the rig is loaded the
+   * clone is worn at rest and simulates from the first update after the rig arrives.
    */
   wear(avatarRoot: Object3D, options?: Omit<AttachOptions, 'nodes'>): SpringBonesAttachment;
   /** Disposes of the attachments (taking them off their avatars) and the rig; not the geometries or materials. */

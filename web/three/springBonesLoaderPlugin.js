@@ -5,6 +5,9 @@
 //   const wearable = (await loader.loadAsync(url)).userData.springBones;
 //   const worn = wearable.wear(avatar.scene);   // then every frame: worn.update(dt)
 //
+// `sb` may also be the promise createSpringBones() returns, not awaited: the GLB then loads and
+// wears without waiting for the module, and the rig follows (wearable.ready, attachment.ready).
+//
 // A thin layer over springBonesThree.js: the rig is sb.loadRig's, wearing is attachWearable on a
 // SkeletonUtils clone of the loaded scene, and what wear() returns is the adapter's attachment.
 //
@@ -15,7 +18,7 @@
 // or `glb`, the bytes it parsed (loadRig hashes them). With a hash, the rig is read from the
 // glTF JSON the parser already holds (parser.json), so the bytes are not needed at all.
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { attachWearable, wearableNodes } from './springBonesThree.js';
+import { attachWearable, isThenable, wearableNodes } from './springBonesThree.js';
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 const kRigOptions = [...kHashOptions, 'colliders', 'hitRadius'];
@@ -25,7 +28,8 @@ export class SpringBonesLoaderPlugin {
   /**
    * parser: GLTFLoader's parser (the argument of loader.register's callback).
    * options: { sb, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
-   * sb is the module from createSpringBones(); springBones the wearable's data.springBones
+   * sb is the module from createSpringBones() or the promise of it (the load then does not wait
+   * for the module: the rig follows, see SpringBonesWearable.ready); springBones the wearable's data.springBones
    * (object or JSON text; null or left out: no spring bones); the rest as for sb.loadRig.
    */
   constructor(parser, options) {
@@ -38,8 +42,8 @@ export class SpringBonesLoaderPlugin {
     for (const key of Object.keys(options)) {
       if (!kOptions.includes(key)) throw new TypeError(`SpringBonesLoaderPlugin: unknown option ${key} (expected ${kOptions.join(', ')})`);
     }
-    if (typeof options.sb?.loadRig !== 'function') {
-      throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module (the result of createSpringBones())');
+    if (typeof options.sb?.loadRig !== 'function' && !isThenable(options.sb)) {
+      throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module or its promise (the result of createSpringBones())');
     }
     const hasSpringBones = options.springBones !== undefined && options.springBones !== null;
     if (hasSpringBones && options.glb === undefined && kHashOptions.every((k) => options[k] === undefined)) {
@@ -57,8 +61,15 @@ export class SpringBonesLoaderPlugin {
     const rigOptions = {};
     for (const key of kRigOptions) if (this.options[key] !== undefined) rigOptions[key] = this.options[key];
     // Without the bytes the hash is the caller's; the rig needs only the nodes, which the JSON has.
-    const source = glb ?? new TextEncoder().encode(JSON.stringify(this.parser.json));
-    const rig = sb.loadRig(source, springBones, rigOptions);
+    const json = this.parser.json;
+    const load = (module) => {
+      if (typeof module?.loadRig !== 'function') {
+        throw new TypeError('SpringBonesLoaderPlugin: options.sb resolved to something other than the springbones module');
+      }
+      return module.loadRig(glb ?? new TextEncoder().encode(JSON.stringify(json)), springBones, rigOptions);
+    };
+    // The module itself: the rig now (its errors reject the load). Its promise: the load goes on.
+    const rig = isThenable(sb) ? Promise.resolve(sb).then(load) : load(sb);
     gltf.userData.springBones = new SpringBonesWearable(gltf, rig);
   }
 }
@@ -72,15 +83,35 @@ export class SpringBonesWearable {
   /** @private made by SpringBonesLoaderPlugin */
   constructor(gltf, rig) {
     this.gltf = gltf;
-    /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. */
-    this.rig = rig;
+    /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. Null
+     *  while the module given as a promise has not resolved. */
+    this.rig = null;
     /** The attachments wear() made and dispose() has not yet disposed of. */
     this.attachments = [];
+    /** What loading the rig failed with, when the module came as a promise; else null. */
+    this.error = null;
+    this._disposed = false;
+    if (isThenable(rig)) {
+      this._rigPromise = rig.then((arrived) => {
+        if (this._disposed) arrived.dispose();
+        else this.rig = arrived;
+        return arrived;
+      });
+      /** Resolves to this wearable once its rig is loaded; rejects with the module's or loadRig's error. */
+      this.ready = this._rigPromise.then(() => this, (error) => {
+        this.error = error;
+        throw error;
+      });
+    } else {
+      this.rig = rig;
+      this._rigPromise = null;
+      this.ready = Promise.resolve(this);
+    }
   }
 
-  /** The rig's warnings (clamped parameters, a models entry not found, ...). */
+  /** The rig's warnings (clamped parameters, a models entry not found, ...); none before it loads. */
   get warnings() {
-    return this.rig.warnings;
+    return this.rig?.warnings ?? [];
   }
 
   /**
@@ -91,7 +122,9 @@ export class SpringBonesWearable {
   wear(avatarRoot, options = {}) {
     if (options === null || typeof options !== 'object') throw new TypeError('wear: options must be an object');
     const copy = cloneWithSkeletons(this.gltf.scene);
-    const attachment = attachWearable(avatarRoot, copy, this.rig, { ...options, nodes: wearableNodes(this.gltf, copy) });
+    // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
+    const rig = this.rig ?? this._rigPromise;
+    const attachment = attachWearable(avatarRoot, copy, rig, { ...options, nodes: wearableNodes(this.gltf, copy) });
     this.attachments.push(attachment);
     return attachment;
   }
@@ -102,9 +135,10 @@ export class SpringBonesWearable {
    */
   dispose() {
     for (const attachment of this.attachments) {
-      if (!attachment.instance.disposed) attachment.dispose();
+      if (attachment.instance === null || !attachment.instance.disposed) attachment.dispose();
     }
     this.attachments = [];
-    this.rig.dispose();
+    this._disposed = true;  // a rig still on its way is disposed of when it arrives
+    if (this.rig !== null) this.rig.dispose();
   }
 }

@@ -31,7 +31,14 @@ export interface AttachWarning {
   readonly message: string;
 }
 
-/** A wearable worn by an avatar and simulated by one springbones instance. */
+/** Whether `value` is a promise (any thenable) rather than the thing itself. */
+export function isThenable(value: unknown): value is PromiseLike<unknown>;
+
+/**
+ * A wearable worn by an avatar and simulated by one springbones instance. Made with a rig promise,
+ * it is worn (and can be drawn) at once and simulates from the first update after the rig
+ * arrives; until then rig and instance are null and update() does nothing.
+ */
 export class SpringBonesAttachment {
   private constructor();
   readonly avatarRoot: Object3D;
@@ -41,8 +48,22 @@ export class SpringBonesAttachment {
   /** The wearable's skinned meshes, re-bound to the avatar's bones and moved into the avatar. */
   readonly meshes: readonly SkinnedMesh[];
   readonly warnings: readonly AttachWarning[];
+  /**
+   * The rig. Typed for the attachment that simulates: made with a rig promise, it is null until
+   * `ready` resolves (check `simulating`).
+   */
   readonly rig: Rig;
+  /** The instance; null, like rig, until `ready` resolves for an attachment made with a promise. */
   readonly instance: Instance;
+  /** Whether update() simulates (false while the rig promise is pending or after it rejected). */
+  readonly simulating: boolean;
+  /**
+   * Resolves to this attachment once it simulates (at once for a rig given directly); rejects,
+   * once, with what the rig promise rejected with. update() never throws that error.
+   */
+  readonly ready: Promise<SpringBonesAttachment>;
+  /** What the rig promise rejected with (or setting the arrived rig threw), else null. */
+  readonly error: unknown;
   /** Per rig.joints entry: the object whose quaternion is written (null if not found). */
   readonly jointObjects: ReadonlyArray<Object3D | null>;
   /** Per rig.joints entry: the joint's tail object (for drawing). */
@@ -56,7 +77,9 @@ export class SpringBonesAttachment {
    * writes each joint's quaternion fields (_x, _y, _z, _w: no onChange, so `.rotation` is not
    * kept in sync; see syncEulers). The joints' matrix and matrixWorld are refreshed by the next
    * updateMatrixWorld (the renderer's). Allocation-free. An attachment in a SpringBonesGroup is
-   * stepped by group.update(); calling this as well would step it twice.
+   * stepped by group.update(); calling this as well would step it twice. Before a rig promise
+   * resolves it does nothing: the joints keep the pose drawn at rest, and the first step after
+   * the rig arrives starts from that pose under the frame's drivers.
    */
   update(dt: number): void;
   /**
@@ -76,7 +99,7 @@ export class SpringBonesAttachment {
    * quaternion. dispose() does it too. Allocation-free.
    */
   syncEulers(): void;
-  /** Forgets the motion (teleport, avatar swap). */
+  /** Forgets the motion (teleport, avatar swap); nothing before the rig arrives. */
   reset(): void;
   /**
    * Switches to another rig of the same GLB (edited metadata): new instance, joints the new rig
@@ -99,12 +122,14 @@ export class SpringBonesAttachment {
  * avatar counterpart of their nearest matched ancestor; skinned meshes are re-bound to the avatar
  * bones of the same names with the wearable's inverse bind matrices. Creates the rig's instance.
  * A wearable's objects can be worn once: for several avatars, attach SkeletonUtils clones.
+ * `rig` may be a promise of the rig (e.g. `sbPromise.then((sb) => sb.loadRig(...))`): the wearable
+ * is worn now and simulated from the first update after it resolves (see SpringBonesAttachment).
  * @throws TypeError for arguments of the wrong kind
  */
 export function attachWearable(
   avatarRoot: Object3D,
   wearable: GLTF | Object3D,
-  rig: Rig,
+  rig: Rig | PromiseLike<Rig>,
   options?: AttachOptions,
 ): SpringBonesAttachment;
 
@@ -125,7 +150,8 @@ export class SpringBonesGroup {
   /** The attachments in the scene's slot order (setRig moves an attachment to the end). */
   readonly attachments: readonly SpringBonesAttachment[];
   /**
-   * Adds an attachment; adding it again does nothing.
+   * Adds an attachment; adding it again does nothing. An attachment whose rig promise is pending
+   * joins the scene (and `attachments`, at the end) when its rig arrives.
    * @throws TypeError for a non-attachment or another module's; Error when it is in another
    * group; SpringBonesError 'disposed' for a disposed attachment
    */

@@ -5,6 +5,8 @@
 //   const attachment = attachWearable(avatar.scene, wearableGltf, rig);
 //   // every frame, after the animation mixer and avatar.scene.updateMatrixWorld():
 //   attachment.update(dt);
+//   // or, not waiting for the module: worn and drawn now, simulated once the rig is there
+//   const attachment = attachWearable(avatar.scene, wearableGltf, sbPromise.then((sb) => sb.loadRig(...)));
 //   // or, for many avatars, one call into WebAssembly for all of them:
 //   const group = new SpringBonesGroup(springBones);  group.add(attachment);  ...  group.update(dt);
 //
@@ -20,6 +22,9 @@
 // JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
 // / step / rotations / reset / dispose), never the WebAssembly glue.
 import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Object3D, Skeleton } from 'three';
+
+/** Whether `value` is a promise (or any thenable) rather than the thing itself. */
+export const isThenable = (value) => typeof value?.then === 'function';
 
 /** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
 const gltfName = (object) => object.userData?.name ?? object.name;
@@ -187,7 +192,31 @@ export class SpringBonesAttachment {
     this.jointObjects = [];
     this.tailObjects = [];
     this.driverObjects = [];
-    this.setRig(rig);
+    this._quaternions = [];
+    this._driverElements = [];
+    this._disposed = false;
+    /** What a rig given as a promise rejected with (or its setRig threw), else null. */
+    this.error = null;
+    if (isThenable(rig)) {
+      // Worn and drawn now, at rest; simulated from the first update after the rig arrives, whose
+      // step puts every tail at rest under that frame's drivers (docs/semantics.md): the pose
+      // drawn until then, so nothing jumps. A rejection surfaces once, through `ready`.
+      this.ready = Promise.resolve(rig).then((arrived) => {
+        if (!this._disposed) this.setRig(arrived);
+        return this;
+      }).catch((error) => {
+        this.error = error;
+        throw error;
+      });
+    } else {
+      this.setRig(rig);
+      this.ready = Promise.resolve(this);
+    }
+  }
+
+  /** Whether update() simulates: false while a rig given as a promise has not arrived. */
+  get simulating() {
+    return this.instance !== null;
   }
 
   /**
@@ -254,6 +283,7 @@ export class SpringBonesAttachment {
    * calling this too would step it twice.
    */
   update(dt) {
+    if (this.instance === null) return;  // no rig yet: the joints keep the pose drawn at rest
     this.readDrivers();
     this.instance.step(dt);
     this.writeRotations();
@@ -286,7 +316,7 @@ export class SpringBonesAttachment {
 
   /** Forgets the motion (teleports, avatar swaps): the next update starts from rest. */
   reset() {
-    this.instance.reset();
+    if (this.instance !== null) this.instance.reset();
   }
 
   /**
@@ -297,8 +327,9 @@ export class SpringBonesAttachment {
    */
   dispose({ detach = true } = {}) {
     if (this._group) this._group.remove(this);
+    this._disposed = true;  // a rig still on its way is not used
     this.syncEulers();  // the joints keep their pose (detach: false) with a current .rotation
-    this.instance.dispose();
+    if (this.instance !== null) this.instance.dispose();
     if (detach) {
       for (const [object, rest] of this._restQuaternions) object.quaternion.fromArray(rest);
       for (const [object, parent] of this._moved) {
@@ -331,6 +362,7 @@ export class SpringBonesGroup {
     this.attachments = [];
     this._copies = new FrameCopies();  // every attachment's drivers and joints, in one flat list
     this._rootElements = [];  // each attachment's avatarRoot.matrixWorld.elements, for positions
+    this._waiting = [];  // added before their rig arrived: not in the scene yet
   }
 
   /** Adds an attachment (adding it again does nothing); an attachment belongs to one group. */
@@ -340,6 +372,13 @@ export class SpringBonesGroup {
     }
     if (attachment._group === this) return;
     if (attachment._group) throw new Error('SpringBonesGroup.add: the attachment is in another group');
+    if (attachment.instance === null) {
+      // Its rig is on its way: setRig adds the instance to this scene when it arrives.
+      if (attachment._disposed) throw new Error('SpringBonesGroup.add: the attachment is disposed of');
+      attachment._group = this;
+      this._waiting.push(attachment);
+      return;
+    }
     this.scene.add(attachment.instance);  // throws for a disposed instance or another module's
     this.attachments.push(attachment);
     attachment._group = this;
@@ -348,6 +387,12 @@ export class SpringBonesGroup {
 
   /** Takes an attachment out (it can then update() on its own); not in the group: nothing happens. */
   remove(attachment) {
+    const waiting = this._waiting.indexOf(attachment);
+    if (waiting >= 0) {
+      this._waiting.splice(waiting, 1);
+      attachment._group = null;
+      return;
+    }
     const index = this.attachments.indexOf(attachment);
     if (index < 0) return;
     if (!attachment.instance.disposed) this.scene.remove(attachment.instance);
@@ -395,14 +440,19 @@ export class SpringBonesGroup {
   /** Frees the scene; the attachments stay usable on their own (their update()). */
   dispose() {
     for (const attachment of this.attachments) attachment._group = null;
+    for (const attachment of this._waiting) attachment._group = null;
     this.attachments = [];
+    this._waiting = [];
     this._membersChanged();
     this.scene.dispose();
   }
 
   // setRig replaced the attachment's instance: the scene dropped the old one's slot (later slots
   // shift down) and appended the new one, so the attachment moves to the end here too.
+  // An attachment added while its rig was on its way gets its first slot the same way.
   _moveToEnd(attachment) {
+    const waiting = this._waiting.indexOf(attachment);
+    if (waiting >= 0) this._waiting.splice(waiting, 1);
     const index = this.attachments.indexOf(attachment);
     if (index >= 0) this.attachments.splice(index, 1);
     this.attachments.push(attachment);
@@ -434,8 +484,8 @@ export class SpringBonesGroup {
  */
 export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   if (!avatarRoot?.isObject3D) throw new TypeError('attachWearable: avatarRoot must be an Object3D');
-  if (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers)) {
-    throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers)');
+  if (!isThenable(rig) && (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers))) {
+    throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers) or a promise of one');
   }
   const wearableRoot = wearable?.isObject3D ? wearable : wearable?.scene;
   if (!wearableRoot?.isObject3D) throw new TypeError('attachWearable: wearable must be a GLTF result or an Object3D');
@@ -517,7 +567,8 @@ export class SpringBonesHelper extends LineSegments {
   }
 
   updateMatrixWorld(force) {
-    const { jointObjects, tailObjects } = this.attachment;
+    const jointObjects = this.attachment.jointObjects;  // per frame: plain reads, nothing allocated
+    const tailObjects = this.attachment.tailObjects;
     const position = this.geometry.getAttribute('position');
     const p = position.array;
     for (let i = 0; i < jointObjects.length; i++) {

@@ -94,14 +94,18 @@ class Preview {
 
     this.loader = new GLTFLoader();
     const avatarDownload = fetchBytes(new URL('avatar.glb', ASSETS));
-    this.sb = await createSpringBones({ wasm: kModuleDownload });
-    this.group = new SpringBonesGroup(this.sb);  // every attachment, stepped by one scene.step
+    // The module starts while the avatar downloads and is drawn: only the springs wait for it.
+    const springBones = createSpringBones({ wasm: kModuleDownload });
+    springBones.catch(() => {});  // reported by the await below, once the avatar is up
     const avatarBytes = await avatarDownload;
     this.avatarGltf = await this.loader.parseAsync(avatarBytes.buffer, ASSETS.href);
     this.timer = new THREE.Timer();
     this.timer.connect(document);  // a hidden tab's pause does not come back as one long frame
     this.setAvatarCount(1);
     this.renderer.setAnimationLoop((timestamp) => this.frame(timestamp));
+    this.sb = await springBones;
+    this.group = new SpringBonesGroup(this.sb);  // every attachment, stepped by one scene.step
+    performance.mark('springbones-ready');
   }
 
   resize() {
@@ -386,6 +390,7 @@ class Preview {
 
   /** How many avatars, and how many of their joints, the last scene.step simulated. */
   simulatedCount() {
+    if (!this.group) return { avatars: 0, joints: 0, of: 0 };
     const scene = this.group.scene;
     let avatars = 0;
     let joints = 0;
@@ -406,6 +411,7 @@ class Preview {
     this.advance(this.paused ? 0 : dt);
     this.controls.update();
     this.renderer.render(this.scene, this.camera);
+    if (this.frameCount === 0) performance.mark('first-drawable-frame');  // the avatar, drawn
     this.frameTimes[this.frameCount++ % this.frameTimes.length] = dt;
     const now = performance.now();
     if (now - this.lastReadout > 250) {
@@ -427,7 +433,7 @@ class Preview {
     }
     // The drivers' matrixWorld must be current before the springs read them.
     this.scene.updateMatrixWorld();
-    if (dt > 0) this.simulate(dt);
+    if (dt > 0 && this.group) this.simulate(dt);  // no group until the module is ready
   }
 
   /**
