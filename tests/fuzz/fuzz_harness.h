@@ -221,8 +221,23 @@ inline std::string runMetadata(const std::uint8_t* data, std::size_t size) {
     if (e.message.empty()) return "validation error without a message";
     if (!e.path.empty() && e.path[0] != '/') return "validation path is not a JSON pointer";
   }
-  (void)validateSpringBones(value);
-  (void)validateSpringBones(entity);
+  // The same springBones in a catalyst entity and in a Builder item: the same answer. springBones
+  // alone is neither shape (it has no data), so it must be refused, never answered "valid".
+  const json item = {{"contents", {{"a.glb", key}}},
+                     {"data", {{"representations", {{{"mainFile", "a.glb"}}}}, {"springBones", value}}}};
+  std::vector<ValidationError> entity_errors;
+  std::vector<ValidationError> item_errors;
+  std::vector<ValidationError> bare_errors;
+  if (validateSpringBones(entity, entity_errors)) return "validateSpringBones refused an entity";
+  if (validateSpringBones(item, item_errors)) return "validateSpringBones refused a Builder item";
+  if (entity_errors.size() != item_errors.size()) return "entity and Builder item validate differently";
+  for (std::size_t i = 0; i < entity_errors.size(); ++i) {
+    if (entity_errors[i].path != item_errors[i].path || entity_errors[i].message != item_errors[i].message) {
+      return "entity and Builder item validate differently";
+    }
+  }
+  const bool has_data = value.is_object() && (value.contains("metadata") || value.contains("data"));
+  if (!has_data && !validateSpringBones(value, bare_errors)) return "validateSpringBones read springBones as an entity";
   // What the deploy-time validator accepts, the runtime reads without complaint (a zero
   // gravityDir is valid in the schema and only has no direction).
   if (schema.empty() && !first && !value["models"].empty()) {
