@@ -99,3 +99,19 @@ export async function openDemo() {
 
 /** Largest absolute difference between two equally long arrays. */
 export const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
+
+/**
+ * The demo's joint rotations once the running frame loop has moved some joint by more than
+ * `threshold` from `before`: waited for frame by frame rather than slept on, since a loaded
+ * machine may run few frames in any fixed interval. Fails (the page's default limit for a hung
+ * page) when the joints never move.
+ */
+export async function rotationsMovedFrom(page, before, threshold = 1e-3) {
+  const moved = await page.waitForFunction(([a, t]) => {
+    const b = window.springbonesDemo.rotations();
+    return b.length === a.length && b.some((v, i) => Math.abs(v - a[i]) > t) ? b : null;
+  }, [before, threshold]).catch((error) => {
+    throw new Error(`the joints did not move by more than ${threshold}: ${error.message}`);
+  });
+  return moved.jsonValue();
+}
