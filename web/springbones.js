@@ -157,7 +157,8 @@ class SpringBones {
     const hash = resolveHash(m, 'loadRig', opts);
     // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
     const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
-      (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
+      (metaPtr, metaSize) => withRoomForStrings(m, [hash, rigOptionsText],
+        () => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText))));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -202,7 +203,7 @@ class SpringBones {
       throw new TypeError('validateSpringBones: entity must be an object or JSON text');
     }
     const m = this.#m;
-    const result = call(() => m.validateEntity(text, marker));
+    const result = call(() => withRoomForStrings(m, [text, marker], () => m.validateEntity(text, marker)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }
@@ -218,7 +219,8 @@ class SpringBones {
     const opts = optionsObject('detectSpringBones', options, kHashOptions);
     const m = this.#m;
     const hash = resolveHash(m, 'detectSpringBones', opts);
-    const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
+    const result = withBytes(m, bytes, (ptr, size) =>
+      withRoomForStrings(m, [metadataText, hash], () => m.detectCandidates(ptr, size, metadataText, hash)));
     if (result === '') throw takeError(m);
     return JSON.parse(result).candidates.map((c) => {
       const { stiffness, gravityPower, gravityDir, drag } = c.params;
@@ -250,7 +252,8 @@ class SpringBones {
     if (params !== null) checkFiniteParams(params);
     const paramsText = stringifyArgument('setSpringBoneParams: params', params);
     const m = this.#m;
-    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, paramsText));
+    const strings = [metadataText, entityText, bodyShape, nodeName, paramsText];
+    const result = call(() => withRoomForStrings(m, strings, () => m.setParams(...strings)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }
@@ -736,7 +739,7 @@ function resolveHash(m, where, options) {
   const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
   if (contentHash !== undefined) return contentHash;
   if (entityText === undefined) return '';
-  const hash = call(() => m.mainFileHash(entityText, bodyShape));
+  const hash = call(() => withRoomForStrings(m, [entityText, bodyShape], () => m.mainFileHash(entityText, bodyShape)));
   if (hash === '') throw takeError(m);
   return hash;
 }
@@ -914,6 +917,45 @@ function withUtf8(m, text, fn) {
   } finally {
     m._free(ptr);
   }
+}
+
+// embind copies each string argument into WASM memory with a malloc whose result it does not
+// check: on a full heap it would write the text through a null pointer, over the module's static
+// data. So the room for them (UTF-8 size plus embind's length word and terminator) is taken and
+// given back first, and a full heap is an out-of-memory error before anything crosses. embind's
+// mallocs then follow at once, in the same order, into the room just freed.
+function withRoomForStrings(m, texts, fn) {
+  const taken = [];
+  try {
+    for (const text of texts) {
+      const size = utf8Length(text) + 5;
+      const ptr = m._malloc(size);
+      if (ptr === 0) throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
+      taken.push(ptr);
+    }
+  } finally {
+    for (let i = taken.length - 1; i >= 0; i--) m._free(taken[i]);
+  }
+  return fn();
+}
+
+// The UTF-8 size of a string as embind writes it (a lone surrogate as 3 bytes).
+function utf8Length(text) {
+  let size = text.length;
+  for (let i = 0; i < text.length; i++) {
+    const c = text.charCodeAt(i);
+    if (c >= 0xd800 && c <= 0xdbff && i + 1 < text.length) {
+      const d = text.charCodeAt(i + 1);
+      if (d >= 0xdc00 && d <= 0xdfff) {
+        size += 2;  // 4 bytes for 2 units
+        i++;
+        continue;
+      }
+    }
+    if (c >= 0x800) size += 2;
+    else if (c >= 0x80) size += 1;
+  }
+  return size;
 }
 
 // Copies bytes into WASM memory for the duration of fn(ptr, size).

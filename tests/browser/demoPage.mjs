@@ -50,7 +50,15 @@ export function useDemoPage(opened) {
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export async function openDemo() {
+export function openDemo() {
+  return openPage('/web/demo/', () => window.springbonesDemo?.ready === true);
+}
+
+/**
+ * Serves the repository, opens `path` in Chromium and waits until `ready` (a function evaluated in
+ * the page) is true. Same result as openDemo.
+ */
+export async function openPage(path, ready) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -86,8 +94,8 @@ export async function openDemo() {
     // Generous waits: software WebGL on a 2-core machine shared with builds can take a while;
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
-    await page.goto(`http://127.0.0.1:${port}/web/demo/`);
-    await page.waitForFunction(() => window.springbonesDemo?.ready === true, null, { timeout: 180000 });
+    await page.goto(`http://127.0.0.1:${port}${path}`);
+    await page.waitForFunction(ready, null, { timeout: 180000 });
   } catch (error) {
     // The caller gets no close(): without this, Chromium and the server would keep the test
     // process alive forever after a failed start.
