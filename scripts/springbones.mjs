@@ -195,12 +195,16 @@ async function validate({ entity: path, values }, out) {
   } catch (error) {
     throw new LoadError(`${path}: not JSON (${error.message})`);
   }
-  if (entity === null || typeof entity !== 'object' || Array.isArray(entity) || !('metadata' in entity || 'data' in entity)) {
-    throw new LoadError(`${path}: not an entity or item (expected metadata.data or data with representations ` +
-                        'and springBones; the models keys are checked against the representations\' main files)');
-  }
+  if (entity === null || typeof entity !== 'object') entity = [];  // refused below, as an array is
   const tools = await (await createSpringBones()).creatorTools();
-  const errors = tools.validateSpringBones(entity);
+  let errors;
+  try {
+    errors = tools.validateSpringBones(entity);
+  } catch (error) {
+    if (!(error instanceof SpringBonesError) || error.code !== 'invalid-argument') throw error;
+    throw new LoadError(`${path}: not an entity or item (${error.message}; the models keys are checked against ` +
+                        'the representations\' main files)');
+  }
   if (values.json) {
     out.write(JSON.stringify({ file: path, valid: errors.length === 0, errors }, null, 2) + '\n');
   } else if (errors.length === 0) {

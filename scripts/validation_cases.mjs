@@ -4,7 +4,8 @@
 //
 //   node scripts/validation_cases.mjs        (needs `npm install` first)
 //
-// Each case: { name, input, valid, errors, content, representations, catalystErrors }
+// Each case: { name, input, valid, errors, content, representations, catalystErrors, contents,
+//              itemCatalystErrors }
 //   valid, errors    SpringBonesData.validate(input) and its errors as `instancePath message`.
 //   content, representations
 //                    an entity around the input (entity.content and metadata.data.representations):
@@ -14,6 +15,10 @@
 //                    errors. The schema part comes from @dcl/schemas itself; the cross-checks are
 //                    restated below in a few lines of JavaScript (the catalyst's library is not on
 //                    npm), so toLowerCase, Set and key order are JavaScript's own.
+//   contents, itemCatalystErrors
+//                    the same wearable as a Builder item { contents: {file: hash}, data:
+//                    { representations, springBones } }, and the catalyst's answer for it once
+//                    deployed (as the entity whose content lists those contents).
 //
 // JSON has no NaN or Infinity. Such numbers are validated as real numbers here and written to the
 // file as the object {"$nonFinite": "NaN" | "Infinity" | "-Infinity"}; the C++ test turns that
@@ -474,6 +479,22 @@ function entityFor(input) {
   return { content, representations }
 }
 
+// The Builder item form of the same wearable: contents is an object {file: hash}, the first entry
+// of a file winning as the entity's content list does. Draws nothing from the PRNG, so the other
+// fields of every case are what they were before items were added.
+function itemContents(content) {
+  const contents = {}
+  for (const { file, hash } of content) if (!Object.hasOwn(contents, file)) contents[file] = hash
+  return contents
+}
+
+// A Builder deploys an item as an entity whose content lists its contents: the catalyst's answer
+// for the item is its answer for that entity.
+function itemCatalystErrors(item) {
+  const content = Object.entries(item.contents).map(([file, hash]) => ({ file, hash }))
+  return catalystErrors({ content, metadata: { data: item.data } })
+}
+
 const out = []
 for (const { name, input } of cases) {
   const sorted = sortKeys(input)
@@ -481,7 +502,12 @@ for (const { name, input } of cases) {
   const errors = (SpringBonesData.validate.errors ?? []).map((e) => `${e.instancePath} ${e.message}`)
   const { content, representations } = entityFor(sorted)
   const entity = { content, metadata: { data: { representations, springBones: sorted } } }
-  out.push({ name, input: sorted, valid, errors, content, representations, catalystErrors: catalystErrors(entity) })
+  const contents = itemContents(content)
+  const item = { contents, data: { representations, springBones: sorted } }
+  out.push({
+    name, input: sorted, valid, errors, content, representations, catalystErrors: catalystErrors(entity),
+    contents, itemCatalystErrors: itemCatalystErrors(item),
+  })
 }
 
 const names = new Set()

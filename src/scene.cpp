@@ -9,12 +9,18 @@ namespace springbones {
 std::size_t Scene::add(Instance* instance) {
   auto it = std::find(members_.begin(), members_.end(), instance);
   if (it != members_.end()) return static_cast<std::size_t>(it - members_.begin());
+  // Every allocation first, then the changes that cannot fail: a failed add (out of memory)
+  // leaves the scene as it was, its lists the same length (remove and step rely on that).
+  const std::size_t count = members_.size() + 1;
+  members_.reserve(count);
+  positions_.reserve(3 * count);
+  active_.reserve(count);
+  by_distance_.reserve(count);
+  stepping_.reserve(count);
   members_.push_back(instance);
-  positions_.resize(3 * members_.size(), 0.0f);
+  positions_.resize(3 * count, 0.0f);
   active_.push_back(1);
-  by_distance_.reserve(members_.size());
-  stepping_.reserve(members_.size());
-  return members_.size() - 1;
+  return count - 1;
 }
 
 void Scene::remove(Instance* instance) {

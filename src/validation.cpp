@@ -349,27 +349,78 @@ const json* findMember(const json& object, const char* key) {
 
 bool isAbsent(const json* value) { return value == nullptr || value->is_null(); }
 
-std::vector<ValidationError> validateEntity(const json& entity) {
+// Where a subject keeps its parts. A catalyst entity: {content: [{file, hash}], metadata: {data}};
+// a Builder item: {contents: {file: hash}, data}. Both carry representations and springBones in
+// their data, and both are validated alike.
+struct Subject {
+  const json* data = nullptr;
+  std::string data_path;  ///< JSON pointer of data inside the subject
+  std::string data_name;  ///< how messages name data ("entity metadata.data", "item data")
+  bool is_item = false;
+};
+
+// The shape of the subject, or false for a value that is neither form: reading such a value as
+// "no springBones" would answer "valid" for something the validator never read.
+bool readSubject(const json& subject, Subject& out) {
+  if (!subject.is_object()) return false;
+  const json* metadata = findMember(subject, "metadata");
+  if (metadata != nullptr && metadata->is_object()) {
+    const json* data = findMember(*metadata, "data");
+    if (data != nullptr && data->is_object()) {
+      out = Subject{data, "/metadata/data", "entity metadata.data", false};
+      return true;
+    }
+  }
+  const json* data = findMember(subject, "data");
+  if (data != nullptr && data->is_object() && !isAbsent(findMember(subject, "contents"))) {
+    out = Subject{data, "/data", "item data", true};
+    return true;
+  }
+  return false;
+}
+
+// Content hashes by file name, the first entry of a file winning as Array.prototype.find does;
+// false (with errors) when the list cannot be read.
+bool readContentHashes(const json& subject, bool is_item,
+                       std::unordered_map<std::string, const std::string*>& hash_of_file,
+                       std::vector<ValidationError>& errors) {
+  if (is_item) {
+    const json& contents = *findMember(subject, "contents");
+    if (!contents.is_object()) {
+      errors.push_back({"/contents", "item contents must be an object of file: hash"});
+      return false;
+    }
+    for (auto it = contents.begin(); it != contents.end(); ++it) {
+      if (!it->is_string()) {
+        errors.push_back({"/contents" + pointerToken(it.key()), "item contents value must be a hash string"});
+        continue;
+      }
+      hash_of_file.emplace(it.key(), &it->get_ref<const std::string&>());
+    }
+    return true;
+  }
+  const json* content = findMember(subject, "content");
+  if (content == nullptr || !content->is_array()) {
+    errors.push_back({"/content", "entity content must be an array of {file, hash}"});
+    return false;
+  }
+  for (std::size_t i = 0; i < content->size(); ++i) {
+    const json* file = findMember((*content)[i], "file");
+    const json* hash = findMember((*content)[i], "hash");
+    if (file == nullptr || !file->is_string() || hash == nullptr || !hash->is_string()) {
+      errors.push_back({"/content/" + std::to_string(i),
+                        "entity content entry must be an object with string file and hash"});
+      continue;
+    }
+    hash_of_file.emplace(file->get_ref<const std::string&>(), &hash->get_ref<const std::string&>());
+  }
+  return true;
+}
+
+std::vector<ValidationError> validateSubject(const json& subject_json, const Subject& subject) {
   std::vector<ValidationError> errors;
-  if (!entity.is_object()) {
-    errors.push_back({"", "entity must be an object"});
-    return errors;
-  }
-  // Only springBones is this validator's business: an entity without one is fine here, but a
-  // path to it that has the wrong shape is reported rather than read as "no springBones".
-  const json* metadata = findMember(entity, "metadata");
-  if (isAbsent(metadata)) return errors;
-  if (!metadata->is_object()) {
-    errors.push_back({"/metadata", "entity metadata must be an object"});
-    return errors;
-  }
-  const json* data = findMember(*metadata, "data");
-  if (isAbsent(data)) return errors;
-  if (!data->is_object()) {
-    errors.push_back({"/metadata/data", "entity metadata.data must be an object"});
-    return errors;
-  }
-  const json* spring_bones = findMember(*data, "springBones");
+  // Only springBones is this validator's business: data without one is fine here.
+  const json* spring_bones = findMember(*subject.data, "springBones");
   if (isAbsent(spring_bones)) return errors;
 
   std::vector<ValidationError> schema_errors = validateSpringBonesSchema(*spring_bones);
@@ -380,40 +431,24 @@ std::vector<ValidationError> validateEntity(const json& entity) {
     return schema_errors;
   }
 
-  // The hashes that current representations load: each mainFile's entry in entity.content.
-  // Other content (textures, a GLB listed only in contents) does not count.
-  bool hashes_known = true;
+  // The hashes that current representations load: each mainFile's entry in the content list.
+  // Other content (textures, a GLB listed only in contents) does not count. Looked up by name,
+  // so many representations over a long content list stay linear.
   std::unordered_set<std::string> active_hashes;
-  // The first well-formed content entry for a file wins, as Array.prototype.find does; looked up
-  // by name, so many representations over a long content list stay linear.
   std::unordered_map<std::string, const std::string*> hash_of_file;
-  const json* content = findMember(entity, "content");
-  if (content == nullptr || !content->is_array()) {
-    errors.push_back({"/content", "entity content must be an array of {file, hash}"});
-    hashes_known = false;
-  } else {
-    for (std::size_t i = 0; i < content->size(); ++i) {
-      const json* file = findMember((*content)[i], "file");
-      const json* hash = findMember((*content)[i], "hash");
-      if (file == nullptr || !file->is_string() || hash == nullptr || !hash->is_string()) {
-        errors.push_back({"/content/" + std::to_string(i),
-                          "entity content entry must be an object with string file and hash"});
-        continue;
-      }
-      hash_of_file.emplace(file->get_ref<const std::string&>(), &hash->get_ref<const std::string&>());
-    }
-  }
-  const json* representations = findMember(*data, "representations");
+  bool hashes_known = readContentHashes(subject_json, subject.is_item, hash_of_file, errors);
+  const std::string representations_path = subject.data_path + "/representations";
+  const json* representations = findMember(*subject.data, "representations");
   if (representations == nullptr || !representations->is_array()) {
-    errors.push_back({"/metadata/data/representations",
-                      "entity metadata.data.representations must be an array"});
+    errors.push_back({representations_path, subject.data_name + ".representations must be an array"});
     hashes_known = false;
   } else {
     for (std::size_t i = 0; i < representations->size(); ++i) {
       const json* main_file = findMember((*representations)[i], "mainFile");
       if (main_file == nullptr || !main_file->is_string()) {
-        errors.push_back({"/metadata/data/representations/" + std::to_string(i),
-                          "entity representation must be an object with a string mainFile"});
+        errors.push_back({representations_path + "/" + std::to_string(i),
+                          (subject.is_item ? "item" : "entity") +
+                              std::string(" representation must be an object with a string mainFile")});
         continue;
       }
       if (!hashes_known) continue;
@@ -463,12 +498,22 @@ std::vector<ValidationError> validateSpringBonesSchema(const json& springBones) 
   }
 }
 
-std::vector<ValidationError> validateSpringBones(const json& entity) {
+Error validateSpringBones(const json& subject, std::vector<ValidationError>& errors) {
+  errors.clear();
   try {
-    return validateEntity(entity);
+    Subject parts;
+    if (!readSubject(subject, parts)) {
+      return Error{ErrorCode::kInvalidArgument,
+                   "validateSpringBones reads a catalyst entity {content, metadata: {data: {representations, "
+                   "springBones}}} or a Builder item {contents, data: {representations, springBones}}; this "
+                   "is neither",
+                   ""};
+    }
+    errors = validateSubject(subject, parts);
   } catch (...) {
-    return internalFailure();
+    errors = internalFailure();
   }
+  return {};
 }
 
 }  // namespace springbones

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "springbones.h"
+
 namespace springbones {
 
 struct ValidationError {
@@ -26,9 +28,12 @@ struct ValidationError {
 /// the json are "must be number". Never throws.
 std::vector<ValidationError> validateSpringBonesSchema(const nlohmann::json& springBones);
 
-/// Checks entity.metadata.data.springBones as the catalyst does: absent or null is valid; else the
-/// schema errors alone ("springBones<path> <message>"), else every models key that is no mainFile's
-/// content hash and every bone name without "springbone" (ASCII case-insensitive). Never throws.
-std::vector<ValidationError> validateSpringBones(const nlohmann::json& entity);
+/// Checks the springBones of a catalyst entity {content: [{file, hash}], metadata: {data}} or of a
+/// Builder item {contents: {file: hash}, data} alike, as the catalyst does: absent or null is
+/// valid; else the schema errors alone ("springBones<path> <message>"), else every models key that
+/// is no mainFile's content hash and every bone name without "springbone" (ASCII
+/// case-insensitive). Any other value (not an object, `{}`, metadata without data, data without
+/// contents) is an invalid-argument Error naming both shapes, never an empty list. Never throws.
+Error validateSpringBones(const nlohmann::json& subject, std::vector<ValidationError>& errors);
 
 }  // namespace springbones

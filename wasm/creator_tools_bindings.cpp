@@ -35,7 +35,9 @@ std::string validateEntity(const std::string& entity_text, const std::string& ma
     json entity;
     if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
     restoreNonFinite(entity, marker);
-    text = validationErrorsJson(validateSpringBones(entity));
+    std::vector<ValidationError> errors;
+    if (Error e = validateSpringBones(entity, errors)) return fail(e);
+    text = validationErrorsJson(errors);
     return 1;
   });
   return text;

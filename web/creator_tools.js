@@ -10,7 +10,7 @@
 import { optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
 import { call, takeError } from './errors.js';
 import { instantiateModule } from './module_loader.js';
-import { withBytes } from './wasm_memory.js';
+import { withBytes, withRoomForStrings } from './wasm_memory.js';
 
 const kModuleUrl = new URL('./dist/springbones_creator_tools.wasm', import.meta.url);
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
@@ -42,9 +42,11 @@ class CreatorTools {
   }
 
   /**
-   * The errors a catalyst would answer for the entity's data.springBones: the SpringBonesData
-   * schema first, then the cross-checks (models keys are mainFile hashes; bone names contain
-   * "springbone"). [] when it would be accepted. Each error: {path, message}.
+   * The errors a catalyst would answer for the springBones of a catalyst entity (metadata.data) or
+   * of a Builder item (data, with contents): the SpringBonesData schema first, then the
+   * cross-checks (models keys are mainFile hashes; bone names contain "springbone"). [] when it
+   * would be accepted. Each error: {path, message}. Any other object (`{}` included) is an
+   * invalid-argument error.
    */
   validateSpringBones(entity) {
     let text;
@@ -60,7 +62,7 @@ class CreatorTools {
       throw new TypeError('validateSpringBones: entity must be an object or JSON text');
     }
     const m = this.#m;
-    const result = call(() => m.validateEntity(text, marker));
+    const result = call(() => withRoomForStrings(m, [text, marker], () => m.validateEntity(text, marker)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }
@@ -76,7 +78,8 @@ class CreatorTools {
     const opts = optionsObject('detectSpringBones', options, kHashOptions);
     const m = this.#m;
     const hash = this.#resolveHash('detectSpringBones', opts);
-    const result = withBytes(m, bytes, (ptr, size) => m.detectCandidates(ptr, size, metadataText, hash));
+    const result = withBytes(m, bytes, (ptr, size) =>
+      withRoomForStrings(m, [metadataText, hash], () => m.detectCandidates(ptr, size, metadataText, hash)));
     if (result === '') throw takeError(m);
     return JSON.parse(result).candidates.map((c) => {
       const { stiffness, gravityPower, gravityDir, drag } = c.params;
@@ -108,7 +111,8 @@ class CreatorTools {
     if (params !== null) checkFiniteParams(params);
     const paramsText = stringifyArgument('setSpringBoneParams: params', params);
     const m = this.#m;
-    const result = call(() => m.setParams(metadataText, entityText, bodyShape, nodeName, paramsText));
+    const strings = [metadataText, entityText, bodyShape, nodeName, paramsText];
+    const result = call(() => withRoomForStrings(m, strings, () => m.setParams(...strings)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }

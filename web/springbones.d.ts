@@ -197,8 +197,11 @@ export interface CreatorTools {
    * every models key must be the main file hash of a current representation and every bone name
    * must contain "springbone". Absent or null springBones is valid. Members whose value is
    * undefined are dropped, as in JSON.
-   * @param entity a catalyst entity or a Builder item (see HashOptions), as an object or JSON text
-   * @throws SpringBonesError 'entity-bad-json' for JSON text that does not parse
+   * @param entity a catalyst entity `{content, metadata: {data}}` or a Builder item
+   *   `{contents, data}` (see HashOptions), validated alike, as an object or JSON text
+   * @throws TypeError when entity is neither an object nor a string
+   * @throws SpringBonesError 'entity-bad-json' for JSON text that does not parse;
+   *   'invalid-argument' for a value of neither shape (`{}` included), which is never answered []
    */
   validateSpringBones(entity: object | string): ValidationError[];
   /**

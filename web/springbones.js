@@ -19,7 +19,7 @@ import { SpringBonesError, call, takeError } from './errors.js';
 import { instantiateModule, loadFailed } from './module_loader.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
-import { withBytes, withUtf8 } from './wasm_memory.js';
+import { withBytes, withRoomForStrings, withUtf8 } from './wasm_memory.js';
 
 export { SpringBonesError };
 
@@ -82,7 +82,8 @@ class SpringBones {
     const hash = resolveHash(m, 'loadRig', opts);
     // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
     const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
-      (metaPtr, metaSize) => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText)));
+      (metaPtr, metaSize) => withRoomForStrings(m, [hash, rigOptionsText],
+        () => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText))));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -594,7 +595,7 @@ function resolveHash(m, where, options) {
   const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
   if (contentHash !== undefined) return contentHash;
   if (entityText === undefined) return '';
-  const hash = call(() => m.mainFileHash(entityText, bodyShape));
+  const hash = call(() => withRoomForStrings(m, [entityText, bodyShape], () => m.mainFileHash(entityText, bodyShape)));
   if (hash === '') throw takeError(m);
   return hash;
 }

@@ -56,3 +56,42 @@ export function withBytes(m, bytes, fn) {
     m._free(ptr);
   }
 }
+
+// embind copies each string argument into WASM memory with a malloc whose result it does not
+// check: on a full heap it would write the text through a null pointer, over the module's static
+// data. So the room for them (UTF-8 size plus embind's length word and terminator) is taken and
+// given back first, and a full heap is an out-of-memory error before anything crosses. embind's
+// mallocs then follow at once, in the same order, into the room just freed.
+export function withRoomForStrings(m, texts, fn) {
+  const taken = [];
+  try {
+    for (const text of texts) {
+      const size = utf8Length(text) + 5;
+      const ptr = m._malloc(size);
+      if (ptr === 0) throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
+      taken.push(ptr);
+    }
+  } finally {
+    for (let i = taken.length - 1; i >= 0; i--) m._free(taken[i]);
+  }
+  return fn();
+}
+
+// The UTF-8 size of a string as embind writes it (a lone surrogate as 3 bytes).
+function utf8Length(text) {
+  let size = text.length;
+  for (let i = 0; i < text.length; i++) {
+    const c = text.charCodeAt(i);
+    if (c >= 0xd800 && c <= 0xdbff && i + 1 < text.length) {
+      const d = text.charCodeAt(i + 1);
+      if (d >= 0xdc00 && d <= 0xdfff) {
+        size += 2;  // 4 bytes for 2 units
+        i++;
+        continue;
+      }
+    }
+    if (c >= 0x800) size += 2;
+    else if (c >= 0x80) size += 1;
+  }
+  return size;
+}

@@ -52,7 +52,15 @@ export function useDemoPage(opened, options) {
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo', beforeOpen = null } = {}) {
+export function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo', beforeOpen = null } = {}) {
+  return openPage(`/web/demo/${demoPage}`, (hook) => window[hook]?.ready === true, { arg: readyHook, beforeOpen });
+}
+
+/**
+ * Serves the repository, opens `path` in Chromium and waits until `ready(arg)` (a function
+ * evaluated in the page) is true; `beforeOpen(page)` runs first. Same result as openDemo.
+ */
+export async function openPage(path, ready, { arg = null, beforeOpen = null } = {}) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -89,8 +97,8 @@ export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDe
     // these are limits for a hung page, not timings.
     page.setDefaultTimeout(90000);
     if (beforeOpen) await beforeOpen(page);
-    await page.goto(`http://127.0.0.1:${port}/web/demo/${demoPage}`);
-    await page.waitForFunction((hook) => window[hook]?.ready === true, readyHook, { timeout: 180000 });
+    await page.goto(`http://127.0.0.1:${port}${path}`);
+    await page.waitForFunction(ready, arg, { timeout: 180000 });
   } catch (error) {
     // The caller gets no close(): without this, Chromium and the server would keep the test
     // process alive forever after a failed start.
@@ -102,3 +110,19 @@ export async function openDemo({ page: demoPage = '', readyHook = 'springbonesDe
 
 /** Largest absolute difference between two equally long arrays. */
 export const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
+
+/**
+ * The demo's joint rotations once the running frame loop has moved some joint by more than
+ * `threshold` from `before`: waited for frame by frame rather than slept on, since a loaded
+ * machine may run few frames in any fixed interval. Fails (the page's default limit for a hung
+ * page) when the joints never move.
+ */
+export async function rotationsMovedFrom(page, before, threshold = 1e-3) {
+  const moved = await page.waitForFunction(([a, t]) => {
+    const b = window.springbonesDemo.rotations();
+    return b.length === a.length && b.some((v, i) => Math.abs(v - a[i]) > t) ? b : null;
+  }, [before, threshold]).catch((error) => {
+    throw new Error(`the joints did not move by more than ${threshold}: ${error.message}`);
+  });
+  return moved.jsonValue();
+}

@@ -192,7 +192,8 @@ test('animation, turn and shake move the avatar; pause and reset stop and rewind
   await page.locator('#pause').click();
   await page.locator('#spin').check();
   const yaw0 = (await state()).yaw;
-  await page.waitForTimeout(500);
+  // Waited for, not slept on: how many frames run in a fixed interval depends on the machine.
+  await page.waitForFunction((y) => window.springbonesDemo.state().yaw !== y, yaw0);
   assert.notEqual((await state()).yaw, yaw0, 'spinning');
   await page.locator('#reset').click();
   const s = await state();
@@ -252,11 +253,13 @@ test('chain lines, colliders and the readout', { skip }, async () => {
   await page.locator('#show-colliders').uncheck();
 
   await page.locator('#integrator').selectOption('xpbd');
-  await page.waitForTimeout(1000);  // the readout refreshes every 250 ms
+  // The readout refreshes every 250 ms of frames: waited for, however long frames take here.
+  await page.waitForFunction(() => document.getElementById('readout-integrator').textContent === 'XPBD' &&
+                                   document.getElementById('readout-solver').textContent !== '–');
   assert.equal(await page.locator('#readout-joints').textContent(), '15');
   assert.equal(await page.locator('#readout-integrator').textContent(), 'XPBD');
-  const solverMs = Number(await page.locator('#readout-solver').textContent());
-  assert.ok(solverMs > 0 && solverMs < 1000, `solver readout ${solverMs} ms`);
+  // A time, so only its form is checked: a fast machine may show 0.000 for 15 joints.
+  assert.match(await page.locator('#readout-solver').textContent(), /^\d+\.\d{3}$/);
   assert.match(await page.locator('#readout-per-joint').textContent(), /^\(\d+ ns\/joint\)$/);
   await page.locator('#integrator').selectOption('vrm');
   assert.deepEqual(consoleErrors, []);

@@ -71,7 +71,9 @@ test('a change of wearable or integrator restarts the readout', { skip }, async 
     d.advance(3 / 60);
     return { before, after: d.readout() };
   });
-  assert.ok(integrator.before.samples.length >= 30 && integrator.before.samples.every((s) => s.integrator === 'vrm'));
+  // held, not samples.length: the samples are cut at a second of wall time, which 30 frames may
+  // exceed on a loaded machine.
+  assert.ok(integrator.before.held >= 30 && integrator.before.samples.every((s) => s.integrator === 'vrm'));
   assertConsistent(integrator.after);
   assert.equal(integrator.after.held, 3, 'the three frames after the switch, nothing before it');
   assert.deepEqual(integrator.after.samples.map((s) => s.integrator), ['xpbd', 'xpbd', 'xpbd']);

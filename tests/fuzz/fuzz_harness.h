@@ -25,6 +25,8 @@
 
 #include "builder_edits.h"
 #include "content_hash.h"
+#include "entity.h"
+#include "rig_description.h"
 #include "springbones.h"
 #if __has_include("xpbd_solver.h")
 #include "xpbd_solver.h"
@@ -111,6 +113,35 @@ inline std::string checkRig(const Rig& rig) {
   return {};
 }
 
+// True when every number in the value is finite (JSON.parse turns 1e999 into Infinity).
+inline bool allNumbersFinite(const json& value) {
+  std::vector<const json*> stack = {&value};
+  while (!stack.empty()) {
+    const json* v = stack.back();
+    stack.pop_back();
+    if (v->is_number_float() && !std::isfinite(v->get<double>())) return false;
+    if (v->is_structured()) {
+      for (const json& child : *v) stack.push_back(&child);
+    }
+  }
+  return true;
+}
+
+// The rig description as the JS API reads it (rig.joints, rig.drivers, ...: one JSON.parse of
+// this text): it must parse as strict JSON, be an object with the documented members, and carry
+// only finite numbers.
+inline std::string checkDescription(const Rig& rig, const std::string& hash, const std::string& format) {
+  const std::string text = describeRig(rig, hash, format);
+  const json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) return "rig description is not JSON";
+  for (const char* key : {"contentHash", "format", "nodeCount", "joints", "chains", "drivers", "colliders", "warnings"}) {
+    if (!value.contains(key)) return std::string("rig description lacks ") + key;
+  }
+  if (!value["joints"].is_array() || value["joints"].size() != rig.joints.size()) return "rig description joints differ";
+  if (!allNumbersFinite(value)) return "rig description holds a non-finite number";
+  return {};
+}
+
 // Steps an instance through a few ordinary frames with the drivers at rest.
 inline std::string stepAtRest(Instance& instance) {
   if (std::string f = checkRotations(instance, "after construction"); !f.empty()) return f;
@@ -167,6 +198,7 @@ inline std::string runGlbAndMetadata(const std::uint8_t* data, std::size_t size)
   (void)detectSpringBones(skeleton, model);
   const std::shared_ptr<const Rig> rig = buildRig(std::move(skeleton), model, std::move(warnings));
   if (std::string f = checkRig(*rig); !f.empty()) return f;
+  if (std::string f = checkDescription(*rig, hash, "dcl"); !f.empty()) return f;
   Instance instance(rig);
   return stepAtRest(instance);
 }
@@ -183,6 +215,7 @@ inline std::string runVrm(const std::uint8_t* data, std::size_t size) {
   if (e) return {};
   if (!rig) return "loadVrmRig succeeded without a rig";
   if (std::string f = checkRig(*rig); !f.empty()) return f;
+  if (std::string f = checkDescription(*rig, "", "vrm0"); !f.empty()) return f;
   Instance instance(rig);
   return stepAtRest(instance);
 }
@@ -221,8 +254,23 @@ inline std::string runMetadata(const std::uint8_t* data, std::size_t size) {
     if (e.message.empty()) return "validation error without a message";
     if (!e.path.empty() && e.path[0] != '/') return "validation path is not a JSON pointer";
   }
-  (void)validateSpringBones(value);
-  (void)validateSpringBones(entity);
+  // The same springBones in a catalyst entity and in a Builder item: the same answer. springBones
+  // alone is neither shape (it has no data), so it must be refused, never answered "valid".
+  const json item = {{"contents", {{"a.glb", key}}},
+                     {"data", {{"representations", {{{"mainFile", "a.glb"}}}}, {"springBones", value}}}};
+  std::vector<ValidationError> entity_errors;
+  std::vector<ValidationError> item_errors;
+  std::vector<ValidationError> bare_errors;
+  if (validateSpringBones(entity, entity_errors)) return "validateSpringBones refused an entity";
+  if (validateSpringBones(item, item_errors)) return "validateSpringBones refused a Builder item";
+  if (entity_errors.size() != item_errors.size()) return "entity and Builder item validate differently";
+  for (std::size_t i = 0; i < entity_errors.size(); ++i) {
+    if (entity_errors[i].path != item_errors[i].path || entity_errors[i].message != item_errors[i].message) {
+      return "entity and Builder item validate differently";
+    }
+  }
+  const bool has_data = value.is_object() && (value.contains("metadata") || value.contains("data"));
+  if (!has_data && !validateSpringBones(value, bare_errors)) return "validateSpringBones read springBones as an entity";
   // What the deploy-time validator accepts, the runtime reads without complaint (a zero
   // gravityDir is valid in the schema and only has no direction).
   if (schema.empty() && !first && !value["models"].empty()) {
@@ -517,6 +565,53 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     if (std::string f = checkXpbd("after an XPBD substep"); !f.empty()) return f;
   }
 #endif
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// (d) an entity or Builder item as JSON text: which GLB hash loadRig and the Builder edits take
+// from it, the validator, and a Builder edit through it.
+
+inline std::string runEntity(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const json entity = parseOrDiscard(text);
+  if (entity.is_discarded()) return {};
+
+  std::vector<Representation> representations;
+  const Error read = readRepresentations(entity, representations);
+  if (std::string f = checkError(read, "readRepresentations"); !f.empty()) return f;
+  for (const char* shape : {"BaseMale", "urn:decentraland:off-chain:base-avatars:BaseFemale"}) {
+    std::string hash;
+    const Error e = mainFileHashFor(entity, shape, hash);
+    if (std::string f = checkError(e, "mainFileHashFor"); !f.empty()) return f;
+    if (!e && hash.empty()) return "mainFileHashFor succeeded without a hash";
+    if (e && !hash.empty()) return "mainFileHashFor failed but left a hash";
+    // What loadRig would then read: the entity's springBones under that hash.
+    if (!e) {
+      ModelEntry model;
+      std::vector<Warning> warnings;
+      const Error parsed = parseSpringBones(springBonesOf(entity), hash, model, warnings);
+      if (std::string f = checkError(parsed, "parseSpringBones(entity)"); !f.empty()) return f;
+    }
+  }
+
+#ifdef SPRINGBONES_FUZZ_HAS_VALIDATION
+  std::vector<ValidationError> errors;
+  const Error refused = validateSpringBones(entity, errors);
+  if (std::string f = checkError(refused, "validateSpringBones"); !f.empty()) return f;
+  if (refused && !errors.empty()) return "validateSpringBones refused the value and listed errors";
+  if (refused && refused.code != ErrorCode::kInvalidArgument) return "validateSpringBones refused with another code";
+  for (const ValidationError& v : errors) {
+    if (v.message.empty()) return "validation error without a message";
+    if (!v.path.empty() && v.path[0] != '/') return "validation path is not a JSON pointer";
+  }
+#endif
+
+  json out;
+  const json params = {{"stiffness", 1}, {"gravityPower", 0}, {"gravityDir", {0, -1, 0}}, {"drag", 0.5}};
+  const Error edit = setSpringBoneParams(springBonesOf(entity), entity, "BaseMale", "springbone_fuzz", params, out);
+  if (std::string f = checkError(edit, "setSpringBoneParams(entity)"); !f.empty()) return f;
+  if (!edit && (!out.is_object() || out.value("version", 0) != 1)) return "setSpringBoneParams wrote no version 1";
   return {};
 }
 

@@ -128,3 +128,23 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
     writeFileSync(join(dir, `random_${String(i).padStart(2, '0')}`), bytes);
   }
 }
+
+// --- entity: the sample's entity, recorded validation cases as entities and as Builder items,
+// and the shapes the validator must refuse
+{
+  const dir = reset('entity');
+  const sample = readFileSync(join(here, '..', '..', 'web', 'demo', 'assets', 'hair_wearable.entity.json'));
+  writeFileSync(join(dir, 'sample_entity'), Buffer.from(JSON.stringify(JSON.parse(sample.toString()))));
+  const cases = JSON.parse(fixture('validation_cases.json').toString());
+  const picked = cases.filter((c, i) => i % 40 === 0 && c.input !== undefined).slice(0, 24);
+  picked.forEach((c, i) => {
+    const n = String(i).padStart(2, '0');
+    const data = { representations: c.representations, springBones: c.input };
+    writeFileSync(join(dir, `case_${n}_entity`), JSON.stringify({ content: c.content, metadata: { data } }));
+    writeFileSync(join(dir, `case_${n}_item`), JSON.stringify({ contents: c.contents, data }));
+  });
+  const refused = ['{}', '[]', '{"metadata":{}}', '{"metadata":{"data":null}}', '{"data":{"springBones":null}}',
+    '{"contents":[],"data":{"representations":[{"mainFile":"a.glb","bodyShapes":["BaseMale"]}]}}',
+    '{"content":{"a.glb":"Qm"},"metadata":{"data":{"representations":[{"mainFile":"a.glb","bodyShapes":["BaseMale"]}]}}}'];
+  refused.forEach((text, i) => writeFileSync(join(dir, `shape_${String(i).padStart(2, '0')}`), text));
+}

@@ -11,17 +11,24 @@
 // of scripts/lib/sway.mjs, written out below with the same operations in the same order (keep the
 // two in step); --drive rest (the default) leaves the drivers at their rest world matrices.
 // Floats are printed with 9 significant digits, which reads back as the same float.
+// --vrm reads the file as a VRM avatar (loadVrmRig; the metadata and hash arguments are ignored).
+// --hash prints one line instead, {"frames", "joints", "hash"}: FNV-1a 64 over the bytes
+// (little-endian) of every frame's rotations, as tests/scenarios/frame_hash.mjs computes it in
+// Node and in Chromium.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "content_hash.h"
 #include "springbones.h"
+#include "vrm_loader.h"
 
 namespace {
 
@@ -105,7 +112,8 @@ void writeFloats(std::FILE* out, const float* values, std::size_t count) {
 int usage() {
   std::fprintf(stderr,
                "usage: dump_rotations <glb> <springBones.json|-> <hash|-> <frames> <fps>\n"
-               "                      [--drive rest|sway] [--step-hz H] [--max-substeps N] [--out FILE]\n");
+               "                      [--drive rest|sway] [--step-hz H] [--max-substeps N] [--out FILE]\n"
+               "                      [--vrm] [--hash]\n");
   return 2;
 }
 
@@ -118,8 +126,13 @@ int main(int argc, char** argv) {
   const double fps = std::atof(argv[5]);
   std::string drive = "rest", out_path;
   InstanceOptions options;
+  bool vrm = false, hash_only = false;
   for (int i = 6; i < argc; ++i) {
     const std::string flag = argv[i];
+    if (flag == "--vrm" || flag == "--hash") {
+      (flag == "--vrm" ? vrm : hash_only) = true;
+      continue;
+    }
     if (i + 1 >= argc) return usage();
     const std::string value = argv[++i];
     if (flag == "--drive") {
@@ -146,19 +159,28 @@ int main(int argc, char** argv) {
     return 1;
   }
   const auto* bytes = reinterpret_cast<const std::uint8_t*>(glb.data());
-  Skeleton skeleton;
-  if (Error e = loadSkeleton(bytes, glb.size(), skeleton)) {
-    std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
-    return 1;
+  std::shared_ptr<const Rig> rig;
+  if (vrm) {
+    if (Error e = loadVrmRig(bytes, glb.size(), rig)) {
+      std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
+      return 1;
+    }
+  } else {
+    Skeleton skeleton;
+    if (Error e = loadSkeleton(bytes, glb.size(), skeleton)) {
+      std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
+      return 1;
+    }
+    const std::string hash = hash_arg == "-" ? contentHash(bytes, glb.size()) : hash_arg;
+    ModelEntry model;
+    std::vector<Warning> warnings;
+    if (Error e = parseSpringBonesText(metadata, hash, model, warnings)) {
+      std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
+      return 1;
+    }
+    rig = buildRig(std::move(skeleton), model, std::move(warnings));
   }
-  const std::string hash = hash_arg == "-" ? contentHash(bytes, glb.size()) : hash_arg;
-  ModelEntry model;
-  std::vector<Warning> warnings;
-  if (Error e = parseSpringBonesText(metadata, hash, model, warnings)) {
-    std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
-    return 1;
-  }
-  Instance instance(buildRig(std::move(skeleton), model, std::move(warnings)), options);
+  Instance instance(rig, options);
 
   std::FILE* out = out_path.empty() ? stdout : std::fopen(out_path.c_str(), "w");
   if (out == nullptr) {
@@ -168,14 +190,30 @@ int main(int argc, char** argv) {
   const std::size_t driver_floats = 16 * instance.driverCount();
   const std::vector<float> rest(instance.driverMatrices(), instance.driverMatrices() + driver_floats);
   const double dt = 1 / fps;
+  std::uint64_t fnv = 14695981039346656037ull;  // FNV-1a 64 offset basis
   for (int k = 1; k <= frames; ++k) {
     if (drive == "sway") swayDrivers(rest, instance.driverMatrices(), k / fps);
     instance.step(dt);
+    if (hash_only) {
+      const float* rotations = instance.rotations();
+      for (std::size_t i = 0; i < 4 * instance.jointCount(); ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &rotations[i], sizeof bits);
+        for (int b = 0; b < 4; ++b) {
+          fnv = (fnv ^ ((bits >> (8 * b)) & 0xffu)) * 1099511628211ull;  // FNV-1a 64 prime
+        }
+      }
+      continue;
+    }
     std::fprintf(out, "{\"frame\":%d,\"drivers\":", k);
     writeFloats(out, instance.driverMatrices(), driver_floats);
     std::fputs(",\"rotations\":", out);
     writeFloats(out, instance.rotations(), 4 * instance.jointCount());
     std::fputs("}\n", out);
+  }
+  if (hash_only) {
+    std::fprintf(out, "{\"frames\":%d,\"joints\":%zu,\"hash\":\"%016llx\"}\n", frames, instance.jointCount(),
+                 static_cast<unsigned long long>(fnv));
   }
   const bool ok = std::ferror(out) == 0;
   if (out != stdout) std::fclose(out);

@@ -46,6 +46,10 @@ TEST(FuzzRegressions, GlbAndMetadataInputsKeepEveryInvariant) {
   EXPECT_GT(replay("glb_metadata", fuzz::runGlbAndMetadata), 0u);
 }
 
+TEST(FuzzRegressions, EntityInputsKeepEveryInvariant) {
+  EXPECT_GT(replay("entity", fuzz::runEntity), 0u);
+}
+
 TEST(FuzzRegressions, MetadataInputsKeepEveryInvariant) {
   EXPECT_GT(replay("metadata", fuzz::runMetadata), 0u);
 }

@@ -393,7 +393,9 @@ TEST(HostileInput, InvalidUtf8InMetadataIsAnErrorAsTextAndHarmlessAsAJsonValue) 
   value["models"][bad] = value["models"]["h"];
   const json entity = {{"content", {{{"file", bad}, {"hash", bad}}}},
                        {"metadata", {{"data", {{"representations", {{{"mainFile", bad}}}}, {"springBones", value}}}}}};
-  EXPECT_FALSE(validateSpringBones(entity).empty());
+  std::vector<ValidationError> entity_errors;
+  ASSERT_FALSE(validateSpringBones(entity, entity_errors));
+  EXPECT_FALSE(entity_errors.empty());
   // The loader: a node named with invalid UTF-8 (as a Skeleton built in C++ could be) matched
   // by an entry with the same bytes builds and steps.
   const Loaded l = loadWearableValue(hairGlb(), hairMetadata(entry(1, 1, {0, -1, 0}, 0.5)));

@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -54,6 +55,23 @@ std::vector<std::string> messages(const std::vector<ValidationError>& errors) {
 }
 
 using Strings = std::vector<std::string>;
+
+// The errors for a subject the validator reads (an entity or a Builder item); reading it must not
+// fail.
+std::vector<ValidationError> validated(const json& subject) {
+  std::vector<ValidationError> errors;
+  const Error e = validateSpringBones(subject, errors);
+  EXPECT_FALSE(e) << e.message;
+  return errors;
+}
+
+// The Error for a subject that is neither shape; the error list must stay empty.
+Error refused(const json& subject) {
+  std::vector<ValidationError> errors = {ValidationError{"stale", "stale"}};
+  const Error e = validateSpringBones(subject, errors);
+  EXPECT_TRUE(errors.empty());
+  return e;
+}
 
 // ---------------------------------------------------------------------------------------------
 // The schema: one bound, type or shape at a time
@@ -323,7 +341,7 @@ json rootParams() {
 json modelsDoc(const json& models) { return {{"version", 1}, {"models", models}}; }
 
 TEST(ValidationEntity, AcceptsAbsentSpringBones) {
-  EXPECT_TRUE(validateSpringBones(entityWith(json(json::value_t::discarded))).empty());
+  EXPECT_TRUE(validated(entityWith(json(json::value_t::discarded))).empty());
 }
 
 // The representations' main files are looked up in the content list by name, and the models keys
@@ -346,23 +364,23 @@ TEST(ValidationEntity, ManyRepresentationsAndModelsStayLinear) {
   content.push_back({{"file", "f0.glb"}, {"hash", "bafyLATER"}});
   models["bafyLATER"] = {{kBone, rootParams()}};
   entity["metadata"]["data"]["springBones"] = modelsDoc(models);
-  const std::vector<ValidationError> errors = validateSpringBones(entity);
+  const std::vector<ValidationError> errors = validated(entity);
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].path, "/models/bafyLATER");
 }
 
-TEST(ValidationEntity, AcceptsNullSpringBones) { EXPECT_TRUE(validateSpringBones(entityWith(nullptr)).empty()); }
+TEST(ValidationEntity, AcceptsNullSpringBones) { EXPECT_TRUE(validated(entityWith(nullptr)).empty()); }
 
 TEST(ValidationEntity, AcceptsEmptyModels) {
-  EXPECT_TRUE(validateSpringBones(entityWith(modelsDoc(json::object()))).empty());
+  EXPECT_TRUE(validated(entityWith(modelsDoc(json::object()))).empty());
 }
 
 TEST(ValidationEntity, AcceptsModelKeyedByMainFileHash) {
-  EXPECT_TRUE(validateSpringBones(entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}))).empty());
+  EXPECT_TRUE(validated(entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}))).empty());
   json bone = rootParams();
   bone.erase("isRoot");
   bone["center"] = "Avatar_Hips";
-  EXPECT_TRUE(validateSpringBones(entityWith(modelsDoc({{kH, {{kBone, bone}}}}))).empty());
+  EXPECT_TRUE(validated(entityWith(modelsDoc({{kH, {{kBone, bone}}}}))).empty());
 }
 
 TEST(ValidationEntity, AcceptsOneEntryForGlbSharedByBothBodyShapes) {
@@ -378,11 +396,11 @@ TEST(ValidationEntity, AcceptsOneEntryForGlbSharedByBothBodyShapes) {
              {"mainFile", "female/shared.glb"},
              {"contents", {"female/shared.glb"}}}}},
           {"springBones", modelsDoc({{kH, {{"Hair_springBone", rootParams()}}}})}}}}}};
-  EXPECT_TRUE(validateSpringBones(entity).empty());
+  EXPECT_TRUE(validated(entity).empty());
 }
 
 TEST(ValidationEntity, RejectsKeyOfAFileThatIsNotAMainFile) {
-  const auto errors = validateSpringBones(entityWith(modelsDoc({{kH2, {{kBone, rootParams()}}}})));
+  const auto errors = validated(entityWith(modelsDoc({{kH2, {{kBone, rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].message, "springBones.models key " + kH2 +
                                    " does not match any current representation hash");
@@ -390,7 +408,7 @@ TEST(ValidationEntity, RejectsKeyOfAFileThatIsNotAMainFile) {
 }
 
 TEST(ValidationEntity, RejectsFilenameKey) {
-  const auto errors = validateSpringBones(entityWith(modelsDoc({{"male/AnimeLong.glb", {{kBone, rootParams()}}}})));
+  const auto errors = validated(entityWith(modelsDoc({{"male/AnimeLong.glb", {{kBone, rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].message,
             "springBones.models key male/AnimeLong.glb does not match any current representation hash");
@@ -399,12 +417,12 @@ TEST(ValidationEntity, RejectsFilenameKey) {
 
 TEST(ValidationEntity, RejectsStaleKey) {
   const std::string stale = "bafkreistaleshashstalehashstalehashstalehashstalehashstalehashstale";
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{stale, {{kBone, rootParams()}}}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{stale, {{kBone, rootParams()}}}})))),
             Strings{"springBones.models key " + stale + " does not match any current representation hash"});
 }
 
 TEST(ValidationEntity, RejectsBoneNameWithoutSpringboneToken) {
-  const auto errors = validateSpringBones(entityWith(modelsDoc({{kH, {{"Hair_001", rootParams()}}}})));
+  const auto errors = validated(entityWith(modelsDoc({{kH, {{"Hair_001", rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].message, "Bone name Hair_001 in model " + kH +
                                    " does not follow the spring bone naming convention");
@@ -412,17 +430,17 @@ TEST(ValidationEntity, RejectsBoneNameWithoutSpringboneToken) {
 }
 
 TEST(ValidationEntity, PrefixesSchemaErrorsWithSpringBones) {
-  EXPECT_EQ(messages(validateSpringBones(entityWith({{"version", 2}, {"models", json::object()}}))),
+  EXPECT_EQ(messages(validated(entityWith({{"version", 2}, {"models", json::object()}}))),
             Strings{"springBones/version must be equal to one of the allowed values"});
   json bone = rootParams();
   bone["stiffness"] = 6;
-  const auto errors = validateSpringBones(entityWith(modelsDoc({{kH, {{kBone, bone}}}})));
+  const auto errors = validated(entityWith(modelsDoc({{kH, {{kBone, bone}}}})));
   EXPECT_EQ(messages(errors), Strings{"springBones" + kBonePath + "/stiffness must be <= 4"});
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].path, kBonePath + "/stiffness");
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc(nullptr)))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc(nullptr)))),
             Strings{"springBones/models must be object"});
-  EXPECT_EQ(messages(validateSpringBones(entityWith({{"models", json::object()}}))),
+  EXPECT_EQ(messages(validated(entityWith({{"models", json::object()}}))),
             Strings{"springBones must have required property 'version'"});
 }
 
@@ -430,28 +448,28 @@ TEST(ValidationEntity, StopsAtSchemaErrorsBeforeCrossChecks) {
   // A stale key and a bad bone name would be reported too, were the schema satisfied.
   json doc = modelsDoc({{"stale", {{"Hair_001", rootParams()}}}});
   doc["extra"] = 1;
-  EXPECT_EQ(messages(validateSpringBones(entityWith(doc))),
+  EXPECT_EQ(messages(validated(entityWith(doc))),
             Strings{"springBones must NOT have additional properties"});
 }
 
 TEST(ValidationEntity, AcceptsThirteenBonesAsNoCountLimitIsEnforced) {
   json bones = json::object();
   for (int i = 0; i <= 12; ++i) bones["SpringBone_" + std::to_string(i)] = rootParams();
-  EXPECT_TRUE(validateSpringBones(entityWith(modelsDoc({{kH, bones}}))).empty());
+  EXPECT_TRUE(validated(entityWith(modelsDoc({{kH, bones}}))).empty());
 }
 
 TEST(ValidationEntity, AccumulatesStaleKeyAndBadBoneName) {
   const std::string stale = "bafkreistale";
   json models = {{stale, {{kBone, rootParams()}}}, {kH, {{"Hair_001", rootParams()}, {"Tail_002", rootParams()}}}};
   // Keys in JavaScript order (kH sorts before the stale key), each key's error before its bones'.
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc(models)))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc(models)))),
             (Strings{"Bone name Hair_001 in model " + kH + " does not follow the spring bone naming convention",
                      "Bone name Tail_002 in model " + kH + " does not follow the spring bone naming convention",
                      "springBones.models key " + stale + " does not match any current representation hash"}));
 }
 
 TEST(ValidationEntity, ChecksBoneNamesUnderStaleKeysToo) {
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{"old", {{"Hair_001", rootParams()}}}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{"old", {{"Hair_001", rootParams()}}}})))),
             (Strings{"springBones.models key old does not match any current representation hash",
                      "Bone name Hair_001 in model old does not follow the spring bone naming convention"}));
 }
@@ -461,7 +479,7 @@ TEST(ValidationEntity, MatchesSpringboneTokenInAnyAsciiCase) {
   for (const char* name : {"springbone", "SPRINGBONE", "xSpRiNgBoNeX", "Hair_springBone_L", "a.springbone.b"}) {
     bones[name] = rootParams();
   }
-  EXPECT_TRUE(validateSpringBones(entityWith(modelsDoc({{kH, bones}}))).empty());
+  EXPECT_TRUE(validated(entityWith(modelsDoc({{kH, bones}}))).empty());
 }
 
 TEST(ValidationEntity, RejectsLookalikesOfTheToken) {
@@ -469,24 +487,24 @@ TEST(ValidationEntity, RejectsLookalikesOfTheToken) {
   // neither name contains the token for the catalyst.
   for (const char* name : {"spring_bone", "SPR\xC4\xB0NGBONE", "\xC5\xBFpringbone", "springbon", "Spring Bone"}) {
     SCOPED_TRACE(name);
-    EXPECT_EQ(validateSpringBones(entityWith(modelsDoc({{kH, {{name, rootParams()}}}}))).size(), 1u);
+    EXPECT_EQ(validated(entityWith(modelsDoc({{kH, {{name, rootParams()}}}}))).size(), 1u);
   }
 }
 
 TEST(ValidationEntity, QuotesFieldsAsTheCatalystDoes) {
   // Escaped like JSON.stringify, then cut to the raw length: a quote costs the last character.
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{kH, {{"a\"b", rootParams()}}}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{kH, {{"a\"b", rootParams()}}}})))),
             Strings{"Bone name a\\\" in model " + kH + " does not follow the spring bone naming convention"});
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{kH, {{"tab\there", rootParams()}}}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{kH, {{"tab\there", rootParams()}}}})))),
             Strings{"Bone name tab\\ther in model " + kH + " does not follow the spring bone naming convention"});
   // Longer than 100 UTF-16 units: 99 units and "...".
   const std::string long_key(101, 'k');
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{long_key, json::object()}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{long_key, json::object()}})))),
             Strings{"springBones.models key " + std::string(99, 'k') +
                     "... does not match any current representation hash"});
   // Exactly 100 is kept whole.
   const std::string hundred(100, 'k');
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{hundred, json::object()}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{hundred, json::object()}})))),
             Strings{"springBones.models key " + hundred + " does not match any current representation hash"});
   // Counted in UTF-16 units: 51 emoji are 102 units; the cut splits the 50th pair, whose lone
   // half becomes U+FFFD.
@@ -495,11 +513,11 @@ TEST(ValidationEntity, QuotesFieldsAsTheCatalystDoes) {
   std::string expected;
   for (int i = 0; i < 49; ++i) expected += "\xF0\x9F\x98\x80";
   expected += "\xEF\xBF\xBD...";
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{emoji, json::object()}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{emoji, json::object()}})))),
             Strings{"springBones.models key " + expected + " does not match any current representation hash"});
   // The schema error's instancePath goes through the same quoting.
   json bones = {{std::string(90, 'b'), nullptr}};
-  EXPECT_EQ(messages(validateSpringBones(entityWith(modelsDoc({{kH, bones}})))),
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{kH, bones}})))),
             Strings{"springBones" + ("/models/" + kH + "/" + std::string(90, 'b')).substr(0, 99) +
                     "... must be object"});
 }
@@ -508,50 +526,117 @@ TEST(ValidationEntity, RejectsFalsyValuesOtherThanNull) {
   // The catalyst's rule skips any falsy springBones, but its Wearable schema (springBones is an
   // object or null) rejects these first, so the deployment fails either way.
   for (const json& value : {json(false), json(0), json(""), json(0.0)}) {
-    EXPECT_EQ(messages(validateSpringBones(entityWith(value))), Strings{"springBones must be object"});
+    EXPECT_EQ(messages(validated(entityWith(value))), Strings{"springBones must be object"});
   }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Malformed entities: reported, never thrown
 
-TEST(ValidationEntity, RejectsEntityThatIsNotAnObject) {
-  for (const json& entity : {json(nullptr), json(5), json("entity"), json::array()}) {
-    const auto errors = validateSpringBones(entity);
-    ASSERT_EQ(errors.size(), 1u);
-    EXPECT_EQ(errors[0].message, "entity must be an object");
+TEST(ValidationEntity, RefusesWhatIsNeitherAnEntityNorABuilderItem) {
+  // Read as "no springBones", each of these was answered "valid" without being read.
+  const json bone = rootParams();
+  const json spring_bones = modelsDoc({{kH, {{kBone, bone}}}});
+  for (const json& subject :
+       {json(nullptr), json(5), json("entity"), json::array(), json::object(), json{{"metadata", 3}},
+        json{{"metadata", {{"data", "x"}}}}, json{{"metadata", {{"data", nullptr}}}}, json{{"metadata", json::object()}},
+        json{{"data", {{"springBones", spring_bones}}}},                         // data without contents
+        json{{"contents", {{"a.glb", kH}}}, {"data", nullptr}},                  // contents without data
+        json{{"contents", nullptr}, {"data", {{"springBones", spring_bones}}}},  // contents null
+        spring_bones}) {
+    const Error e = refused(subject);
+    EXPECT_EQ(e.code, ErrorCode::kInvalidArgument) << subject.dump();
+    EXPECT_NE(e.message.find("catalyst entity {content, metadata: {data"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("Builder item {contents, data"), std::string::npos) << e.message;
   }
 }
 
-TEST(ValidationEntity, ReportsMetadataOrDataOfTheWrongType) {
-  EXPECT_EQ(messages(validateSpringBones({{"metadata", 3}})), Strings{"entity metadata must be an object"});
-  EXPECT_EQ(messages(validateSpringBones({{"metadata", {{"data", "x"}}}})),
-            Strings{"entity metadata.data must be an object"});
-  // Nothing on the way to springBones: no springBones, nothing to reject.
-  EXPECT_TRUE(validateSpringBones(json::object()).empty());
-  EXPECT_TRUE(validateSpringBones({{"metadata", {{"data", nullptr}}}}).empty());
+// ---------------------------------------------------------------------------------------------
+// A Builder item ({contents: {file: hash}, data}) is validated as its entity is
+
+json itemWith(const json& springBones) {
+  json item = {{"contents", {{"male/file1.glb", kH}, {"male/file2.png", kH2}}},
+               {"data",
+                {{"representations",
+                  {{{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
+                    {"mainFile", "male/file1.glb"},
+                    {"contents", {"male/file1.glb", "male/file2.png"}}}}}}}};
+  if (!springBones.is_discarded()) item["data"]["springBones"] = springBones;
+  return item;
+}
+
+TEST(ValidationItem, GivesTheEntitysAnswer) {
+  json bad_bone = rootParams();
+  bad_bone["stiffness"] = 9;  // the issue's example: an item answered [] for it
+  const std::vector<json> docs = {json(json::value_t::discarded), nullptr, modelsDoc(json::object()),
+                                  modelsDoc({{kH, {{kBone, rootParams()}}}}), modelsDoc({{kH, {{kBone, bad_bone}}}}),
+                                  modelsDoc({{kH2, {{"Hair_001", rootParams()}}}}), json{{"version", 2}}};
+  std::size_t rejected = 0;
+  for (const json& doc : docs) {
+    const auto from_item = validated(itemWith(doc));
+    const auto from_entity = validated(entityWith(doc));
+    EXPECT_EQ(messages(from_item), messages(from_entity)) << doc.dump();
+    ASSERT_EQ(from_item.size(), from_entity.size());
+    for (std::size_t i = 0; i < from_item.size(); ++i) EXPECT_EQ(from_item[i].path, from_entity[i].path);
+    if (!from_item.empty()) ++rejected;
+  }
+  EXPECT_EQ(rejected, 3u);
+  EXPECT_EQ(messages(validated(itemWith(modelsDoc({{kH, {{kBone, bad_bone}}}})))),
+            Strings{"springBones" + kBonePath + "/stiffness must be <= 4"});
+}
+
+TEST(ValidationItem, ReportsItsOwnStructureWithItemPaths) {
+  json item = itemWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
+  item["contents"]["male/file1.glb"] = 7;
+  item["data"]["representations"].push_back("female");
+  auto errors = validated(item);
+  ASSERT_EQ(errors.size(), 3u);
+  EXPECT_EQ(errors[0].path, "/contents/male~1file1.glb");
+  EXPECT_EQ(errors[0].message, "item contents value must be a hash string");
+  EXPECT_EQ(errors[1].path, "/data/representations/1");
+  EXPECT_EQ(errors[1].message, "item representation must be an object with a string mainFile");
+  // file1 has no usable hash now, so the key matches no representation.
+  EXPECT_EQ(errors[2].path, "/models/" + kH);
+
+  item = itemWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
+  item["contents"] = json::array({{{"file", "male/file1.glb"}, {"hash", kH}}});
+  EXPECT_EQ(messages(validated(item)), Strings{"item contents must be an object of file: hash"});
+  item = itemWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
+  item["data"].erase("representations");
+  errors = validated(item);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].path, "/data/representations");
+  EXPECT_EQ(errors[0].message, "item data.representations must be an array");
+}
+
+TEST(ValidationItem, AnEntityShapeWinsOverAnItemShape) {
+  // Both shapes in one value: read as the entity, as loadRig reads its hash.
+  json subject = entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
+  subject["contents"] = {{"x.glb", "QmOther"}};
+  subject["data"] = {{"springBones", {{"version", 2}}}};
+  EXPECT_TRUE(validated(subject).empty());
 }
 
 TEST(ValidationEntity, ReportsContentThatIsNotAnArray) {
   json entity = entityWith(modelsDoc({{kH, {{"Hair_001", rootParams()}}}}));
   entity["content"] = {{"file", "male/file1.glb"}};
-  const auto errors = validateSpringBones(entity);
+  const auto errors = validated(entity);
   // Key matching is impossible without content; bone names are still checked.
   ASSERT_EQ(errors.size(), 2u);
   EXPECT_EQ(errors[0].path, "/content");
   EXPECT_EQ(errors[0].message, "entity content must be an array of {file, hash}");
   EXPECT_EQ(errors[1].path, "/models/" + kH + "/Hair_001");
   entity.erase("content");
-  EXPECT_EQ(validateSpringBones(entity).size(), 2u);
+  EXPECT_EQ(validated(entity).size(), 2u);
 }
 
 TEST(ValidationEntity, ReportsMissingRepresentations) {
   json entity = entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
   entity["metadata"]["data"].erase("representations");
-  EXPECT_EQ(messages(validateSpringBones(entity)),
+  EXPECT_EQ(messages(validated(entity)),
             Strings{"entity metadata.data.representations must be an array"});
   entity["metadata"]["data"]["representations"] = "male/file1.glb";
-  EXPECT_EQ(validateSpringBones(entity).size(), 1u);
+  EXPECT_EQ(validated(entity).size(), 1u);
 }
 
 TEST(ValidationEntity, ReportsMalformedEntriesAndUsesTheRest) {
@@ -560,7 +645,7 @@ TEST(ValidationEntity, ReportsMalformedEntriesAndUsesTheRest) {
   entity["content"].push_back(42);
   entity["metadata"]["data"]["representations"].push_back({{"mainFile", nullptr}});
   entity["metadata"]["data"]["representations"].push_back("female");
-  const auto errors = validateSpringBones(entity);
+  const auto errors = validated(entity);
   ASSERT_EQ(errors.size(), 4u);
   EXPECT_EQ(errors[0].path, "/content/0");
   EXPECT_EQ(errors[1].path, "/content/3");
@@ -574,7 +659,7 @@ TEST(ValidationEntity, ReportsMalformedEntriesAndUsesTheRest) {
 TEST(ValidationEntity, IgnoresARepresentationWhoseMainFileHasNoContent) {
   json entity = entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
   entity["metadata"]["data"]["representations"][0]["mainFile"] = "missing.glb";
-  EXPECT_EQ(messages(validateSpringBones(entity)),
+  EXPECT_EQ(messages(validated(entity)),
             Strings{"springBones.models key " + kH + " does not match any current representation hash"});
 }
 
@@ -591,17 +676,19 @@ TEST(ValidationEntity, NeverThrowsOnHostileValues) {
                             modelsDoc({{invalid_utf8, {{invalid_utf8, v}}}}), withParam("gravityDir", v)}) {
       EXPECT_NO_THROW(validateSpringBonesSchema(doc));
       json entity = entityWith(doc);
-      EXPECT_NO_THROW(validateSpringBones(entity));
+      EXPECT_NO_THROW(validated(entity));
       entity["content"] = v;
       entity["metadata"]["data"]["representations"] = v;
-      EXPECT_NO_THROW(validateSpringBones(entity));
-      EXPECT_NO_THROW(validateSpringBones(v));
-      EXPECT_NO_THROW(validateSpringBones({{"metadata", v}}));
-      EXPECT_NO_THROW(validateSpringBones({{"metadata", {{"data", v}}}}));
+      EXPECT_NO_THROW(validated(entity));
+      std::vector<ValidationError> errors;
+      for (const json& subject : {v, json{{"metadata", v}}, json{{"metadata", {{"data", v}}}},
+                                  json{{"contents", v}, {"data", {{"springBones", doc}}}}}) {
+        EXPECT_NO_THROW((void)validateSpringBones(subject, errors));
+      }
     }
   }
   // Invalid UTF-8 in a bone name comes out as U+FFFD, never as broken text.
-  const auto errors = validateSpringBones(entityWith(modelsDoc({{kH, {{"\xFF_bone", rootParams()}}}})));
+  const auto errors = validated(entityWith(modelsDoc({{kH, {{"\xFF_bone", rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].message.rfind("Bone name \xEF\xBF\xBD_bone in model", 0), 0u);
 }
@@ -669,7 +756,7 @@ TEST(ValidationDifferential, AgreesWithDclSchemasOnEveryGeneratedCase) {
   EXPECT_EQ(list_mismatches, 0u);
 }
 
-TEST(ValidationDifferential, AgreesWithTheCatalystRuleOnEveryGeneratedEntity) {
+TEST(ValidationDifferential, AgreesWithTheCatalystRuleOnEveryGeneratedEntityAndItem) {
   const json cases = loadCases();
   ASSERT_TRUE(cases.is_array()) << "run: node scripts/validation_cases.mjs";
   std::size_t mismatches = 0;
@@ -679,19 +766,25 @@ TEST(ValidationDifferential, AgreesWithTheCatalystRuleOnEveryGeneratedEntity) {
     const json input = reviveNonFinite(c["input"]);
     json entity = {{"content", c["content"]},
                    {"metadata", {{"data", {{"representations", c["representations"]}, {"springBones", input}}}}}};
-    const Strings actual = messages(validateSpringBones(entity));
-    Strings expected = c["catalystErrors"].get<Strings>();
-    // Documented difference: see RejectsFalsyValuesOtherThanNull.
-    if (isFalsyButNotNull(input)) expected = {"springBones must be object"};
-    if (expected.empty()) ++accepted;
-    if (actual != expected) {
-      ++mismatches;
-      ADD_FAILURE() << name << ": expected " << json(expected).dump(-1, ' ', false, json::error_handler_t::replace)
-                    << "\n got " << json(actual).dump(-1, ' ', false, json::error_handler_t::replace);
+    json item = {{"contents", c["contents"]},
+                 {"data", {{"representations", c["representations"]}, {"springBones", input}}}};
+    // The entity, then the same wearable as a Builder item.
+    for (const auto& [subject, answer] : {std::pair{&entity, "catalystErrors"}, std::pair{&item, "itemCatalystErrors"}}) {
+      const Strings actual = messages(validated(*subject));
+      Strings expected = c[answer].get<Strings>();
+      // Documented difference: see RejectsFalsyValuesOtherThanNull.
+      if (isFalsyButNotNull(input)) expected = {"springBones must be object"};
+      if (expected.empty()) ++accepted;
+      if (actual != expected) {
+        ++mismatches;
+        ADD_FAILURE() << name << " (" << answer << "): expected "
+                      << json(expected).dump(-1, ' ', false, json::error_handler_t::replace)
+                      << "\n got " << json(actual).dump(-1, ' ', false, json::error_handler_t::replace);
+      }
     }
   }
   EXPECT_EQ(mismatches, 0u);
-  EXPECT_GT(accepted, 50u);  // the generated entities exercise acceptance, not only rejection
+  EXPECT_GT(accepted, 100u);  // the generated subjects exercise acceptance, not only rejection
 }
 
 }  // namespace

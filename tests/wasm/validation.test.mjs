@@ -1,7 +1,7 @@
-// sb.validateSpringBones: the catalyst's answer for an entity's data.springBones. Two differential
+// tools.validateSpringBones: the catalyst's answer for an entity's data.springBones. Two differential
 // checks against @dcl/schemas' SpringBonesData validator (Ajv, a test dependency), run live:
-//  - the 940 recorded cases of tests/fixtures/validation_cases.json (also used by the native test):
-//    our error list equals the recorded catalyst answer, and our accept/reject decision on the
+//  - the 940 recorded cases of tests/fixtures/validation_cases.json (also used by the native test),
+//    each in a catalyst entity and as a Builder item: our error list equals the recorded catalyst answer, and our accept/reject decision on the
 //    schema equals SpringBonesData.validate run now on the same input;
 //  - 600 documents generated here from a seed, as JavaScript values (NaN and Infinity included,
 //    which JSON cannot carry), in entities where the cross-checks pass: the decision and the
@@ -40,18 +40,23 @@ function decodeNonFinite(value) {
 describe('the recorded cases (tests/fixtures/validation_cases.json)', () => {
   const cases = JSON.parse(fixture('validation_cases.json').toString('utf8'));
 
-  test(`${cases.length} cases: the catalyst's errors, in order, and Ajv's decision live`, () => {
+  test(`${cases.length} cases, as an entity and as a Builder item: the catalyst's errors, in order, and Ajv's decision live`, () => {
     assert.ok(cases.length >= 500);
     let schemaRejected = 0;
     let accepted = 0;
     for (const c of cases) {
       const input = decodeNonFinite(c.input);
       const entity = { content: c.content, metadata: { data: { representations: c.representations, springBones: input } } };
+      const item = { contents: c.contents, data: { representations: c.representations, springBones: input } };
       const errors = tools.validateSpringBones(entity);
       // Documented difference (tests/native/validation_test.cpp RejectsFalsyValuesOtherThanNull):
       // the catalyst's rule skips false, 0 and '', but its Wearable schema rejects them first.
       const falsyNotNull = !input && input !== null && input !== undefined;
       assert.deepEqual(errors.map((e) => e.message), falsyNotNull ? ['springBones must be object'] : c.catalystErrors, c.name);
+      // The Builder item form of the same wearable: the catalyst's answer once deployed, path for path.
+      const itemErrors = tools.validateSpringBones(item);
+      assert.deepEqual(itemErrors.map((e) => e.message), falsyNotNull ? ['springBones must be object'] : c.itemCatalystErrors, `${c.name} (item)`);
+      assert.deepEqual(itemErrors, errors, `${c.name} (item)`);
       for (const e of errors) {
         assert.equal(typeof e.path, 'string', c.name);
         assert.ok(e.path === '' || e.path.startsWith('/'), `${c.name}: ${e.path}`);
@@ -222,9 +227,28 @@ describe('the entity and the API', () => {
     assert.deepEqual(tools.validateSpringBones(entity), []);
   });
 
-  test('a Builder item ({contents, data}) is read too', () => {
+  test('a Builder item ({contents, data}) is validated as its entity is', () => {
     const item = { contents: { 'm.glb': 'Qm1' }, data: { representations: [{ bodyShapes: [kBaseMale], mainFile: 'm.glb' }], springBones } };
     assert.deepEqual(tools.validateSpringBones(item), []);
+    // The issue's case: stiffness 9 inside an item was answered [] (the item was never read).
+    const bad = structuredClone(item);
+    bad.data.springBones.models.Qm1.Hair_springbone.stiffness = 9;
+    const errors = tools.validateSpringBones(bad);
+    assert.deepEqual(errors, [{ path: '/models/Qm1/Hair_springbone/stiffness', message: 'springBones/models/Qm1/Hair_springbone/stiffness must be <= 4' }]);
+    const entity = { content: [{ file: 'm.glb', hash: 'Qm1' }], metadata: { data: bad.data } };
+    assert.deepEqual(tools.validateSpringBones(entity), errors);
+    assert.deepEqual(tools.validateSpringBones(JSON.stringify(bad)), errors);
+  });
+
+  test('anything that is neither an entity nor a Builder item is invalid-argument, never []', () => {
+    const before = tools.stats();
+    for (const subject of [{}, [], { metadata: {} }, { metadata: { data: null } }, { data: { springBones } },
+                           { contents: {}, data: 'x' }, springBones, '{}', '[1]', '42', '"entity"']) {
+      assert.throws(() => tools.validateSpringBones(subject), (e) => e instanceof SpringBonesError && e.code === 'invalid-argument' &&
+                    e.message.includes('catalyst entity') && e.message.includes('Builder item'), JSON.stringify(subject));
+    }
+    assert.deepEqual(tools.validateSpringBones(entityCovering(springBones)), []);
+    assert.equal(tools.stats().heapInUse, before.heapInUse);
   });
 
   test('wrong argument types are TypeErrors; bad JSON text is entity-bad-json; the module keeps working', () => {

@@ -1,0 +1,28 @@
+// One answer everywhere, Chromium's part: the hashes of tests/scenarios/frame_hash.mjs computed in
+// a page equal the native ones (tests/wasm/frame_hash.test.mjs checks Node against the same).
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+import { openPage, skip } from './demoPage.mjs';
+import { nativeFrameHashes } from '../scenarios/native_frame_hashes.mjs';
+
+let page, consoleErrors, close;
+before(async () => {
+  if (skip) return;
+  ({ page, consoleErrors, close } = await openPage('/tests/browser/pages/blank.html', () => window.blankPageReady === true));
+});
+after(async () => { await close?.(); });
+
+test('1,000 frames hash the same natively and in Chromium', { skip }, async (t) => {
+  const native = nativeFrameHashes();
+  const chromium = await page.evaluate(async () => {
+    const { createSpringBones } = await import('/web/springbones.js');
+    const { frameHashes } = await import('/tests/scenarios/frame_hash.mjs');
+    const sb = await createSpringBones();
+    return frameHashes(sb, async (path) => new Uint8Array(await (await fetch(`/${path}`)).arrayBuffer()));
+  });
+  for (const [name, { joints, hash }] of Object.entries(native)) {
+    t.diagnostic(`${name} (${joints} joints): native ${hash}, Chromium ${chromium[name].hash}`);
+  }
+  assert.deepEqual(chromium, native);
+  assert.deepEqual(consoleErrors, []);
+});
