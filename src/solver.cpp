@@ -93,13 +93,19 @@ struct Instance::State {
 
   // Inputs, per driver.
   std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
-  // The last frame's and this frame's driver poses; they trade places every frame (an index, as
-  // swapping two objects of ~20 vectors each cost more than reading them).
-  DriverPoses poses[2];
+  // This frame's driver poses, the last frame's and the one before (the drivers' last motion, for
+  // jumps); they take turns every frame (an index, as swapping objects of ~20 vectors each cost
+  // more than reading them).
+  DriverPoses poses[3];
   int current = 0;
   DriverPoses& currentPoses() { return poses[current]; }
   const DriverPoses& currentPoses() const { return poses[current]; }
-  const DriverPoses& previousPoses() const { return poses[1 - current]; }
+  const DriverPoses& previousPoses() const { return poses[(current + 2) % 3]; }
+  DriverPoses& previousPoses() { return poses[(current + 2) % 3]; }
+  const DriverPoses& olderPoses() const { return poses[(current + 1) % 3]; }
+  void holdPoses() {  // no motion so far: every pose is this frame's
+    poses[(current + 1) % 3] = poses[(current + 2) % 3] = currentPoses();
+  }
   std::vector<glm::mat4> step_drivers, step_driver_inverses;  // general path, per step
   ColliderTable collider_table;  // world-space colliders of the current step, general paths
   std::vector<bool> step_inverse_valid;
@@ -112,6 +118,84 @@ struct Instance::State {
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
   std::vector<float> rotations;                        // output, x y z w per joint
+
+  // Jumps (see carryAcrossJump).
+  bool jump_requested = false;
+  int jump_count = 0;
+  std::vector<glm::mat4> jump_delta;      // per driver: its jump this frame (carryAcrossJump)
+  std::vector<glm::mat4> jump_center_to;  // per driver: the inverse of its carried last pose
+  std::vector<unsigned char> jump_valid;  // per driver: its carried pose has an inverse
+  std::vector<float> jump_scratch;        // per driver: its carried last pose, 16 floats
+
+  // Whether a driver moved beyond the thresholds in this frame of `steps` fixed steps: farther
+  // than jump_distance, or turned by more than jump_angle, per step.
+  bool driversJumped(int steps) const {
+    const float per = static_cast<float>(std::max(1, steps));
+    const float distance = options.jump_distance * per;
+    const float half_angle = 0.5f * options.jump_angle * per;
+    const bool check_distance = distance > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
+    // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is
+    // below the cosine of half of it.
+    const float min_dot = check_angle ? std::cos(half_angle) : -1.0f;
+    for (std::size_t d = 0; d < currentPoses().size(); ++d) {
+      const Transform a = previousPoses().transform(d), b = currentPoses().transform(d);
+      const glm::vec3 moved = b.translation - a.translation;
+      if (check_distance && glm::dot(moved, moved) > distance * distance) return true;
+      if (check_angle && std::abs(glm::dot(a.rotation, b.rotation)) < min_dot) return true;
+    }
+    return false;
+  }
+
+  // Carries every chain across a jump of the drivers. A driver's jump is what its pose changed
+  // beyond its last motion continued (D = current x (last motion x previous)^-1, so a teleport
+  // while walking carries the teleport and leaves the walk as motion). The tails (current and
+  // previous, so the velocity too) move with the jump of the driver their chain hangs from, in
+  // world space, and are then expressed in their center's space carried alike; every driver's
+  // previous pose is carried by its own jump. The chain keeps its shape and its motion relative
+  // to that driver, and the jump adds no velocity.
+  void carryAcrossJump() {
+    const DriverPoses &older = olderPoses(), &from = previousPoses(), &to = currentPoses();
+    for (std::size_t d = 0; d < to.size(); ++d) {
+      const glm::mat4 m_from = from.matrix(d);
+      glm::mat4 inverse_older, inverse_expected, inverse_carried;
+      const glm::mat4 expected = affineInverse(older.matrix(d), inverse_older) ? m_from * inverse_older * m_from : m_from;
+      const bool delta_ok = affineInverse(expected, inverse_expected);
+      jump_delta[d] = delta_ok ? to.matrix(d) * inverse_expected : glm::mat4(1.0f);
+      const glm::mat4 carried = jump_delta[d] * m_from;
+      const bool inverse_ok = affineInverse(carried, inverse_carried) && affineInverse(m_from, inverse_older);
+      jump_center_to[d] = inverse_carried;
+      jump_valid[d] = static_cast<unsigned char>(inverse_ok ? 1 : 0);
+      std::memcpy(jump_scratch.data() + 16 * d, &carried[0][0], sizeof(float) * 16);
+    }
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const Joint& joint = joints[j];
+      const int carrier = joints[joint.chain].parent_driver;
+      const int c = joint.center_driver;
+      const bool in_center = c >= 0 && jump_valid[c];
+      const glm::mat4 center_from = in_center ? from.matrix(c) : glm::mat4(1.0f);
+      const auto carry = [&](const glm::vec3& stored) {
+        glm::vec3 world = in_center ? glm::vec3(center_from * glm::vec4(stored, 1.0f)) : stored;
+        if (carrier >= 0) world = glm::vec3(jump_delta[carrier] * glm::vec4(world, 1.0f));
+        const glm::vec3 out = in_center ? glm::vec3(jump_center_to[c] * glm::vec4(world, 1.0f)) : world;
+        return isFinite(out) ? out : stored;
+      };
+      glm::vec3 now, before;
+      if (xpbd) {
+        xpbd->tailState(j, now, before);
+        xpbd->setTailState(j, carry(now), carry(before));
+        continue;
+      }
+      current_tail[j] = carry(current_tail[j]);
+      previous_tail[j] = carry(previous_tail[j]);
+      if (lanes) {
+        lanes->tailState(lane_copy, j, now, before);
+        lanes->setTailState(lane_copy, j, carry(now), carry(before));
+      }
+    }
+    previousPoses().read(jump_scratch.data(), older);
+    ++jump_count;
+  }
 
   bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
 
@@ -306,14 +390,14 @@ struct Instance::State {
     frame_steps = 0;
     if (!(dt > 0.0) || !std::isfinite(dt)) return false;
     currentPoses().read(driver_input.data(), previousPoses());
+    const bool was_seeded = seeded;
     if (!seeded) {
-      poses[1 - current] = currentPoses();
+      holdPoses();
       fast_path = lanes && driversAreSimilarities();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
       seeded = true;
     }
-    fast_path = lanes && driversAreSimilarities();
     // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
     // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
     const double h = step_seconds;
@@ -325,6 +409,9 @@ struct Instance::State {
     const double crossed = std::floor((accumulator + tolerance) / h);
     frame_dropped = crossed > options.max_substeps;
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
+    if (was_seeded && (jump_requested || driversJumped(frame_steps))) carryAcrossJump();
+    jump_requested = false;
+    fast_path = lanes && driversAreSimilarities();
     return true;
   }
 
@@ -338,7 +425,7 @@ struct Instance::State {
   void endFrame() {
     accumulator = frame_dropped ? 0.0 : std::max(0.0, accumulator - frame_steps * step_seconds);
     // This frame's poses become the previous ones; the next read overwrites the older.
-    current = 1 - current;
+    current = (current + 1) % 3;
   }
 };
 
@@ -354,6 +441,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   options.max_substeps = std::min(options.max_substeps, kMaxSubsteps);
   options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxXpbdIterations);
   s.options = options;
+  setJumpThresholds(options.jump_distance, options.jump_angle);
   if (options.integrator == Integrator::kXpbd) {
     XpbdOptions xpbd_options;
     xpbd_options.iterations = options.xpbd_iterations;
@@ -382,6 +470,10 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_drivers.resize(drivers);
   s.step_driver_inverses.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
+  s.jump_delta.resize(drivers);
+  s.jump_center_to.resize(drivers);
+  s.jump_valid.assign(drivers, 0);
+  s.jump_scratch.resize(16 * drivers);
   s.collider_table.resize(s.rig->colliders.size());
   if (s.rig->colliders.size() > kMaxLaneColliders) lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
@@ -434,6 +526,19 @@ int Instance::lastSteps() const { return state_->frame_steps; }
 void Instance::reset() {
   state_->seeded = false;
   state_->accumulator = 0.0;
+  state_->jump_requested = false;
+}
+
+void Instance::jump() { state_->jump_requested = true; }
+int Instance::jumps() const { return state_->jump_count; }
+
+namespace {
+float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
+}  // namespace
+
+void Instance::setJumpThresholds(float distance, float angle) {
+  state_->options.jump_distance = jumpThreshold(distance);
+  state_->options.jump_angle = jumpThreshold(angle);
 }
 
 void Instance::step(double dt) {
