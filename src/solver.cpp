@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "driver_poses.h"
+#include "jump_carry.h"
 #include "spring_lanes.h"
 #include "springbones.h"
 #include "transform_math.h"
@@ -35,6 +36,9 @@ namespace springbones {
 namespace {
 
 constexpr float kMinLength = 1e-6f;
+
+// A jump threshold as used: a finite number above 0, else 0 (detection off).
+float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
 
 // A rotation, translation and uniform scale.
 struct Similarity {
@@ -122,78 +126,31 @@ struct Instance::State {
   // Jumps (see carryAcrossJump).
   bool jump_requested = false;
   int jump_count = 0;
-  std::vector<glm::mat4> jump_delta;      // per driver: its jump this frame (carryAcrossJump)
-  std::vector<glm::mat4> jump_center_to;  // per driver: the inverse of its carried last pose
-  std::vector<unsigned char> jump_valid;  // per driver: its carried pose has an inverse
-  std::vector<float> jump_scratch;        // per driver: its carried last pose, 16 floats
+  JumpCarry jump_carry;
 
-  // Whether a driver moved beyond the thresholds in this frame of `steps` fixed steps: farther
-  // than jump_distance, or turned by more than jump_angle, per step.
-  bool driversJumped(int steps) const {
-    const float per = static_cast<float>(std::max(1, steps));
-    const float distance = options.jump_distance * per;
-    const float half_angle = 0.5f * options.jump_angle * per;
-    const bool check_distance = distance > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
-    // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is
-    // below the cosine of half of it.
-    const float min_dot = check_angle ? std::cos(half_angle) : -1.0f;
-    for (std::size_t d = 0; d < currentPoses().size(); ++d) {
-      const Transform a = previousPoses().transform(d), b = currentPoses().transform(d);
-      const glm::vec3 moved = b.translation - a.translation;
-      if (check_distance && glm::dot(moved, moved) > distance * distance) return true;
-      if (check_angle && std::abs(glm::dot(a.rotation, b.rotation)) < min_dot) return true;
-    }
-    return false;
-  }
-
-  // Carries every chain across a jump of the drivers. A driver's jump is what its pose changed
-  // beyond its last motion continued (D = current x (last motion x previous)^-1, so a teleport
-  // while walking carries the teleport and leaves the walk as motion). The tails (current and
-  // previous, so the velocity too) move with the jump of the driver their chain hangs from, in
-  // world space, and are then expressed in their center's space carried alike; every driver's
-  // previous pose is carried by its own jump. The chain keeps its shape and its motion relative
-  // to that driver, and the jump adds no velocity.
+  // Carries every chain across a jump of the drivers (jump_carry.h): the tails (current and
+  // previous, so the velocity too) move with the jump of the driver their chain hangs from, and
+  // every driver's last pose with its own, so the frame's steps interpolate only the motion. The
+  // chain keeps its shape and its motion relative to that driver, and the jump adds no velocity.
   void carryAcrossJump() {
-    const DriverPoses &older = olderPoses(), &from = previousPoses(), &to = currentPoses();
-    for (std::size_t d = 0; d < to.size(); ++d) {
-      const glm::mat4 m_from = from.matrix(d);
-      glm::mat4 inverse_older, inverse_expected, inverse_carried;
-      const glm::mat4 expected = affineInverse(older.matrix(d), inverse_older) ? m_from * inverse_older * m_from : m_from;
-      const bool delta_ok = affineInverse(expected, inverse_expected);
-      jump_delta[d] = delta_ok ? to.matrix(d) * inverse_expected : glm::mat4(1.0f);
-      const glm::mat4 carried = jump_delta[d] * m_from;
-      const bool inverse_ok = affineInverse(carried, inverse_carried) && affineInverse(m_from, inverse_older);
-      jump_center_to[d] = inverse_carried;
-      jump_valid[d] = static_cast<unsigned char>(inverse_ok ? 1 : 0);
-      std::memcpy(jump_scratch.data() + 16 * d, &carried[0][0], sizeof(float) * 16);
-    }
+    jump_carry.prepare(olderPoses(), previousPoses(), currentPoses());
     const auto& joints = rig->joints;
     for (std::size_t j = 0; j < joints.size(); ++j) {
-      const Joint& joint = joints[j];
-      const int carrier = joints[joint.chain].parent_driver;
-      const int c = joint.center_driver;
-      const bool in_center = c >= 0 && jump_valid[c];
-      const glm::mat4 center_from = in_center ? from.matrix(c) : glm::mat4(1.0f);
-      const auto carry = [&](const glm::vec3& stored) {
-        glm::vec3 world = in_center ? glm::vec3(center_from * glm::vec4(stored, 1.0f)) : stored;
-        if (carrier >= 0) world = glm::vec3(jump_delta[carrier] * glm::vec4(world, 1.0f));
-        const glm::vec3 out = in_center ? glm::vec3(jump_center_to[c] * glm::vec4(world, 1.0f)) : world;
-        return isFinite(out) ? out : stored;
-      };
+      const int carrier = joints[joints[j].chain].parent_driver, center = joints[j].center_driver;
       glm::vec3 now, before;
       if (xpbd) {
         xpbd->tailState(j, now, before);
-        xpbd->setTailState(j, carry(now), carry(before));
+        xpbd->setTailState(j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
         continue;
       }
-      current_tail[j] = carry(current_tail[j]);
-      previous_tail[j] = carry(previous_tail[j]);
+      current_tail[j] = jump_carry.carry(current_tail[j], carrier, center);
+      previous_tail[j] = jump_carry.carry(previous_tail[j], carrier, center);
       if (lanes) {
         lanes->tailState(lane_copy, j, now, before);
-        lanes->setTailState(lane_copy, j, carry(now), carry(before));
+        lanes->setTailState(lane_copy, j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
       }
     }
-    previousPoses().read(jump_scratch.data(), older);
+    previousPoses().read(jump_carry.carriedPoses(), olderPoses());
     ++jump_count;
   }
 
@@ -409,7 +366,7 @@ struct Instance::State {
     const double crossed = std::floor((accumulator + tolerance) / h);
     frame_dropped = crossed > options.max_substeps;
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
-    if (was_seeded && (jump_requested || driversJumped(frame_steps))) carryAcrossJump();
+    if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps, options.jump_distance, options.jump_angle))) carryAcrossJump();
     jump_requested = false;
     fast_path = lanes && driversAreSimilarities();
     return true;
@@ -441,7 +398,8 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   options.max_substeps = std::min(options.max_substeps, kMaxSubsteps);
   options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxXpbdIterations);
   s.options = options;
-  setJumpThresholds(options.jump_distance, options.jump_angle);
+  s.options.jump_distance = jumpThreshold(options.jump_distance);
+  s.options.jump_angle = jumpThreshold(options.jump_angle);
   if (options.integrator == Integrator::kXpbd) {
     XpbdOptions xpbd_options;
     xpbd_options.iterations = options.xpbd_iterations;
@@ -470,10 +428,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_drivers.resize(drivers);
   s.step_driver_inverses.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
-  s.jump_delta.resize(drivers);
-  s.jump_center_to.resize(drivers);
-  s.jump_valid.assign(drivers, 0);
-  s.jump_scratch.resize(16 * drivers);
+  s.jump_carry.resize(drivers);
   s.collider_table.resize(s.rig->colliders.size());
   if (s.rig->colliders.size() > kMaxLaneColliders) lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
@@ -532,13 +487,9 @@ void Instance::reset() {
 void Instance::jump() { state_->jump_requested = true; }
 int Instance::jumps() const { return state_->jump_count; }
 
-namespace {
-float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
-}  // namespace
-
 void Instance::setJumpThresholds(float distance, float angle) {
-  state_->options.jump_distance = jumpThreshold(distance);
-  state_->options.jump_angle = jumpThreshold(angle);
+  if (!std::isnan(distance)) state_->options.jump_distance = jumpThreshold(distance);
+  if (!std::isnan(angle)) state_->options.jump_angle = jumpThreshold(angle);
 }
 
 void Instance::step(double dt) {

@@ -281,7 +281,7 @@ class Instance {
   void jump();
   /// Discontinuities carried so far (jump() calls that reached a step and detected jumps).
   int jumps() const;
-  /// Changes the thresholds of jump detection (the options' rules).
+  /// Changes the thresholds of jump detection (the options' rules); a NaN keeps that one as it is.
   void setJumpThresholds(float distance, float angle);
   /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
   /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;

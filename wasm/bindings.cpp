@@ -390,6 +390,25 @@ std::string setParams(const std::string& springbones_text, const std::string& en
   return text;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Motion: jumps (Instance::jump), kept in one block
+
+/// NaN leaves a threshold as it is.
+bool instanceSetJumpThresholds(int instance, float distance, float angle) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->setJumpThresholds(distance, angle);
+  return i != nullptr;
+}
+bool instanceJump(int instance) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->jump();
+  return i != nullptr;
+}
+int instanceJumps(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? i->jumps() : -1;
+}
+
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
@@ -433,4 +452,8 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("detectCandidates", &detectCandidates);
   emscripten::function("setParams", &setParams);
   emscripten::function("stats", &stats);
+  // Motion
+  emscripten::function("instanceSetJumpThresholds", &instanceSetJumpThresholds);
+  emscripten::function("instanceJump", &instanceJump);
+  emscripten::function("instanceJumps", &instanceJumps);
 }

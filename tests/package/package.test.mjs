@@ -170,6 +170,7 @@ describe('the tarball', () => {
       'package/web/springbones.d.ts',
       'package/web/springbones.js',
       'package/web/three/README.md',
+      'package/web/three/animationStarts.js',
       'package/web/three/index.d.ts',
       'package/web/three/index.js',
       'package/web/three/springBonesLoaderPlugin.d.ts',
