@@ -571,6 +571,7 @@ function debugHook(preview, creator) {
       fps: preview.fps(),
       budget: preview.budget,
       simulated: preview.simulatedCount().avatars,
+      jumps: preview.avatars.reduce((n, a) => n + (a.attachment?.instance.jumps ?? 0), 0),
       messages: creator.messageList(),
       validation: creator.validationList(),
     }),
@@ -580,6 +581,7 @@ function debugHook(preview, creator) {
     setYaw: (degrees) => preview.setYaw(degrees),
     setAvatarCount: (n) => { preview.setAvatarCount(n); $('avatars').value = String(preview.avatars.length); },
     shake: () => preview.shake(),
+    setSpin: (on) => { $('spin').checked = Boolean(on); preview.spin = Boolean(on); },
     reset: () => preview.reset(),
     /** Advances `seconds` in fixed frames of dt (use while paused: deterministic). */
     advance: (seconds, dt = 1 / 60) => {
