@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "driver_poses.h"
+#include "jump_carry.h"
 #include "spring_lanes.h"
 #include "springbones.h"
 #include "transform_math.h"
@@ -35,6 +36,9 @@ namespace springbones {
 namespace {
 
 constexpr float kMinLength = 1e-6f;
+
+// A jump threshold as used: a finite number above 0, else 0 (detection off).
+float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
 
 // A rotation, translation and uniform scale.
 struct Similarity {
@@ -93,13 +97,19 @@ struct Instance::State {
 
   // Inputs, per driver.
   std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
-  // The last frame's and this frame's driver poses; they trade places every frame (an index, as
-  // swapping two objects of ~20 vectors each cost more than reading them).
-  DriverPoses poses[2];
+  // This frame's driver poses, the last frame's and the one before (the drivers' last motion, for
+  // jumps); they take turns every frame (an index, as swapping objects of ~20 vectors each cost
+  // more than reading them).
+  DriverPoses poses[3];
   int current = 0;
   DriverPoses& currentPoses() { return poses[current]; }
   const DriverPoses& currentPoses() const { return poses[current]; }
-  const DriverPoses& previousPoses() const { return poses[1 - current]; }
+  const DriverPoses& previousPoses() const { return poses[(current + 2) % 3]; }
+  DriverPoses& previousPoses() { return poses[(current + 2) % 3]; }
+  const DriverPoses& olderPoses() const { return poses[(current + 1) % 3]; }
+  void holdPoses() {  // no motion so far: every pose is this frame's
+    poses[(current + 1) % 3] = poses[(current + 2) % 3] = currentPoses();
+  }
   std::vector<glm::mat4> step_drivers, step_driver_inverses;  // general path, per step
   ColliderTable collider_table;  // world-space colliders of the current step, general paths
   std::vector<bool> step_inverse_valid;
@@ -112,6 +122,37 @@ struct Instance::State {
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
   std::vector<float> rotations;                        // output, x y z w per joint
+
+  // Jumps (see carryAcrossJump).
+  bool jump_requested = false;
+  int jump_count = 0;
+  JumpCarry jump_carry;
+
+  // Carries every chain across a jump of the drivers (jump_carry.h): the tails (current and
+  // previous, so the velocity too) move with the jump of the driver their chain hangs from, and
+  // every driver's last pose with its own, so the frame's steps interpolate only the motion. The
+  // chain keeps its shape and its motion relative to that driver, and the jump adds no velocity.
+  void carryAcrossJump() {
+    jump_carry.prepare(olderPoses(), previousPoses(), currentPoses());
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const int carrier = joints[joints[j].chain].parent_driver, center = joints[j].center_driver;
+      glm::vec3 now, before;
+      if (xpbd) {
+        xpbd->tailState(j, now, before);
+        xpbd->setTailState(j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
+        continue;
+      }
+      current_tail[j] = jump_carry.carry(current_tail[j], carrier, center);
+      previous_tail[j] = jump_carry.carry(previous_tail[j], carrier, center);
+      if (lanes) {
+        lanes->tailState(lane_copy, j, now, before);
+        lanes->setTailState(lane_copy, j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
+      }
+    }
+    previousPoses().read(jump_carry.carriedPoses(), olderPoses());
+    ++jump_count;
+  }
 
   bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
 
@@ -306,14 +347,14 @@ struct Instance::State {
     frame_steps = 0;
     if (!(dt > 0.0) || !std::isfinite(dt)) return false;
     currentPoses().read(driver_input.data(), previousPoses());
+    const bool was_seeded = seeded;
     if (!seeded) {
-      poses[1 - current] = currentPoses();
+      holdPoses();
       fast_path = lanes && driversAreSimilarities();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
       seeded = true;
     }
-    fast_path = lanes && driversAreSimilarities();
     // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
     // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
     const double h = step_seconds;
@@ -325,6 +366,9 @@ struct Instance::State {
     const double crossed = std::floor((accumulator + tolerance) / h);
     frame_dropped = crossed > options.max_substeps;
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
+    if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps, options.jump_distance, options.jump_angle))) carryAcrossJump();
+    jump_requested = false;
+    fast_path = lanes && driversAreSimilarities();
     return true;
   }
 
@@ -338,7 +382,7 @@ struct Instance::State {
   void endFrame() {
     accumulator = frame_dropped ? 0.0 : std::max(0.0, accumulator - frame_steps * step_seconds);
     // This frame's poses become the previous ones; the next read overwrites the older.
-    current = 1 - current;
+    current = (current + 1) % 3;
   }
 };
 
@@ -354,6 +398,8 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   options.max_substeps = std::min(options.max_substeps, kMaxSubsteps);
   options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxXpbdIterations);
   s.options = options;
+  s.options.jump_distance = jumpThreshold(options.jump_distance);
+  s.options.jump_angle = jumpThreshold(options.jump_angle);
   if (options.integrator == Integrator::kXpbd) {
     XpbdOptions xpbd_options;
     xpbd_options.iterations = options.xpbd_iterations;
@@ -382,6 +428,7 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.step_drivers.resize(drivers);
   s.step_driver_inverses.resize(drivers);
   s.step_inverse_valid.assign(drivers, false);
+  s.jump_carry.resize(drivers);
   s.collider_table.resize(s.rig->colliders.size());
   if (s.rig->colliders.size() > kMaxLaneColliders) lanes_usable = false;
   // Until the caller writes them, drivers sit at their rest world matrices.
@@ -434,6 +481,15 @@ int Instance::lastSteps() const { return state_->frame_steps; }
 void Instance::reset() {
   state_->seeded = false;
   state_->accumulator = 0.0;
+  state_->jump_requested = false;
+}
+
+void Instance::jump() { state_->jump_requested = true; }
+int Instance::jumps() const { return state_->jump_count; }
+
+void Instance::setJumpThresholds(float distance, float angle) {
+  if (!std::isnan(distance)) state_->options.jump_distance = jumpThreshold(distance);
+  if (!std::isnan(angle)) state_->options.jump_angle = jumpThreshold(angle);
 }
 
 void Instance::step(double dt) {

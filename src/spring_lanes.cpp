@@ -307,6 +307,25 @@ void SpringLanes::jointWorld(std::size_t copy, std::size_t joint, glm::vec3& pos
   scale = at(kS);
 }
 
+void SpringLanes::tailState(std::size_t copy, std::size_t joint, glm::vec3& current, glm::vec3& previous) const {
+  const std::size_t row = joint_depth_[joint], lane = joint_lane_[joint] * copy_capacity_ + copy;
+  const auto at = [&](std::size_t field) { return slots_[slotIndex(field, row, lane)]; };
+  current = glm::vec3(at(kCx), at(kCy), at(kCz));
+  previous = glm::vec3(at(kOx), at(kOy), at(kOz));
+}
+
+void SpringLanes::setTailState(std::size_t copy, std::size_t joint, const glm::vec3& current,
+                               const glm::vec3& previous) {
+  const std::size_t row = joint_depth_[joint], lane = joint_lane_[joint] * copy_capacity_ + copy;
+  const auto at = [&](std::size_t field) -> float& { return slots_[slotIndex(field, row, lane)]; };
+  at(kCx) = current.x;
+  at(kCy) = current.y;
+  at(kCz) = current.z;
+  at(kOx) = previous.x;
+  at(kOy) = previous.y;
+  at(kOz) = previous.z;
+}
+
 void SpringLanes::writeRotations(std::size_t first_copy, std::size_t end_copy) {
   // Joint by joint, the copies in lane order: within a block the slot advances by one.
   for (std::size_t j = 0; j < joint_lane_.size(); ++j) {

@@ -81,6 +81,11 @@ class SpringLanes {
   void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
                   float& scale) const;
 
+  /// A joint's tail state in a copy: the current and previous tail, in the joint's center space.
+  /// Read and rewritten when an instance carries its chains across a jump of its drivers.
+  void tailState(std::size_t copy, std::size_t joint, glm::vec3& current, glm::vec3& previous) const;
+  void setTailState(std::size_t copy, std::size_t joint, const glm::vec3& current, const glm::vec3& previous);
+
  private:
   // What a rig slot (depth, rig lane) needs besides its state, the same for every copy.
   struct SlotConstants {

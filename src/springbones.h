@@ -211,6 +211,13 @@ inline constexpr int kMaxSubsteps = 64;
 inline constexpr int kMaxXpbdIterations = 64;
 inline constexpr int kDefaultXpbdIterations = 4;
 
+/// Jump detection (InstanceOptions::jump_distance / jump_angle): a driver that moves farther than
+/// this in one frame, per fixed step of the frame, is a discontinuity (a teleport, a cut) rather
+/// than motion. 0.5 m per step is 30 m/s at 60 Hz, 0.5 rad per step about 1,700 degrees per
+/// second: far beyond a run, an emote or a turn (docs/semantics.md, Jumps).
+inline constexpr float kDefaultJumpDistance = 0.5f;
+inline constexpr float kDefaultJumpAngle = 0.5f;
+
 /// The step rate and substep cap an integrator runs at unless told otherwise.
 struct IntegratorDefaults {
   double step_hz;
@@ -231,6 +238,11 @@ struct InstanceOptions {
   int max_substeps = 0;
   Integrator integrator = Integrator::kVrm;
   int xpbd_iterations = kDefaultXpbdIterations;  ///< kXpbd only: constraint passes per substep, [1, 64]
+  /// A driver translating farther than this (world units) per step of a frame is a jump, whose
+  /// chains are carried across it (Instance::jump). Not a finite number above 0: detection off.
+  float jump_distance = kDefaultJumpDistance;
+  /// The same for a driver's rotation, radians per step. Not a finite number above 0: off.
+  float jump_angle = kDefaultJumpAngle;
 };
 
 class Instance {
@@ -262,6 +274,15 @@ class Instance {
   static void stepAll(Instance* const* instances, std::size_t count, double dt);
   /// Forgets the motion; the next step re-seeds the tails at rest under the current drivers.
   void reset();
+  /// Treats the driver change before the next step as a discontinuity (an animation starting, a
+  /// cut): every chain is carried across it with the jump of the driver it hangs from, keeping its
+  /// shape and its motion relative to the avatar and adding no velocity. Drivers moving beyond
+  /// jump_distance or jump_angle per step do the same on their own.
+  void jump();
+  /// Discontinuities carried so far (jump() calls that reached a step and detected jumps).
+  int jumps() const;
+  /// Changes the thresholds of jump detection (the options' rules); a NaN keeps that one as it is.
+  void setJumpThresholds(float distance, float angle);
   /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
   /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
   /// max_substeps when the frame was longer than that many steps and its excess was dropped.

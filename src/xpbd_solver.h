@@ -64,6 +64,16 @@ class XpbdSolver {
 
   /// World position of a joint's tail particle after the last seed/step (tests, reports).
   glm::vec3 tailWorld(std::size_t joint) const { return tail_world_[joint]; }
+  /// A joint's tail state: the current and previous tail particle, in the joint's center space.
+  /// Read and rewritten when the owner carries the chains across a jump of the drivers.
+  void tailState(std::size_t joint, glm::vec3& current, glm::vec3& previous) const {
+    current = current_tail_[joint];
+    previous = previous_tail_[joint];
+  }
+  void setTailState(std::size_t joint, const glm::vec3& current, const glm::vec3& previous) {
+    current_tail_[joint] = current;
+    previous_tail_[joint] = previous;
+  }
   std::size_t jointCount() const { return rest_local_matrix_.size(); }
   const XpbdOptions& options() const { return options_; }
 

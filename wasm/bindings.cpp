@@ -306,6 +306,25 @@ bool sceneIsActive(int scene, int slot) {
 
 bool disposeScene(int scene) { return g_scenes.erase(scene) == 1; }
 
+// ---------------------------------------------------------------------------------------------
+// Motion: jumps (Instance::jump), kept in one block
+
+/// NaN leaves a threshold as it is.
+bool instanceSetJumpThresholds(int instance, float distance, float angle) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->setJumpThresholds(distance, angle);
+  return i != nullptr;
+}
+bool instanceJump(int instance) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->jump();
+  return i != nullptr;
+}
+int instanceJumps(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? i->jumps() : -1;
+}
+
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
@@ -346,4 +365,8 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("sceneActivePtr", &sceneActivePtr);
   emscripten::function("disposeScene", &disposeScene);
   emscripten::function("stats", &stats);
+  // Motion
+  emscripten::function("instanceSetJumpThresholds", &instanceSetJumpThresholds);
+  emscripten::function("instanceJump", &instanceJump);
+  emscripten::function("instanceJumps", &instanceJumps);
 }

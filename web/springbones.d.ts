@@ -113,6 +113,10 @@ export type LoadOptions = HashOptions & {
   colliders?: readonly ColliderOptions[];
   /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0. */
   hitRadius?: number;
+  /** Default jumpDistance of the rig's instances (InstanceOptions; createInstance's overrides it). */
+  jumpDistance?: number;
+  /** Default jumpAngle of the rig's instances (InstanceOptions; createInstance's overrides it). */
+  jumpAngle?: number;
 };
 
 /** A spring-bone candidate of a GLB for the Builder, with the values to prefill. */
@@ -301,6 +305,15 @@ export interface InstanceOptions {
   integrator?: 'vrm' | 'xpbd';
   /** 'xpbd' only: constraint passes per substep, integer in [1, 64]. Default 4. RangeError with 'vrm'. */
   xpbdIterations?: number;
+  /**
+   * A driver translating farther than this in one frame, in world units (metres) per fixed step
+   * of the frame, is a jump (a teleport, a cut): the chains are carried across it (instance.jump).
+   * Finite, >= 0; 0 turns this test off. Default 0.5 (30 m/s at 60 Hz). Default for loadRig's
+   * instances when given there.
+   */
+  jumpDistance?: number;
+  /** The same for a driver's turn, radians per step; 0 turns it off. Default 0.5 (about 1,700 degrees/s at 60 Hz). */
+  jumpAngle?: number;
 }
 
 /**
@@ -364,8 +377,21 @@ export interface Instance {
    * maxSubsteps when the frame was longer than that many steps (the rest of it is dropped).
    */
   readonly lastSteps: number;
-  /** Forgets the motion (teleport, avatar swap): the next step starts at rest under the drivers. */
+  /**
+   * Forgets the motion (avatar swap): the next step starts at rest under the drivers. A teleport
+   * needs no reset: it is a jump.
+   */
   reset(): void;
+  /**
+   * Treats the driver change before the next step as a discontinuity (an animation starting, a
+   * cut, a snap turn below the thresholds): each chain's tails move with the jump of the driver
+   * the chain hangs from (what its pose changed beyond its last motion continued), so the chain
+   * keeps its shape and motion relative to the avatar and the jump adds no velocity. Drivers
+   * moving beyond jumpDistance / jumpAngle per step are jumps without this call.
+   */
+  jump(): void;
+  /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
+  readonly jumps: number;
   /**
    * Frees the instance, first removing it from every scene it is in. Idempotent; any other use
    * afterwards throws SpringBonesError 'disposed'.

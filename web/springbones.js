@@ -76,8 +76,9 @@ class SpringBones {
     // Stringified first, so that its TypeErrors (cycles, BigInt) come first, as for every
     // argument check; the core parses it once.
     const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
-    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius']);
+    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius', ...kJumpOptions]);
     const rigOptionsText = rigOptionsJson(opts);
+    const jumps = jumpOptions('loadRig', opts, {});
     const m = this.#m;
     const hash = resolveHash(m, 'loadRig', opts);
     // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
@@ -85,7 +86,7 @@ class SpringBones {
       (metaPtr, metaSize) => withRoomForStrings(m, [hash, rigOptionsText],
         () => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText))));
     if (handle === 0) throw takeError(m);
-    return this.#rig(handle);
+    return this.#rig(handle, jumps);
   }
 
   /**
@@ -147,7 +148,7 @@ class SpringBones {
     };
   }
 
-  #rig(handle) {
+  #rig(handle, jumps = {}) {
     const m = this.#m;
     // Copied out as text: the description outlives the handle.
     const text = call(() => m.rigDescription(handle));
@@ -155,7 +156,7 @@ class SpringBones {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    return new Rig(m, handle, new RigDescription(text), this.#limits);
+    return new Rig(m, handle, new RigDescription(text), this.#limits, jumps);
   }
 }
 
@@ -180,6 +181,16 @@ class RigDescription {
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 const kIntegrators = ['vrm', 'xpbd'];
+const kJumpOptions = ['jumpDistance', 'jumpAngle'];
+
+// jumpDistance and jumpAngle of an options object, checked, over `defaults` (a rig's).
+function jumpOptions(where, options, defaults) {
+  const out = { ...defaults };
+  for (const key of kJumpOptions) {
+    if (options[key] !== undefined) out[key] = checkNonNegative(`${where}: ${key}`, options[key]);
+  }
+  return out;
+}
 
 // Accessors into the private fields of instances and scenes for the other classes of this file,
 // installed by their static blocks.
@@ -191,12 +202,14 @@ class Rig {
   #handle;
   #description;
   #limits;
+  #jumps;  // loadRig's jumpDistance / jumpAngle, the default of its instances
 
-  constructor(m, handle, description, limits) {
+  constructor(m, handle, description, limits, jumps = {}) {
     this.#m = m;
     this.#handle = handle;
     this.#description = description;
     this.#limits = limits;
+    this.#jumps = jumps;
     Object.freeze(this);
   }
 
@@ -250,7 +263,9 @@ class Rig {
   /** A simulation state for one avatar wearing this item. */
   createInstance(options) {
     if (this.#handle === 0) throw disposedError('rig');
-    const opts = optionsObject('createInstance', options, ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations']);
+    const opts = optionsObject('createInstance', options,
+                               ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations', ...kJumpOptions]);
+    const jumps = jumpOptions('createInstance', opts, this.#jumps);
     let integrator = 'vrm';
     if (opts.integrator !== undefined) {
       integrator = opts.integrator;
@@ -284,6 +299,10 @@ class Rig {
     const handle = call(() => m.createInstance(this.#handle, stepHz, maxSubsteps,
                                                integrator === 'xpbd' ? 1 : 0, xpbdIterations));
     if (handle === 0) throw takeError(m);
+    if (jumps.jumpDistance !== undefined || jumps.jumpAngle !== undefined) {
+      // NaN keeps the core's default for the one not given.
+      m.instanceSetJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
+    }
     return new Instance(m, handle);
   }
 
@@ -384,10 +403,27 @@ class Instance {
     return this.#m.lastSteps(this.#handle);
   }
 
-  /** Forgets the motion (teleports, avatar swaps): the next step starts at rest. */
+  /** Forgets the motion (avatar swaps): the next step starts at rest. */
   reset() {
     if (this.#handle === 0) throw disposedError('instance');
     this.#m.reset(this.#handle);
+  }
+
+  /**
+   * Treats the driver change before the next step as a discontinuity (an animation starting, a
+   * cut): the chains are carried across it with the drivers they hang from, keeping their shape
+   * and motion, with no whip. Teleports and snap turns beyond jumpDistance / jumpAngle are
+   * noticed without it.
+   */
+  jump() {
+    if (this.#handle === 0) throw disposedError('instance');
+    this.#m.instanceJump(this.#handle);
+  }
+
+  /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
+  get jumps() {
+    if (this.#handle === 0) throw disposedError('instance');
+    return this.#m.instanceJumps(this.#handle);
   }
 
   /**

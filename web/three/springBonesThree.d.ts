@@ -1,5 +1,5 @@
 // Types of the three.js adapter (springBonesThree.js). `three` is a peer dependency.
-import type { LineSegments, Object3D, SkinnedMesh } from 'three';
+import type { AnimationMixer, LineSegments, Object3D, SkinnedMesh } from 'three';
 import type { GLTF } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import type { Instance, InstanceOptions, Rig, Scene, SpringBones } from '../springbones.js';
 
@@ -22,8 +22,10 @@ export interface AttachOptions {
   /** glTF node index -> Object3D of the wearable being attached (see wearableNodes). Required
    *  when `wearable` is an Object3D (a clone) rather than the GLTFLoader result. */
   nodes?: Array<Object3D | undefined>;
-  /** Options of rig.createInstance (stepHz, maxSubsteps). */
+  /** Options of rig.createInstance (stepHz, maxSubsteps, jumpDistance, ...). */
   instance?: InstanceOptions;
+  /** The avatar's AnimationMixer: an action starting is a jump (attachment.watchAnimations). */
+  mixer?: AnimationMixer;
 }
 
 export interface AttachWarning {
@@ -99,8 +101,14 @@ export class SpringBonesAttachment {
    * quaternion. dispose() does it too. Allocation-free.
    */
   syncEulers(): void;
-  /** Forgets the motion (teleport, avatar swap); nothing before the rig arrives. */
+  /** Forgets the motion (avatar swap); nothing before the rig arrives. A teleport is a jump (instance.jump()). */
   reset(): void;
+  /**
+   * Every action of `mixer` that becomes active is announced to the instance as a jump
+   * (instance.jump()) on the next update, so an animation start carries the chains instead of
+   * whipping them. null stops watching. Allocation-free per frame.
+   */
+  watchAnimations(mixer: AnimationMixer | null): void;
   /**
    * Switches to another rig of the same GLB (edited metadata): new instance, joints the new rig
    * does not simulate go back to their rest rotation. The rig stays the caller's to dispose of.

@@ -22,6 +22,7 @@
 // JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
 // / step / rotations / reset / dispose), never the WebAssembly glue.
 import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Object3D, Skeleton } from 'three';
+import { AnimationStartWatch } from './animationStarts.js';
 
 /** Whether `value` is a promise (or any thenable) rather than the thing itself. */
 export const isThenable = (value) => typeof value?.then === 'function';
@@ -185,6 +186,7 @@ export class SpringBonesAttachment {
     this._restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
     this._instanceOptions = options.instance;
     this._group = null;  // the SpringBonesGroup stepping this attachment, if any
+    this._animationStarts = null;  // an AnimationStartWatch (watchAnimations)
     this._copies = new FrameCopies();  // readDrivers / writeRotations for this attachment alone
     this.rig = null;
     this.instance = null;
@@ -289,9 +291,26 @@ export class SpringBonesAttachment {
     this.writeRotations();
   }
 
-  /** Copies each driver's matrixWorld into the instance (a driver without an object is skipped). */
+  /**
+   * Copies each driver's matrixWorld into the instance (a driver without an object is skipped);
+   * an animation that started since the last frame is announced to it as a jump.
+   */
   readDrivers() {
+    this._noteAnimationStarts();
     this._copies.readDrivers();
+  }
+
+  /**
+   * Treats every action of `mixer` that starts as a jump (instance.jump()): the chains are carried
+   * across the pose change instead of whipping. null stops watching. attachWearable's `mixer`
+   * option calls this.
+   */
+  watchAnimations(mixer) {
+    this._animationStarts = mixer ? new AnimationStartWatch(mixer) : null;
+  }
+
+  _noteAnimationStarts() {
+    if (this._animationStarts?.started()) this.instance.jump();
   }
 
   /**
@@ -416,6 +435,8 @@ export class SpringBonesGroup {
    * root's world position into scene.positions (for the budget).
    */
   readDrivers() {
+    const attachments = this.attachments;
+    for (let i = 0; i < attachments.length; i++) attachments[i]._noteAnimationStarts();
     this._copies.readDrivers();
     const positions = this.scene.positions;  // a getter: the view survives memory growth
     const roots = this._rootElements;
@@ -473,7 +494,8 @@ export class SpringBonesGroup {
  * wearable:   GLTFLoader's result for the wearable GLB ({ scene, parser }), or an Object3D with
  *             `options.nodes` (glTF node index -> Object3D, see wearableNodes) — for a clone.
  * rig:        the springbones rig loaded from the same GLB bytes (and its metadata).
- * options:    { nodes?: Object3D[], instance?: options for rig.createInstance }.
+ * options:    { nodes?: Object3D[], instance?: options for rig.createInstance,
+ *               mixer?: the avatar's AnimationMixer, whose action starts become jumps }.
  *
  * Matching, as Decentraland's armature does: a wearable node whose glTF name is a node of the
  * avatar's armature (avatarArmature) *is* that avatar node; every other node (spring bones,
@@ -531,7 +553,9 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   }
 
   const nodes = original.map((o) => (o ? counterpart(o) ?? o : o));
-  return new SpringBonesAttachment(avatarRoot, wearableRoot, nodes, rig, options, skinned, moved);
+  const attachment = new SpringBonesAttachment(avatarRoot, wearableRoot, nodes, rig, options, skinned, moved);
+  if (options.mixer) attachment.watchAnimations(options.mixer);
+  return attachment;
 }
 
 /**

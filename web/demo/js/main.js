@@ -15,6 +15,7 @@ import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, Spring
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
 import { RecentFrames } from './readout.js';
+import { kShakeSeconds, kSpinSpeed, shakeOffset } from './motion.js';
 
 const $ = (id) => document.getElementById(id);
 export const ASSETS = new URL('../assets/', import.meta.url);
@@ -23,8 +24,6 @@ export const ASSETS = new URL('../assets/', import.meta.url);
 const kModuleDownload = fetch(new URL('../../dist/springbones_wasm.wasm', import.meta.url));
 
 const kSpacing = 1.1;         // metres between avatars of a crowd
-const kSpinSpeed = 120;       // degrees per second with "spin"
-const kShakeSeconds = 1.4;
 const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
@@ -174,17 +173,7 @@ class Preview {
 
   /** A decaying side-to-side jolt (metres, radians), written into a scratch object. */
   shakeOffset() {
-    const t = this.shakeTime;
-    const out = kShakeScratch;
-    if (t < 0 || t > kShakeSeconds) {
-      out.x = 0; out.y = 0; out.roll = 0;
-      return out;
-    }
-    const envelope = Math.exp(-3 * t);
-    out.x = 0.14 * envelope * Math.sin(2 * Math.PI * 3.5 * t);
-    out.y = 0.04 * envelope * Math.sin(2 * Math.PI * 7 * t);
-    out.roll = 0.08 * envelope * Math.sin(2 * Math.PI * 3.5 * t + 0.6);
-    return out;
+    return shakeOffset(this.shakeTime, kShakeScratch);
   }
 
   // ---- wearable
@@ -226,6 +215,7 @@ class Preview {
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
       nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
+      mixer: avatar.mixer,  // a clip starting is a jump: the hair is carried, not whipped
     });
     avatar.wearableRoot = clone;
     avatar.helper = new SpringBonesHelper(avatar.attachment);
@@ -587,6 +577,7 @@ function debugHook(preview, creator) {
       fps: preview.fps(),
       budget: preview.budget,
       simulated: preview.simulatedCount().avatars,
+      jumps: preview.avatars.reduce((n, a) => n + (a.attachment?.instance.jumps ?? 0), 0),
       messages: creator.messageList(),
       validation: creator.validationList(),
     }),
@@ -596,6 +587,7 @@ function debugHook(preview, creator) {
     setYaw: (degrees) => preview.setYaw(degrees),
     setAvatarCount: (n) => { preview.setAvatarCount(n); $('avatars').value = String(preview.avatars.length); },
     shake: () => preview.shake(),
+    setSpin: (on) => { $('spin').checked = Boolean(on); preview.spin = Boolean(on); },
     reset: () => preview.reset(),
     /** Advances `seconds` in fixed frames of dt (use while paused: deterministic). */
     advance: (seconds, dt = 1 / 60) => {
