@@ -1,7 +1,8 @@
 // No whip on a jump: an animation group starting to play (the avatar snaps to its first pose) and
-// a teleport of the avatar told with simulation.jump() leave the hair calm, where the same snap
-// untold makes it whip. The simulation carries its instances across (instance.jump() where the
-// core has it, else reset(): carryAcrossJump in web/babylon/springBoneSimulation.js).
+// a teleport of the avatar told with simulation.jump() leave the hair calm, and so does the same
+// snap untold, which the core notices as a jump of the drivers; with that detection off
+// (jumpDistance and jumpAngle 0) the untold snap whips. The simulation carries its instances
+// across with instance.jump() (carryAcrossJump in web/babylon/springBoneSimulation.js).
 import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 import { createSpringBones } from '../../web/springbones.js';
@@ -33,12 +34,13 @@ for (const which of kBabylonVersions) {
      * The sample settled at rest, then `snap(context)` before one frame, then AFTER frames: the
      * largest angle of a ponytail joint from its rest rotation over those frames.
      */
-    async function whipAfter(snap, setup = () => null) {
+    async function whipAfter(snap, setup = () => null, { detect = true } = {}) {
       const scene = kit.scene();
       const container = await kit.load(scene, glb);
       container.addAllToScene();
       const simulation = new SpringBoneSimulation(sb);
-      simulation.registerWearable(scene, container, hash, metadata.models[hash]);
+      const thresholds = detect ? {} : { jumpDistance: 0, jumpAngle: 0 };
+      simulation.registerWearable(scene, container, hash, { springBones: metadata, contentHash: hash, ...thresholds });
       simulation.start(scene);
       const byName = (name) => container.transformNodes.find((n) => n.name === name);
       const joints = ['SpringBone_ponytail', 'SpringBone_ponytail_1', 'SpringBone_ponytail_2', 'SpringBone_ponytail_3', 'SpringBone_ponytail_4'].map(byName);
@@ -60,11 +62,13 @@ for (const which of kBabylonVersions) {
     /** The head turned 100 degrees about its up axis, as a pose. */
     const turnedHead = (BABYLON, head) => head.rotationQuaternion.multiply(BABYLON.Quaternion.RotationAxis(new BABYLON.Vector3(0, 1, 0), 1.75));
 
-    test('an animation group starting to play leaves the hair calm; the same snap untold whips it', async () => {
-      const untold = await whipAfter(({ byName, BABYLON }) => {
+    test('an animation group starting to play leaves the hair calm, as the core noticing the snap does; with detection off the snap whips', async () => {
+      const snapHead = ({ byName, BABYLON }) => {
         const head = byName('Avatar_Head');
         head.rotationQuaternion = turnedHead(BABYLON, head);
-      });
+      };
+      const untold = await whipAfter(snapHead, undefined, { detect: false });
+      const noticed = await whipAfter(snapHead);
       const emote = ({ scene, byName, BABYLON }) => {
         const head = byName('Avatar_Head');
         const pose = turnedHead(BABYLON, head);
@@ -79,20 +83,23 @@ for (const which of kBabylonVersions) {
       const played = await whipAfter((context) => emote(context).play(false));
       const playedLater = await whipAfter(({ prepared }) => prepared.play(false), emote);
       assert.ok(untold > 0.3, `an untold snap swings the ponytail by ${untold} rad`);
+      assert.ok(noticed < untold / 3, `the core noticing the snap: ${noticed} rad against ${untold} untold`);
       assert.ok(played < untold / 3, `after a new group starts: ${played} rad against ${untold} untold`);
       assert.ok(playedLater < untold / 3, `after a known group starts: ${playedLater} rad against ${untold} untold`);
     });
 
-    test('a teleport told with jump() leaves the hair calm; untold it whips', async () => {
+    test('a teleport, told with jump() or noticed by the core, leaves the hair calm; with detection off it whips', async () => {
       const teleport = (byName) => {
         byName('Armature').position.z += 3;
       };
-      const untold = await whipAfter(({ byName }) => teleport(byName));
+      const untold = await whipAfter(({ byName }) => teleport(byName), undefined, { detect: false });
+      const noticed = await whipAfter(({ byName }) => teleport(byName));
       const told = await whipAfter(({ byName, simulation }) => {
         teleport(byName);
         simulation.jump();
       });
       assert.ok(untold > 0.3, `an untold teleport swings the ponytail by ${untold} rad`);
+      assert.ok(noticed < untold / 3, `the core noticing the teleport: ${noticed} rad against ${untold} untold`);
       assert.ok(told < untold / 3, `told: ${told} rad against ${untold} untold`);
     });
 

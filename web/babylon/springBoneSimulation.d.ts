@@ -21,11 +21,13 @@ export interface BabylonAssetContainerLike {
 /** A models entry: node name -> parameters, as `springBones.models[hash]`. */
 export type SpringBonesModelEntry = Record<string, SpringBoneEntry>;
 
-/** The whole springBones with loadRig's choice of entry (and its colliders). */
+/** The whole springBones with loadRig's choice of entry (and its colliders and jump thresholds). */
 export type SpringBonesWithHashOptions = {
   springBones: SpringBonesData | object | null;
   colliders?: readonly ColliderOptions[];
   hitRadius?: number;
+  jumpDistance?: number;
+  jumpAngle?: number;
 } & (
   | { contentHash: string }
   | { entity: object | string; bodyShape: string }

@@ -29,13 +29,11 @@ const kNoView = new Float32Array(0);
 
 /**
  * The one place that carries an instance across a discontinuity of its drivers (an animation
- * group starting, an avatar teleporting). With the core's instance.jump() the chains keep their
- * shape through it; a module without it re-seeds them at rest (instance.reset()), as Decentraland's
- * preview does.
+ * group starting, an avatar teleporting): the core's instance.jump() keeps the chains' shape and
+ * adds no velocity, where Decentraland's preview re-seeds them at rest.
  */
 export function carryAcrossJump(instance) {
-  if (typeof instance.jump === 'function') instance.jump();
-  else instance.reset();
+  instance.jump();
 }
 
 /** One registered wearable: its container's nodes, its rig and instance once the module is there. */

@@ -18,7 +18,7 @@
 
 const kWholeKeys = ['models', 'version'];
 const kOptionKeys = ['entity', 'contentHash', 'glb'];
-const kPassThrough = ['colliders', 'hitRadius'];
+const kPassThrough = ['colliders', 'hitRadius', 'jumpDistance', 'jumpAngle'];
 
 const isObject = (value) => value !== null && typeof value === 'object' && !Array.isArray(value);
 const has = (object, key) => Object.prototype.hasOwnProperty.call(object, key);
