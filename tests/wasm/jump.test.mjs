@@ -11,16 +11,7 @@ import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
 
 const kDt = 1 / 60;
-let sb;
-let avatarGltf;
-let wearableGltf;
-let wearableBytes;
-let metadata;
-let rig;
-
-before(async () => {
-  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
-});
+const { sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable();
 
 /** The sample avatar in a holder (which carries turns, shakes and teleports, as the demo's does). */
 function wornSample({ instance = {}, watchMixer = false, holderScale = [1, 1, 1] } = {}) {

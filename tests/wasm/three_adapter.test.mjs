@@ -1,23 +1,14 @@
 // The three.js adapter (web/three/springBonesThree.js) in Node: three.js without a renderer, the
 // WebAssembly module through the public JS API, the demo's sample avatar and hair wearable.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 import { AnimationMixer, Group, Matrix4, Quaternion, Scene, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from './sample_wearable.mjs';
 import { SpringBonesHelper, attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
 
 
-let sb;
-let avatarGltf;
-let wearableGltf;
-let wearableBytes;
-let metadata;
-let rig;
-
-before(async () => {
-  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
-});
+const { sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable();
 
 /** A fresh avatar in a scene, wearing a fresh clone of the sample wearable. */
 function wornSample({ scene = new Scene(), avatar = null } = {}) {

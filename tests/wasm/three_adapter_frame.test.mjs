@@ -3,7 +3,7 @@
 // three.js's updateMatrixWorld) equal to the instance's, `.rotation` brought in step on request
 // (the adapter bypasses Quaternion.set()), and a group stepping exactly like separate updates.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { AnimationMixer, Euler, Quaternion, Scene } from 'three';
@@ -17,16 +17,7 @@ const DT = 1 / 60;
 // those of this frame's drivers, the ones three.js composes the bones under.
 const ONE_STEP = { stepHz: 60 };
 
-let sb;
-let avatarGltf;
-let wearableGltf;
-let wearableBytes;
-let metadata;
-let rig;
-
-before(async () => {
-  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
-});
+const { sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable();
 
 /** A fresh avatar in `scene` wearing a fresh clone of the sample wearable, walking. */
 function walker(scene, { instance = ONE_STEP, x = 0, speed = 1 } = {}) {

@@ -3,7 +3,7 @@
 // whose rig has not arrived. The wearable is worn and drawn at once; the springs take over on the
 // first frame after the rig arrives, from the pose drawn until then; a rejection surfaces once.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 import { AnimationMixer, Scene } from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
@@ -14,16 +14,7 @@ import { SpringBonesLoaderPlugin } from '../../web/three/springBonesLoaderPlugin
 const DT = 1 / 60;
 const ONE_STEP = { stepHz: 60 };
 
-let sb;
-let avatarGltf;
-let wearableGltf;
-let wearableBytes;
-let metadata;
-let rig;
-
-before(async () => {
-  ({ sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable());
-});
+const { sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable();
 
 /** A promise and the functions that settle it, for arriving "later" at a chosen frame. */
 function deferred() {
