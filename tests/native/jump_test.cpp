@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "springbones.h"
+#include "test_helpers.h"
 
 namespace springbones {
 namespace {
@@ -26,17 +27,8 @@ std::shared_ptr<const Rig> hangingChain(bool general_path) {
                 {{"name", "springbone_b"}, {"translation", {0, -0.07, -0.07}}, {"children", {3}}},
                 {{"name", "springbone_c"}, {"translation", {0, -0.07, -0.07}}, {"children", {4}}},
                 {{"name", "springbone_tip"}, {"translation", {0, -0.07, -0.07}}}};
-  const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-  Skeleton skeleton;
-  EXPECT_FALSE(loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton));
-  ModelEntry model;
-  std::vector<Warning> warnings;
-  EXPECT_FALSE(parseSpringBones(
-      json{{"version", 1},
-           {"models", {{"h", {{"springbone_a", {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5},
-                                                {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}}}}}},
-      "h", model, warnings));
-  return buildRig(std::move(skeleton), model, warnings);
+  return test::rigFromJson(nodes, {{"springbone_a", {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5},
+                                               {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}});
 }
 
 // The hips of a walk: forward at 1.4 m/s with a bob, a sway and a yaw swing, at time t.
