@@ -16,227 +16,48 @@
 // three for a load check). Deterministic: the same bytes on every run (no timestamps, no random
 // numbers; every float is rounded to a fixed number of decimals before it is written).
 //
-// Conventions (the same as tests/fixtures/avatar_hair.glb, see scripts/make_fixtures.mjs): glTF
-// space is +Y up and the avatar faces +Z, so +X is the avatar's left. `Armature` carries
-// Decentraland's scale 0.01 and a +90° turn about X; `Avatar_Hips` carries the opposite turn, so
-// below the hips every joint offset is in centimetres along world axes. The leg chains are turned
-// 180° about Z (Blender-style: their bones run along local +Y, pointing down).
+// Conventions (those of tests/fixtures/avatar_hair.glb: the armature of
+// scripts/lib/fixtures/dcl_armature.mjs): glTF space is +Y up and the avatar faces +Z, so +X is
+// the avatar's left; below the hips every joint offset is in centimetres along world axes.
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';  // CommonJS: named imports do not resolve, the default does
+import { AVATAR_BONES, FINGERS, dclArmature, flatten } from './lib/fixtures/dcl_armature.mjs';
+import { BinaryBuffer } from './lib/fixtures/glb.mjs';
+import {
+  add, cross, dot, invert, lerp, near, normalize, position, qaxis, qconj, qmul, qnormalize, qrotate, qs, round,
+  scale, sub,
+} from './lib/fixtures/vec.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const outArg = process.argv.indexOf('--out');  // --out DIR: write elsewhere (the tests compare)
 const outDir = outArg > 0 && process.argv[outArg + 1] ? process.argv[outArg + 1] : join(root, 'web', 'demo', 'assets');
-const H = Math.SQRT1_2;
 const DEG = Math.PI / 180;
 
-// ---------------------------------------------------------------------------------------------
-// Small vector / quaternion / matrix helpers. Quaternions are [x, y, z, w] (glTF order); matrices
-// are column-major arrays of 16 (glTF and three.js).
-
-const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-const scale = (v, s) => [v[0] * s, v[1] * s, v[2] * s];
-const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-const length = (v) => Math.hypot(v[0], v[1], v[2]);
-const normalize = (v) => scale(v, 1 / length(v));
-const lerp = (a, b, t) => a + (b - a) * t;
-
-function qmul(a, b) {
-  const [ax, ay, az, aw] = a;
-  const [bx, by, bz, bw] = b;
-  return [
-    aw * bx + ax * bw + ay * bz - az * by,
-    aw * by - ax * bz + ay * bw + az * bx,
-    aw * bz + ax * by - ay * bx + az * bw,
-    aw * bw - ax * bx - ay * by - az * bz,
-  ];
-}
-const qconj = (q) => [-q[0], -q[1], -q[2], q[3]];
-const qnormalize = (q) => {
-  const n = Math.hypot(q[0], q[1], q[2], q[3]);
-  return q.map((c) => c / n);
-};
-/** Rotation by `degrees` about a unit axis. */
-function qaxis(axis, degrees) {
-  const h = (degrees * DEG) / 2;
-  const s = Math.sin(h);
-  return [axis[0] * s, axis[1] * s, axis[2] * s, Math.cos(h)];
-}
 const rotX = (d) => qaxis([1, 0, 0], d);
 const rotY = (d) => qaxis([0, 1, 0], d);
 const rotZ = (d) => qaxis([0, 0, 1], d);
-/** Product of rotations, applied right to left (as matrices): qs(a, b) rotates by b, then a. */
-const qs = (...qs_) => qs_.reduce((acc, q) => qmul(acc, q), [0, 0, 0, 1]);
-function qrotate(q, v) {
-  const p = qmul(qmul(q, [v[0], v[1], v[2], 0]), qconj(q));
-  return [p[0], p[1], p[2]];
-}
-
-function trsMatrix({ translation = [0, 0, 0], rotation = [0, 0, 0, 1], scale: s = [1, 1, 1] }) {
-  const [x, y, z, w] = rotation;
-  const [sx, sy, sz] = s;
-  const [tx, ty, tz] = translation;
-  return [
-    (1 - 2 * (y * y + z * z)) * sx, 2 * (x * y + z * w) * sx, 2 * (x * z - y * w) * sx, 0,
-    2 * (x * y - z * w) * sy, (1 - 2 * (x * x + z * z)) * sy, 2 * (y * z + x * w) * sy, 0,
-    2 * (x * z + y * w) * sz, 2 * (y * z - x * w) * sz, (1 - 2 * (x * x + y * y)) * sz, 0,
-    tx, ty, tz, 1,
-  ];
-}
-
-function mmul(a, b) {
-  const out = new Array(16).fill(0);
-  for (let c = 0; c < 4; c++) {
-    for (let r = 0; r < 4; r++) {
-      let s = 0;
-      for (let k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
-      out[c * 4 + r] = s;
-    }
-  }
-  return out;
-}
-
-/** Inverse of a rotation * uniform scale + translation matrix (every rest matrix here is one). */
-function invertSimilarity(m) {
-  const s2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];  // squared scale of the first column
-  const r = [m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]].map((v) => v / s2);
-  // inverse linear part = transpose / s^2
-  const inv = [
-    r[0], r[3], r[6], 0,
-    r[1], r[4], r[7], 0,
-    r[2], r[5], r[8], 0,
-    0, 0, 0, 1,
-  ];
-  const t = [m[12], m[13], m[14]];
-  inv[12] = -(inv[0] * t[0] + inv[4] * t[1] + inv[8] * t[2]);
-  inv[13] = -(inv[1] * t[0] + inv[5] * t[1] + inv[9] * t[2]);
-  inv[14] = -(inv[2] * t[0] + inv[6] * t[1] + inv[10] * t[2]);
-  return inv;
-}
-
-const position = (m) => [m[12], m[13], m[14]];
-
-/** Rounds for deterministic output: a last-bit difference in a trig result never reaches the file. */
-const round = (v, decimals = 6) => {
-  const f = 10 ** decimals;
-  const r = Math.round(v * f) / f;
-  return r === 0 ? 0 : r;  // no negative zero
-};
 
 function check(condition, message) {
   if (!condition) throw new Error(`sample check failed: ${message}`);
 }
-const near = (a, b, eps = 1e-6) => a.every((v, i) => Math.abs(v - b[i]) <= eps);
 
 // ---------------------------------------------------------------------------------------------
-// Node trees: { name, t?, r?, s?, children? }, flattened depth-first so parents come first.
+// The Decentraland armature of scripts/lib/fixtures/dcl_armature.mjs, with the sample's own hands
+// and legs: the meshes below are shaped around these proportions.
 
-function flatten(treeRoots) {
-  const nodes = [];
-  const index = new Map();
-  const parent = [];
-  const visit = (tree, p) => {
-    const i = nodes.length;
-    check(!index.has(tree.name), `duplicate node name ${tree.name}`);
-    index.set(tree.name, i);
-    const node = { name: tree.name };
-    nodes.push(node);
-    parent.push(p);
-    if (tree.t) node.translation = tree.t;
-    if (tree.r) node.rotation = tree.r;
-    if (tree.s) node.scale = tree.s;
-    const kids = (tree.children ?? []).map((c) => visit(c, i));
-    if (kids.length) node.children = kids;
-    return i;
-  };
-  const roots = treeRoots.map((t) => visit(t, -1));
-  const ordered = nodes.map(({ name, children, translation, rotation, scale: s }) =>
-    Object.fromEntries(Object.entries({ name, children, translation, rotation, scale: s })
-      .filter(([, v]) => v !== undefined)));
-  // World matrices and world rotations of the rest pose (parents come first in `nodes`).
-  const world = [];
-  const worldRotation = [];
-  ordered.forEach((node, i) => {
-    const local = trsMatrix(node);
-    const r = node.rotation ?? [0, 0, 0, 1];
-    world.push(parent[i] < 0 ? local : mmul(world[parent[i]], local));
-    worldRotation.push(parent[i] < 0 ? r : qnormalize(qmul(worldRotation[parent[i]], r)));
-  });
-  return { nodes: ordered, index, parent, roots, world, worldRotation };
-}
-
-// ---------------------------------------------------------------------------------------------
-// The Decentraland armature (names: decentraland/builder AVATAR_BONE_NAMES, 62 joints).
-
-const ARMATURE = { name: 'Armature', r: [H, 0, 0, H], s: [0.01, 0.01, 0.01] };  // +90° about X
-const HIPS = { name: 'Avatar_Hips', t: [0, 0, -100], r: [-H, 0, 0, H] };        // hips 1 m up
-const LEG_ROTATION = [0, 0, 1, 0];  // 180° about Z
-
-const FINGERS = ['Thumb', 'Index', 'Middle', 'Ring', 'Pinky'];
-
-const AVATAR_BONES = [
-  'Hips', 'Spine', 'Spine1', 'Spine2', 'Neck', 'Head',
-  ...['Left', 'Right'].flatMap((s) => [
-    `${s}Shoulder`, `${s}Arm`, `${s}ForeArm`, `${s}Hand`,
-    ...FINGERS.flatMap((f) => [1, 2, 3, 4].map((j) => `${s}Hand${f}${j}`)),
-    `${s}UpLeg`, `${s}Leg`, `${s}Foot`, `${s}ToeBase`,
-  ]),
-].map((n) => `Avatar_${n}`);
-
-function fingers(side, sx) {
-  // first joint's offset from the hand, then the three segments (T-pose, palm down, cm)
-  const layout = {
+const PROPORTIONS = {
+  fingers: {  // first joint's offset from the hand, then the three segments (T-pose, palm down, cm)
     Thumb: [[2.5, -1.5, 3], [3, -0.5, 1.5], [2.8, 0, 0.5], [2.4, 0, 0]],
     Index: [[9, 0, 2.4], [4, 0, 0], [2.6, 0, 0], [2, 0, 0]],
     Middle: [[9.4, 0, 0.6], [4.4, 0, 0], [2.9, 0, 0], [2.1, 0, 0]],
     Ring: [[9, 0, -1.3], [4, 0, 0], [2.6, 0, 0], [2, 0, 0]],
     Pinky: [[8.2, 0, -3.1], [3.1, 0, 0], [2, 0, 0], [1.8, 0, 0]],
-  };
-  return FINGERS.map((finger) => {
-    let tree = null;
-    for (let j = 4; j >= 1; j--) {
-      const [x, y, z] = layout[finger][j - 1];
-      tree = { name: `Avatar_${side}Hand${finger}${j}`, t: [x * sx, y, z], children: tree ? [tree] : undefined };
-    }
-    return tree;
-  });
-}
-
-const arm = (side, sx) => ({
-  name: `Avatar_${side}Shoulder`, t: [3 * sx, 11, -1], children: [{
-    name: `Avatar_${side}Arm`, t: [12 * sx, 0, 0], children: [{
-      name: `Avatar_${side}ForeArm`, t: [27 * sx, 0, 0], children: [{
-        name: `Avatar_${side}Hand`, t: [25 * sx, 0, 0], children: fingers(side, sx),
-      }],
-    }],
-  }],
-});
-
-const leg = (side, sx) => ({
-  // Local +Y of the flipped leg frame is world -Y, local +X is world -X, local +Z is world +Z.
-  name: `Avatar_${side}UpLeg`, t: [9 * sx, -6, 0], r: LEG_ROTATION, children: [{
-    name: `Avatar_${side}Leg`, t: [0, 44, 0], children: [{
-      name: `Avatar_${side}Foot`, t: [0, 42, 0], children: [{
-        name: `Avatar_${side}ToeBase`, t: [0, 6, 12],
-      }],
-    }],
-  }],
-});
-
-/** The armature; `headChildren` are added under Avatar_Head, `full` false keeps only the head's
- *  ancestors (a wearable carries the bones it needs). */
-function armature({ full = true, headChildren = [] } = {}) {
-  const head = { name: 'Avatar_Head', t: [0, 10, 1], children: headChildren.length ? headChildren : undefined };
-  const neck = { name: 'Avatar_Neck', t: [0, 16, -1], children: [head] };
-  const spine2 = { name: 'Avatar_Spine2', t: [0, 12, 0], children: full ? [arm('Left', 1), arm('Right', -1), neck] : [neck] };
-  const spine = { name: 'Avatar_Spine', t: [0, 10, 0], children: [{ name: 'Avatar_Spine1', t: [0, 12, 0], children: [spine2] }] };
-  const hips = { ...HIPS, children: full ? [leg('Left', 1), leg('Right', -1), spine] : [spine] };
-  return { ...ARMATURE, children: [hips] };
-}
+  },
+  leg: 44,
+  foot: 42,
+};
 
 // ---------------------------------------------------------------------------------------------
 // Geometry: a mesh builder writing positions, normals, optional vertex colours and one or two
@@ -362,83 +183,20 @@ class MeshBuilder {
 // ---------------------------------------------------------------------------------------------
 // glTF / GLB writing
 
-class GltfWriter {
-  constructor() {
-    this.parts = [];
-    this.byteLength = 0;
-    this.bufferViews = [];
-    this.accessors = [];
-  }
-
-  /** Appends a typed array as one buffer view + accessor; returns the accessor index. */
-  accessor(array, type, { componentType, target, minMax = false, normalized } = {}) {
-    const pad = (4 - (this.byteLength % 4)) % 4;
-    if (pad) { this.parts.push(Buffer.alloc(pad)); this.byteLength += pad; }
-    const bytes = Buffer.from(array.buffer, array.byteOffset, array.byteLength);
-    const view = { buffer: 0, byteOffset: this.byteLength, byteLength: bytes.length };
-    if (target) view.target = target;
-    this.bufferViews.push(view);
-    this.parts.push(bytes);
-    this.byteLength += bytes.length;
-    const size = { SCALAR: 1, VEC3: 3, VEC4: 4, MAT4: 16 }[type];
-    const accessor = {
-      bufferView: this.bufferViews.length - 1,
-      componentType: componentType ?? { Float32Array: 5126, Uint16Array: 5123, Uint32Array: 5125, Uint8Array: 5121 }[array.constructor.name],
-      count: array.length / size,
-      type,
-    };
-    if (normalized) accessor.normalized = true;
-    if (minMax) {
-      accessor.min = [];
-      accessor.max = [];
-      for (let k = 0; k < size; k++) {
-        let lo = Infinity;
-        let hi = -Infinity;
-        for (let i = k; i < array.length; i += size) { lo = Math.min(lo, array[i]); hi = Math.max(hi, array[i]); }
-        accessor.min.push(lo);
-        accessor.max.push(hi);
-      }
-    }
-    this.accessors.push(accessor);
-    return this.accessors.length - 1;
-  }
-
-  /** A skinned primitive's attributes from a MeshBuilder. */
-  primitive(mesh, material) {
-    const f32 = (values, decimals) => Float32Array.from(values, (v) => round(v, decimals));
-    const attributes = {
-      POSITION: this.accessor(f32(mesh.positions, 6), 'VEC3', { target: 34962, minMax: true }),
-      NORMAL: this.accessor(f32(mesh.normals, 5), 'VEC3', { target: 34962 }),
-    };
-    if (mesh.colors.length) attributes.COLOR_0 = this.accessor(f32(mesh.colors, 4), 'VEC4', { target: 34962 });
-    attributes.JOINTS_0 = this.accessor(Uint8Array.from(mesh.joints), 'VEC4', { target: 34962 });
-    attributes.WEIGHTS_0 = this.accessor(f32(mesh.weights, 5), 'VEC4', { target: 34962 });
-    const IndexArray = mesh.vertexCount < 65536 ? Uint16Array : Uint32Array;
-    const indices = this.accessor(IndexArray.from(mesh.indices), 'SCALAR', { target: 34963 });
-    return { attributes, indices, material };
-  }
-
-  glb(doc) {
-    const bin = Buffer.concat(this.parts);
-    doc.accessors = this.accessors;
-    doc.bufferViews = this.bufferViews;
-    doc.buffers = [{ byteLength: bin.length }];
-    const json = Buffer.from(JSON.stringify(doc), 'utf8');
-    const jsonChunk = Buffer.concat([json, Buffer.alloc((4 - (json.length % 4)) % 4, 0x20)]);
-    const binChunk = Buffer.concat([bin, Buffer.alloc((4 - (bin.length % 4)) % 4, 0)]);
-    const chunk = (type, data) => {
-      const head = Buffer.alloc(8);
-      head.writeUInt32LE(data.length, 0);
-      head.writeUInt32LE(type, 4);
-      return Buffer.concat([head, data]);
-    };
-    const body = Buffer.concat([chunk(0x4e4f534a, jsonChunk), chunk(0x004e4942, binChunk)]);
-    const header = Buffer.alloc(12);
-    header.writeUInt32LE(0x46546c67, 0);
-    header.writeUInt32LE(2, 4);
-    header.writeUInt32LE(12 + body.length, 8);
-    return Buffer.concat([header, body]);
-  }
+/** A skinned primitive from a MeshBuilder, its attributes rounded so that the file is the same
+ *  on every machine. */
+function skinnedPrimitive(buffer, mesh, material) {
+  const f32 = (values, decimals) => Float32Array.from(values, (v) => round(v, decimals));
+  const attributes = {
+    POSITION: buffer.accessor(f32(mesh.positions, 6), 'VEC3', { target: 34962, minMax: true }),
+    NORMAL: buffer.accessor(f32(mesh.normals, 5), 'VEC3', { target: 34962 }),
+  };
+  if (mesh.colors.length) attributes.COLOR_0 = buffer.accessor(f32(mesh.colors, 4), 'VEC4', { target: 34962 });
+  attributes.JOINTS_0 = buffer.accessor(Uint8Array.from(mesh.joints), 'VEC4', { target: 34962 });
+  attributes.WEIGHTS_0 = buffer.accessor(f32(mesh.weights, 5), 'VEC4', { target: 34962 });
+  const IndexArray = mesh.vertexCount < 65536 ? Uint16Array : Uint32Array;
+  const indices = buffer.accessor(IndexArray.from(mesh.indices), 'SCALAR', { target: 34963 });
+  return { attributes, indices, material };
 }
 
 /** sRGB colour (0-255) to the linear values glTF colours hold. */
@@ -588,20 +346,20 @@ function fingerPose(side) {
   return out;
 }
 
-function buildAnimations(sk, writer) {
+function buildAnimations(sk, buffer) {
   const animations = [];
   const armatureRotation = sk.nodes[sk.index.get('Armature')].rotation;
   const hipsRest = sk.nodes[sk.index.get('Avatar_Hips')].translation;
   for (const [name, clip] of Object.entries(CLIPS)) {
     const frames = Math.round(clip.duration * clip.fps);
     const times = Float32Array.from({ length: frames + 1 }, (_, i) => round(i / clip.fps, 6));
-    const timeAccessor = writer.accessor(times, 'SCALAR', { minMax: true });
-    const staticTimes = writer.accessor(Float32Array.from([0, round(clip.duration, 6)]), 'SCALAR', { minMax: true });
+    const timeAccessor = buffer.accessor(times, 'SCALAR', { minMax: true });
+    const staticTimes = buffer.accessor(Float32Array.from([0, round(clip.duration, 6)]), 'SCALAR', { minMax: true });
     const poses = Array.from(times, (t, i) => clip.pose(i === frames ? 0 : t));  // last key = first: loops
     const channels = [];
     const samplers = [];
     const addChannel = (node, path, input, values, type) => {
-      samplers.push({ input, output: writer.accessor(values, type), interpolation: 'LINEAR' });
+      samplers.push({ input, output: buffer.accessor(values, type), interpolation: 'LINEAR' });
       channels.push({ sampler: samplers.length - 1, target: { node: sk.index.get(node), path } });
     };
     // every bone both clips move, so switching clips never leaves a bone in the other clip's pose
@@ -637,7 +395,7 @@ function buildAnimations(sk, writer) {
 }
 
 function buildAvatar() {
-  const sk = flatten([armature()]);
+  const sk = flatten([dclArmature({ proportions: PROPORTIONS })]);
   for (const bone of AVATAR_BONES) check(sk.index.has(bone), `missing ${bone}`);
   check(AVATAR_BONES.length === 62 && new Set(AVATAR_BONES).size === 62, '62 unique avatar bones');
   const at = (name) => position(sk.world[sk.index.get(name)]);
@@ -646,13 +404,13 @@ function buildAvatar() {
   check(near(at('Avatar_LeftHand'), [0.67, 1.45, -0.01]), 'left hand on +X (T-pose)');
   check(near(at('Avatar_LeftToeBase'), [0.09, 0.02, 0.12]), 'toes in front of the ankle (+Z)');
 
-  const writer = new GltfWriter();
+  const buffer = new BinaryBuffer();
   const body = buildAvatarBody(sk);
   const jointNodes = AVATAR_BONES.map((n) => sk.index.get(n));
-  const inverseBind = Float32Array.from(jointNodes.flatMap((i) => invertSimilarity(sk.world[i]).map((v) => round(v, 6))));
-  const primitive = writer.primitive(body, 0);
-  const ibm = writer.accessor(inverseBind, 'MAT4');
-  const animations = buildAnimations(sk, writer);
+  const inverseBind = Float32Array.from(jointNodes.flatMap((i) => invert(sk.world[i]).map((v) => round(v, 6))));
+  const primitive = skinnedPrimitive(buffer, body, 0);
+  const ibm = buffer.accessor(inverseBind, 'MAT4');
+  const animations = buildAnimations(sk, buffer);
   const meshNode = sk.nodes.length;
   const doc = {
     asset: { version: '2.0', generator: 'springbones scripts/make_sample_avatar.mjs' },
@@ -667,7 +425,7 @@ function buildAvatar() {
     skins: [{ name: 'Armature', joints: jointNodes, inverseBindMatrices: ibm, skeleton: sk.index.get('Armature') }],
     animations,
   };
-  return { bytes: writer.glb(doc), vertices: body.vertexCount, nodes: doc.nodes.length };
+  return { bytes: buffer.glb(doc), vertices: body.vertexCount, nodes: doc.nodes.length };
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -701,7 +459,7 @@ const HAIR_COLOR = [...linear(92, 52, 28), 1];
 const GOLD = [...linear(255, 200, 90), 1];
 
 function buildWearable() {
-  const sk = flatten([armature({ full: false, headChildren: [...hairChains] })]);
+  const sk = flatten([dclArmature({ proportions: PROPORTIONS, full: false, extraChildren: { Avatar_Head: hairChains } })]);
   const at = (name) => position(sk.world[sk.index.get(name)]);
   check(near(at('Avatar_Head'), [0, 1.6, 0]), 'wearable head matches the avatar');
   check(near(at('SpringBone_ponytail_tip'), [0, 1.6 + (17 - 3 - 7 - 7 - 7 - 6) / 100, -0.19]), 'ponytail tip');
@@ -755,10 +513,10 @@ function buildWearable() {
     gold.ellipsoid(mid, [0.009, 0.016, 0.009], slot.get(earring(s)[1]), null, { rows: 8, cols: 12 });
   }
 
-  const writer = new GltfWriter();
-  const hairPrimitive = writer.primitive(hair, 0);
-  const goldPrimitive = writer.primitive(gold, 1);
-  const ibm = writer.accessor(Float32Array.from(jointNodes.flatMap((i) => invertSimilarity(sk.world[i]).map((v) => round(v, 6)))), 'MAT4');
+  const buffer = new BinaryBuffer();
+  const hairPrimitive = skinnedPrimitive(buffer, hair, 0);
+  const goldPrimitive = skinnedPrimitive(buffer, gold, 1);
+  const ibm = buffer.accessor(Float32Array.from(jointNodes.flatMap((i) => invert(sk.world[i]).map((v) => round(v, 6)))), 'MAT4');
   const hairNode = sk.nodes.length;
   const doc = {
     asset: { version: '2.0', generator: 'springbones scripts/make_sample_avatar.mjs' },
@@ -773,7 +531,7 @@ function buildWearable() {
     skins: [{ name: 'Armature', joints: jointNodes, inverseBindMatrices: ibm, skeleton: sk.index.get('Armature') }],
   };
   const springNodes = sk.nodes.filter((n) => /springbone/i.test(n.name)).map((n) => n.name);
-  return { bytes: writer.glb(doc), springNodes, nodes: doc.nodes.length, vertices: hair.vertexCount + gold.vertexCount };
+  return { bytes: buffer.glb(doc), springNodes, nodes: doc.nodes.length, vertices: hair.vertexCount + gold.vertexCount };
 }
 
 // data.springBones entries. The ponytail has a softer member override near its end; the earrings
