@@ -10,7 +10,7 @@
 // repeated unit, so N and 4N differ only in how many units they hold.
 import { performance } from 'node:perf_hooks';
 import { createSpringBones } from '../web/springbones.js';
-import { glbOfText } from '../tests/wasm/helpers.mjs';
+import { glbOfJson } from './lib/fixtures/glb.mjs';
 
 const SMALL = 256 * 1024, LARGE = 4 * SMALL, MAX_RATIO = 6, TARGET_MS = 100;
 // A run of the small input longer than this is already too slow to be linear at 1 MiB (4x would
@@ -18,7 +18,7 @@ const SMALL = 256 * 1024, LARGE = 4 * SMALL, MAX_RATIO = 6, TARGET_MS = 100;
 const GIVE_UP_MS = 2000;
 const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
 
-const glb = (doc) => glbOfText(typeof doc === 'string' ? doc : JSON.stringify(doc));
+const glb = (doc) => glbOfJson(typeof doc === 'string' ? doc : JSON.stringify(doc));
 const repeat = (count, unit) => Array.from({ length: count }, (_, i) => unit(i));
 const nested = (depth, open, close, leaf = '0') => open.repeat(depth) + leaf + close.repeat(depth);
 const asset = { version: '2.0' };

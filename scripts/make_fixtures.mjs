@@ -13,7 +13,7 @@ import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';  // CommonJS: named imports do not resolve, the default does
 import { AVATAR_BONES, dclArmature, flatten, restPose } from './lib/fixtures/dcl_armature.mjs';
-import { BinaryBuffer, glb } from './lib/fixtures/glb.mjs';
+import { BinaryBuffer, glbOfDoc } from './lib/fixtures/glb.mjs';
 import { add, cross, invert, length, near, normalize, position, scale, sub } from './lib/fixtures/vec.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
@@ -294,13 +294,13 @@ async function write(name, bytes, info = {}) {
   written.push(name);
 }
 
-await write('adr_example.glb', glb(adrExampleDoc), {
+await write('adr_example.glb', glbOfDoc(adrExampleDoc), {
   metadata: 'adr_example.metadata.json', metadataKey: ADR_HASH,
 });
 await write('adr_example.gltf', gltfText(adrExampleDoc), {
   metadata: 'adr_example.metadata.json', metadataKey: ADR_HASH,
 });
-await write('adr_example_posed.glb', glb(adrPosedDoc), {
+await write('adr_example_posed.glb', glbOfDoc(adrPosedDoc), {
   metadata: 'adr_example.metadata.json', metadataKey: ADR_HASH,
 });
 await write('adr_example.metadata.json', jsonText(adrExampleMetadata));

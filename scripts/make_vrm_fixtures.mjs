@@ -25,20 +25,9 @@
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { glbOfDoc } from './lib/fixtures/glb.mjs';
 
 const outDir = join(dirname(fileURLToPath(import.meta.url)), '..', 'tests', 'fixtures');
-
-function glb(doc) {
-  const json = Buffer.from(JSON.stringify(doc), 'utf8');
-  const padded = Buffer.concat([json, Buffer.alloc((4 - (json.length % 4)) % 4, 0x20)]);
-  const header = Buffer.alloc(20);
-  header.writeUInt32LE(0x46546c67, 0);  // "glTF"
-  header.writeUInt32LE(2, 4);
-  header.writeUInt32LE(20 + padded.length, 8);
-  header.writeUInt32LE(padded.length, 12);
-  header.writeUInt32LE(0x4e4f534a, 16);  // "JSON"
-  return Buffer.concat([header, padded]);
-}
 
 // Nodes are given as [name, parentName, translation, rotation?]; indices follow list order.
 function buildNodes(list) {
@@ -204,7 +193,7 @@ function vrm0() {
 
 mkdirSync(outDir, { recursive: true });
 for (const [file, doc] of [['vrm10_springs.vrm', vrm10()], ['vrm0_springs.vrm', vrm0()]]) {
-  const bytes = glb(doc);
+  const bytes = glbOfDoc(doc);
   writeFileSync(join(outDir, file), bytes);
   console.log(`wrote tests/fixtures/${file} (${bytes.length} bytes, ${doc.nodes.length} nodes)`);
 }

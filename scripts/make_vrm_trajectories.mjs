@@ -30,6 +30,7 @@ import { fileURLToPath } from 'node:url';
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneJoint, VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
+import { gltfOf } from './lib/fixtures/glb.mjs';
 
 const fps = 60;
 const frames = 240;
@@ -44,11 +45,6 @@ function currentLength() {
 }
 
 const round = (x) => Number(x.toPrecision(10));
-
-function parseGlb(bytes) {
-  const json = bytes.readUInt32LE(12);
-  return JSON.parse(bytes.subarray(20, 20 + json).toString('utf8'));
-}
 
 // The nodes springbones makes drivers of, from the extension data (no skipped nodes in these files).
 function driverNodes(doc) {
@@ -87,7 +83,7 @@ function pose(nodeOf, f) {
 async function run(name, exactLength) {
   VRMSpringBoneJoint.prototype._calcWorldSpaceBoneLength = exactLength ? currentLength : stockLength;
   const bytes = readFileSync(fixturePath(name));
-  const doc = parseGlb(bytes);
+  const doc = gltfOf(bytes);
   const loader = new GLTFLoader();
   loader.register((parser) => new VRMSpringBoneLoaderPlugin(parser));
   const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.length);

@@ -9,6 +9,7 @@
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { glbOfJson, jsonChunkOf } from '../../scripts/lib/fixtures/glb.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const fixtures = join(here, '..', 'fixtures');
@@ -23,27 +24,7 @@ function reset(target) {
 }
 
 // A GLB holding only the JSON chunk of `glb`, with the same JSON.
-function withoutBin(glb) {
-  const jsonLength = glb.readUInt32LE(12);
-  const out = Buffer.alloc(20 + jsonLength);
-  glb.copy(out, 0, 0, 20 + jsonLength);
-  out.writeUInt32LE(out.length, 8);
-  return out;
-}
-
-function glbOf(jsonText) {
-  let text = Buffer.from(jsonText);
-  const padded = Buffer.alloc(Math.ceil(text.length / 4) * 4, 0x20);
-  text.copy(padded);
-  const out = Buffer.alloc(20 + padded.length);
-  out.writeUInt32LE(0x46546c67, 0);
-  out.writeUInt32LE(2, 4);
-  out.writeUInt32LE(out.length, 8);
-  out.writeUInt32LE(padded.length, 12);
-  out.writeUInt32LE(0x4e4f534a, 16);
-  padded.copy(out, 20);
-  return out;
-}
+const withoutBin = (glb) => glbOfJson(jsonChunkOf(glb));
 
 const fixture = (name) => readFileSync(join(fixtures, name));
 const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).toString())));
@@ -62,7 +43,7 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
     two_parents_gltf: [fixture('two_parents.gltf'), adrMeta],
     adr_example_no_metadata: [fixture('adr_example.glb'), null],
     matrix_node_glb: [
-      glbOf(JSON.stringify({
+      glbOfJson(JSON.stringify({
         asset: { version: '2.0' },
         nodes: [
           { name: 'Avatar_Hips', children: [1], matrix: [0, 2, 0, 0, -3, 0, 0, 0, 0, 0, 4, 0, 1, 2, 3, 1] },
@@ -93,7 +74,7 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
   const gltf = (name) => JSON.parse(fixture(name).subarray(20, 20 + fixture(name).readUInt32LE(12)).toString());
   const v0 = gltf('vrm0_springs.vrm');
   const v1 = gltf('vrm10_springs.vrm');
-  writeFileSync(join(dir, 'both_extensions'), glbOf(JSON.stringify({ ...v1, extensions: { ...v0.extensions, ...v1.extensions } })));
+  writeFileSync(join(dir, 'both_extensions'), glbOfJson(JSON.stringify({ ...v1, extensions: { ...v0.extensions, ...v1.extensions } })));
   writeFileSync(join(dir, 'vrm10_text'), JSON.stringify(v1));
 }
 

@@ -5,7 +5,8 @@ import { readFile } from 'node:fs/promises';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { contentHashOf, fixture, gltfOf, loadFixtureRig, metadataKeyOf, springRig } from './helpers.mjs';
+import { gltfOf } from '../../scripts/lib/fixtures/glb.mjs';
+import { contentHashOf, fixture, loadFixtureRig, metadataKeyOf, springRig } from './helpers.mjs';
 import { swayDrivers } from '../../scripts/lib/sway.mjs';
 
 let sb;

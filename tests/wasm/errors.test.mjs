@@ -4,7 +4,8 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { fixture, glbBytes, gltfBytes, loadFixtureRig, springRig } from './helpers.mjs';
+import { glbOfDoc, glbOfJson, gltfBytes } from '../../scripts/lib/fixtures/glb.mjs';
+import { fixture, loadFixtureRig, springRig } from './helpers.mjs';
 
 let sb;
 before(async () => {
@@ -14,16 +15,12 @@ before(async () => {
 const valid = springRig({ chains: 2 });
 const kDoc = valid.doc;
 
-function glbWith({ magic = 0x46546c67, version = 2, declared, chunkLength, chunkType = 0x4e4f534a, json }) {
-  const body = new TextEncoder().encode(json ?? JSON.stringify(kDoc));
-  const out = new Uint8Array(20 + body.length);
+// A GLB of `json` (the valid rig by default) with the header fields given overwritten.
+function glbWith({ magic, version, declared, chunkLength, chunkType, json = JSON.stringify(kDoc) }) {
+  const out = glbOfJson(json);
   const view = new DataView(out.buffer);
-  view.setUint32(0, magic, true);
-  view.setUint32(4, version, true);
-  view.setUint32(8, declared ?? out.length, true);
-  view.setUint32(12, chunkLength ?? body.length, true);
-  view.setUint32(16, chunkType, true);
-  out.set(body, 20);
+  const fields = [[0, magic], [4, version], [8, declared], [12, chunkLength], [16, chunkType]];
+  for (const [offset, value] of fields) if (value !== undefined) view.setUint32(offset, value, true);
   return out;
 }
 
@@ -74,7 +71,7 @@ describe('bad GLB bytes: SpringBonesError with the core\'s code', () => {
   test('glTF without asset.version is gltf-invalid', () => expectLoadError('gltf-invalid', gltfBytes({ nodes: [{ name: 'a' }] })));
   test('nodes that are not an array are gltf-invalid', () => expectLoadError('gltf-invalid', gltfBytes({ asset: { version: '2.0' }, nodes: {} })));
   test('a translation of two numbers is gltf-invalid', () => expectLoadError('gltf-invalid', gltfBytes({ asset: { version: '2.0' }, nodes: [{ translation: [0, 1] }] })));
-  test('a child index past the end is gltf-invalid', () => expectLoadError('gltf-invalid', glbBytes({ asset: { version: '2.0' }, nodes: [{ children: [5] }] })));
+  test('a child index past the end is gltf-invalid', () => expectLoadError('gltf-invalid', glbOfDoc({ asset: { version: '2.0' }, nodes: [{ children: [5] }] })));
   test('a cycle is hierarchy-cycle', () => expectLoadError('hierarchy-cycle', fixture('cycle.gltf')));
   test('a node with two parents is hierarchy-multiple-parents', () => expectLoadError('hierarchy-multiple-parents', fixture('two_parents.gltf')));
 });

@@ -1,8 +1,9 @@
-// Shared helpers of the WebAssembly tests: fixture paths, small glTF documents built in memory,
-// and the scripted sway that drives the parity scenario.
+// Shared helpers of the WebAssembly tests: fixture paths and the manifest, a small spring rig built
+// in memory (GLBs are written by scripts/lib/fixtures/glb.mjs), the frame hash.
 import { existsSync, readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const fixturesDir = join(root, 'tests', 'fixtures');
@@ -13,34 +14,6 @@ export function fixture(name) {
 
 export function hasFixture(name) {
   return existsSync(join(fixturesDir, name));
-}
-
-const encoder = new TextEncoder();
-
-/** glTF JSON text bytes for a document. */
-export function gltfBytes(doc) {
-  return encoder.encode(JSON.stringify(doc));
-}
-
-/** A GLB 2.0 container around a glTF document (JSON chunk only, padded with spaces). */
-export function glbBytes(doc) {
-  return glbOfText(JSON.stringify(doc));
-}
-
-/** A GLB 2.0 container around raw JSON text or bytes (which may be anything, even invalid UTF-8). */
-export function glbOfText(text) {
-  const json = typeof text === 'string' ? encoder.encode(text) : text;
-  const padded = (json.length + 3) & ~3;
-  const out = new Uint8Array(12 + 8 + padded);
-  const view = new DataView(out.buffer);
-  view.setUint32(0, 0x46546c67, true);  // "glTF"
-  view.setUint32(4, 2, true);
-  view.setUint32(8, out.length, true);
-  view.setUint32(12, padded, true);
-  view.setUint32(16, 0x4e4f534a, true);  // "JSON"
-  out.set(json, 20);
-  out.fill(0x20, 20 + json.length);
-  return out;
 }
 
 /**
@@ -65,7 +38,7 @@ export function springRig({ chains = 1, joints = 3, hash = 'test-hash', params =
   }
   for (const n of nodes) if (n.children?.length === 0) delete n.children;
   const doc = { asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: [0] }], nodes };
-  return { doc, glb: glbBytes(doc), springBones: { version: 1, models: { [hash]: bones } }, hash };
+  return { doc, glb: glbOfDoc(doc), springBones: { version: 1, models: { [hash]: bones } }, hash };
 }
 
 let manifest;
@@ -86,13 +59,6 @@ export function loadFixtureRig(sb, name) {
   manifest ??= JSON.parse(fixture('manifest.json').toString('utf8'));
   const entry = manifest.files[name];
   return sb.loadRig(fixture(name), fixture(entry.metadata).toString('utf8'), { contentHash: entry.metadataKey });
-}
-
-/** The glTF JSON document inside a GLB. */
-export function gltfOf(glb) {
-  const view = new DataView(glb.buffer, glb.byteOffset, glb.byteLength);
-  const length = view.getUint32(12, true);
-  return JSON.parse(new TextDecoder().decode(glb.subarray(20, 20 + length)));
 }
 
 /** FNV-1a (32-bit) over the bytes of a typed array, as tests/native/determinism_test.cpp hashes. */

@@ -6,7 +6,8 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { fixture, glbBytes, glbOfText, gltfBytes } from './helpers.mjs';
+import { glbOfDoc, glbOfJson, gltfBytes } from '../../scripts/lib/fixtures/glb.mjs';
+import { fixture } from './helpers.mjs';
 
 let sb;
 let tools;  // sb.creatorTools(): validation and the Builder edits
@@ -30,7 +31,7 @@ const hairDoc = {
     { name: 'SpringBone_earring_tip', translation: [0, -0.05, 0.01] },
   ],
 };
-const hairGlb = glbBytes(hairDoc);
+const hairGlb = glbOfDoc(hairDoc);
 
 function entry(stiffness, gravityPower, gravityDir, drag) {
   return { stiffness, gravityPower, gravityDir, drag, isRoot: true };
@@ -131,9 +132,9 @@ describe('the GLB container', () => {
 
   test('a JSON chunk that is not JSON is gltf-bad-json', () => {
     for (const text of ['{not json at all', '{"asset":{"version":"2.0"},"nodes":[', '{"a":"\u0000"}', '{}}']) {
-      expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(text), null));
+      expectCode('gltf-bad-json', () => sb.loadRig(glbOfJson(text), null));
     }
-    expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(Uint8Array.from({ length: 256 }, (_, i) => i)), null));
+    expectCode('gltf-bad-json', () => sb.loadRig(glbOfJson(Uint8Array.from({ length: 256 }, (_, i) => i)), null));
   });
 
   test('a glTF JSON chunk of 64 MiB loads, one byte more is limit-exceeded', () => {
@@ -174,7 +175,7 @@ describe('the hierarchy', () => {
   test('100,000 nodes load, and one more than the limit of 262,144 is limit-exceeded', () => {
     const nodes = [{ name: 'Avatar_Hips', children: Array.from({ length: 99999 }, (_, i) => i + 1) }];
     for (let i = 1; i < 100000; ++i) nodes.push({ name: `springbone_${i}` });
-    withRig(glbBytes({ asset: { version: '2.0' }, nodes }), hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
+    withRig(glbOfDoc({ asset: { version: '2.0' }, nodes }), hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
       assert.equal(rig.nodeCount, 100000);
       stepAndCheck(inst, 2);
     });
@@ -216,9 +217,9 @@ describe('names', () => {
     const suffix = encoder.encode('"}]}');
     for (const bad of [[0xff, 0xfe], [0xc3], [0xed, 0xa0, 0x80], [0xc0, 0xaf]]) {
       const bytes = new Uint8Array([...prefix, ...bad, ...suffix]);
-      expectCode('gltf-bad-json', () => sb.loadRig(glbOfText(bytes), null));
+      expectCode('gltf-bad-json', () => sb.loadRig(glbOfJson(bytes), null));
     }
-    expectCode('gltf-bad-json', () => sb.loadRig(glbOfText('{"asset":{"version":"2.0"},"nodes":[{"name":"a\\ud800"}]}'), null));
+    expectCode('gltf-bad-json', () => sb.loadRig(glbOfJson('{"asset":{"version":"2.0"},"nodes":[{"name":"a\\ud800"}]}'), null));
     // Well-formed odd names load and come back intact.
     const odd = 'springbone_\u0000\u{1F600}/~"\\';
     withRig(gltfBytes({ asset: { version: '2.0' }, nodes: [{ name: 'Avatar_Head', children: [1] }, { name: odd, children: [2] }, { name: 't', translation: [0, -1, 0] }] }),
@@ -477,7 +478,7 @@ describe('size and leaks', () => {
         if (j === 0) bones[name] = entry(1, 1, [0, -1, 0], 0.4);
       }
     }
-    const glb = glbBytes({ asset: { version: '2.0' }, nodes });
+    const glb = glbOfDoc({ asset: { version: '2.0' }, nodes });
     const heapBefore = sb.stats().heapBytes;
     const t0 = performance.now();
     const rig = sb.loadRig(glb, { version: 1, models: { [kHash]: bones } }, { contentHash: kHash });

@@ -5,31 +5,13 @@ import { before, test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
 import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
 import { loadFixtureRig, springRig } from './helpers.mjs';
 
 let sb;
 before(async () => {
   sb = await createSpringBones();
 });
-
-// A GLB whose BIN chunk is `binBytes` long: the loader ignores the chunk, but the bytes are
-// copied into WASM memory first, which forces the memory to grow.
-function glbWithBigBinChunk(doc, binBytes) {
-  const json = new TextEncoder().encode(JSON.stringify(doc));
-  const jsonPadded = (json.length + 3) & ~3;
-  const out = new Uint8Array(12 + 8 + jsonPadded + 8 + binBytes);
-  const view = new DataView(out.buffer);
-  view.setUint32(0, 0x46546c67, true);
-  view.setUint32(4, 2, true);
-  view.setUint32(8, out.length, true);
-  view.setUint32(12, jsonPadded, true);
-  view.setUint32(16, 0x4e4f534a, true);
-  out.set(json, 20);
-  out.fill(0x20, 20 + json.length, 20 + jsonPadded);
-  view.setUint32(20 + jsonPadded, binBytes, true);
-  view.setUint32(24 + jsonPadded, 0x004e4942, true);
-  return out;
-}
 
 test('views taken before memory growth are rebuilt by the getters, with the same contents', () => {
   const rig = loadFixtureRig(sb, 'avatar_hair.glb');
@@ -46,7 +28,7 @@ test('views taken before memory growth are rebuilt by the getters, with the same
   const heapBefore = sb.stats().heapBytes;
 
   const { doc, springBones, hash } = springRig({ chains: 3 });
-  const big = sb.loadRig(glbWithBigBinChunk(doc, heapBefore + (8 << 20)), springBones, { contentHash: hash });
+  const big = sb.loadRig(glbOfDoc(doc, heapBefore + (8 << 20)), springBones, { contentHash: hash });
   assert.equal(big.joints.length, 9);
   assert.ok(sb.stats().heapBytes > heapBefore, 'the memory grew');
   assert.equal(oldRotations.byteLength, 0, 'the old view is detached, as any view held across growth');

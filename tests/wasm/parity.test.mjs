@@ -12,7 +12,8 @@ import { after, before, describe, test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
 import { swayDrivers } from '../../scripts/lib/sway.mjs';
-import { fixturesDir, glbBytes, metadataKeyOf, root, springRig } from './helpers.mjs';
+import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
+import { fixturesDir, metadataKeyOf, root, springRig } from './helpers.mjs';
 
 const kTolerance = 1e-6;
 
@@ -119,7 +120,7 @@ describe('native and WASM agree within 1e-6 under the scripted sway', () => {
   test('a rig with non-uniform bone scales (the general matrix path)', () => {
     const rig = springRig({ chains: 2, joints: 4 });
     rig.doc.nodes[2].scale = [1, 2, 0.5];
-    const glb = glbBytes(rig.doc);
+    const glb = glbOfDoc(rig.doc);
     const glbPath = join(scratch, 'nonuniform.glb');
     const metadataPath = join(scratch, 'nonuniform.json');
     writeFileSync(glbPath, glb);
