@@ -35,9 +35,10 @@ const outArg = process.argv.indexOf('--out');  // --out DIR: write elsewhere (th
 const outDir = outArg > 0 && process.argv[outArg + 1] ? process.argv[outArg + 1] : join(root, 'web', 'demo', 'assets');
 const DEG = Math.PI / 180;
 
-const rotX = (d) => qaxis([1, 0, 0], d);
-const rotY = (d) => qaxis([0, 1, 0], d);
-const rotZ = (d) => qaxis([0, 0, 1], d);
+// Rotations in degrees about the axes, the unit the poses below are written in.
+const rotX = (d) => qaxis([1, 0, 0], d * DEG);
+const rotY = (d) => qaxis([0, 1, 0], d * DEG);
+const rotZ = (d) => qaxis([0, 0, 1], d * DEG);
 
 function check(condition, message) {
   if (!condition) throw new Error(`sample check failed: ${message}`);

@@ -8,6 +8,7 @@ import { AnimationMixer, Scene } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
+import { qaxis, qmul } from '../../scripts/lib/fixtures/vec.mjs';
 import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
 import { loadSampleWearable } from './sample_wearable.mjs';
 
@@ -22,19 +23,6 @@ const sideways = Object.fromEntries(Object.entries(metadata.models[hash])
   .map(([name, e]) => [name, { ...e, gravityDir: [1, 0, 0], gravityPower: 1.5 }]));
 
 /** q = a * b, quaternions as [x, y, z, w]. */
-function multiply([ax, ay, az, aw], [bx, by, bz, bw]) {
-  return [
-    aw * bx + ax * bw + ay * bz - az * by,
-    aw * by - ax * bz + ay * bw + az * bx,
-    aw * bz + ax * by - ay * bx + az * bw,
-    aw * bw - ax * bx - ay * by - az * bz,
-  ];
-}
-const axisAngle = ([x, y, z], angle) => {
-  const s = Math.sin(angle / 2);
-  return [x * s, y * s, z * s, Math.cos(angle / 2)];
-};
-
 /**
  * The scripted motion, in glTF local values: the armature walks a curve and turns, the upper
  * spine bends, the head nods and shakes. Returns node name -> { position, rotation } for frame f,
@@ -46,10 +34,10 @@ function pose(rest, f) {
   return new Map([
     ['Armature', {
       position: [r('Armature').position[0] + 0.8 * Math.sin(t * 2), r('Armature').position[1] + 0.05 * Math.abs(Math.sin(t * 6)), r('Armature').position[2] + 0.6 * t],
-      rotation: multiply(axisAngle([0, 1, 0], 0.9 * Math.sin(t * 2.5)), r('Armature').rotation),
+      rotation: qmul(qaxis([0, 1, 0], 0.9 * Math.sin(t * 2.5)), r('Armature').rotation),
     }],
-    ['Avatar_Spine2', { position: r('Avatar_Spine2').position, rotation: multiply(r('Avatar_Spine2').rotation, axisAngle([0, 0, 1], 0.3 * Math.sin(t * 4))) }],
-    ['Avatar_Head', { position: r('Avatar_Head').position, rotation: multiply(r('Avatar_Head').rotation, axisAngle([1, 0, 0], 0.4 * Math.sin(t * 5 + 1))) }],
+    ['Avatar_Spine2', { position: r('Avatar_Spine2').position, rotation: qmul(r('Avatar_Spine2').rotation, qaxis([0, 0, 1], 0.3 * Math.sin(t * 4))) }],
+    ['Avatar_Head', { position: r('Avatar_Head').position, rotation: qmul(r('Avatar_Head').rotation, qaxis([1, 0, 0], 0.4 * Math.sin(t * 5 + 1))) }],
   ]);
 }
 
