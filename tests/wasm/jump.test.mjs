@@ -6,6 +6,7 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 import { AnimationMixer, Group, Scene } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
+import { turnAt } from '../../scripts/lib/fixtures/vec.mjs';
 import { loadSampleWearable } from './sample_wearable.mjs';
 import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
@@ -32,12 +33,6 @@ function wornSample({ instance = {}, watchMixer = false, holderScale = [1, 1, 1]
   return { scene, world, holder, mixer, actions, attachment };
 }
 
-/** The turn between two unit quaternions at offsets i of a and b. */
-function turn(a, b, i) {
-  const dot = Math.abs(a[i] * b[i] + a[i + 1] * b[i + 1] + a[i + 2] * b[i + 2] + a[i + 3] * b[i + 3]);
-  return 2 * Math.acos(Math.min(1, dot));
-}
-
 /**
  * Runs `frames` frames (before(f) moves the holder), returning per chain (rig.joints[].chain) the
  * largest per-frame turn of its joints over the frames from `from` on.
@@ -56,7 +51,7 @@ function largestTurns(sample, frames, { from = 0, before: move = () => {} } = {}
     const now = attachment.instance.rotations;
     if (f >= from) {
       joints.forEach((joint, j) => {
-        const t = turn(last, now, 4 * j);
+        const t = turnAt(last, now, 4 * j);
         assert.ok(Number.isFinite(t));
         largest.set(joint.chain, Math.max(largest.get(joint.chain), t));
       });
@@ -236,7 +231,7 @@ describe('options', () => {
       let most = 0;
       for (let f = 0; f < 30; f++) {
         instance.step(kDt);
-        for (let i = 0; i < before.length; i += 4) most = Math.max(most, turn(before, instance.rotations, i));
+        for (let i = 0; i < before.length; i += 4) most = Math.max(most, turnAt(before, instance.rotations, i));
       }
       assert.equal(instance.jumps, announced ? 1 : 0);
       if (announced) assert.ok(most < 1e-3, `carried: ${most} rad`);
