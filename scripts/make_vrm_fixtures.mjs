@@ -17,8 +17,8 @@
 // here; nothing is copied from a third-party model. scripts/make_vrm_trajectories.mjs runs them in
 // @pixiv/three-vrm-springbone 3.5.5 and tests/native/vrm_loader_test.cpp loads them.
 //
-// Values are chosen where springbones and three-vrm 3.5.5 agree by design (see the README
-// paragraph in the VRM section): every parameter written out (three-vrm's dragForce default is 0.4,
+// Values are chosen where springbones and three-vrm 3.5.5 agree by design (docs/semantics.md,
+// "VRM avatars"): every parameter written out (three-vrm's dragForce default is 0.4,
 // ours the spec's 0.5), collider nodes at scale 1 (three-vrm does not scale radii), VRM 0.x
 // gravityDir with z = 0 (three-vrm does not convert its axes, we negate z as for offsets), no
 // skipped nodes between VRMC_springBone joints (three-vrm reads a grandchild's own translation).

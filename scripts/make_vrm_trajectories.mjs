@@ -19,7 +19,7 @@
 // Two runs per model:
 //  - `rotations`: three-vrm with its bone length measured at the current pose. Stock 3.5.5 reads
 //    the length from the child's world matrix as it was at the end of the previous frame (a stale
-//    bone length, listed in the README among our differences from three-vrm), which is off
+//    bone length, listed in docs/semantics.md among our differences from three-vrm), which is off
 //    whenever the joint's head moved since, i.e. for every joint below the first of a chain and
 //    for roots whose parent translates. We refresh the child's world matrix first (the child's position only depends on
 //    the joint's world matrix and the child's translation, so this is the exact current length,

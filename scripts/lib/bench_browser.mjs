@@ -16,7 +16,7 @@
 // ours). Also writes build/bench/browser-latest.json.
 //
 // Environment: CHROMIUM_PATH (default /usr/bin/chromium), BENCH_COLD_SAMPLES (default 5, 5-7 for
-// the README), BENCH_FRAMES (tight-loop frames per run, default 600), BENCH_RAF_BATCHES
+// docs/performance.md), BENCH_FRAMES (tight-loop frames per run, default 600), BENCH_RAF_BATCHES
 // (default 5 batches of 60 callbacks after 60 warm-up callbacks).
 import assert from 'node:assert/strict';
 import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';

@@ -16,7 +16,7 @@
 // with Quaternion.set(), which would fire the onChange callback that recomputes Object3D.rotation
 // (an Euler, with trigonometry) for every joint every frame; a simulated joint's `.rotation` is
 // therefore stale until attachment.syncEulers() — read `.quaternion`. The joints' matrix and
-// matrixWorld are left to three.js's updateMatrixWorld (see README.md for why, with numbers).
+// matrixWorld are left to three.js's updateMatrixWorld (web/three/README.md says why, with numbers).
 //
 // `three` is a peer dependency (imported as 'three'); this module only uses springbones' public
 // JavaScript API (rig.joints, rig.drivers, rig.createInstance, createScene, instance.driverMatrices
@@ -87,9 +87,9 @@ const kNoView = new Float32Array(0);
  * on its own, or a group's): each driver's matrixWorld into its instance's driverMatrices, and each
  * instance's rotations into its joints' quaternions. Allocation-free per frame.
  *
- * Shaped by measurements (README.md, "Flat loops, kept views"): the copies are memory-bound, since
- * every driver matrix is its own small array and every quaternion its own object with each field
- * a separately boxed double, scattered over three.js's heap. So one flat loop runs over all
+ * Shaped by measurements (web/three/README.md, "Flat loops, kept views"): the copies are
+ * memory-bound, since every driver matrix is its own small array and every quaternion its own
+ * object with each field a separately boxed double, scattered over three.js's heap. So one flat loop runs over all
  * members' drivers (and one over all joints) instead of a loop per attachment, the 16 elements of
  * a matrix are copied by 16 statements rather than an inner loop, and each instance's views are
  * kept: instance.driverMatrices / rotations are getters that check for memory growth on every
