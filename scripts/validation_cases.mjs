@@ -33,22 +33,12 @@ import { mkdirSync, writeFileSync } from 'node:fs'
 import { dirname, join } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { SpringBonesData } from '@dcl/schemas'
+import { seededRandom } from './lib/fixtures/random.mjs'
 
 const kSeed = 0x5eed5b0e
 const kOutput = join(dirname(fileURLToPath(import.meta.url)), '..', 'tests', 'fixtures', 'validation_cases.json')
 
-// mulberry32: small, well-mixed and trivially reproducible.
-function makeRandom(seed) {
-  let a = seed >>> 0
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0
-    let t = a
-    t = Math.imul(t ^ (t >>> 15), t | 1)
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61)
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296
-  }
-}
-const random = makeRandom(kSeed)
+const random = seededRandom(kSeed)
 const randInt = (lo, hi) => lo + Math.floor(random() * (hi - lo + 1))
 const pick = (list) => list[Math.floor(random() * list.length)]
 const chance = (p) => random() < p

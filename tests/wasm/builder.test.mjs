@@ -2,17 +2,13 @@
 // values to prefill, sb.setSpringBoneParams writes one node's parameters under the right GLB
 // hash. Neither touches the GLB bytes nor the objects passed in.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { contentHashOf, fixture, springRig } from './helpers.mjs';
 
-let sb;
-let tools;  // sb.creatorTools(): validation and the Builder edits
-before(async () => {
-  sb = await createSpringBones();
-  tools = await sb.creatorTools();
-});
+const sb = await createSpringBones();
+const tools = await sb.creatorTools();  // validation and the Builder edits
 
 const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
 const kBaseFemale = 'urn:decentraland:off-chain:base-avatars:BaseFemale';

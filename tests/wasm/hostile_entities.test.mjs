@@ -3,30 +3,16 @@
 // a SpringBonesError (TypeError/RangeError for bad argument types), never anything else; the
 // module keeps working and no memory or handle is left behind.
 import assert from 'node:assert/strict';
-import { before, test } from 'node:test';
+import { test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
+import { seededRandom } from '../../scripts/lib/fixtures/random.mjs';
 import { springRig } from './helpers.mjs';
 
-let sb;
-let tools;  // sb.creatorTools(): validation and the Builder edits
-before(async () => {
-  sb = await createSpringBones();
-  tools = await sb.creatorTools();
-});
+const sb = await createSpringBones();
+const tools = await sb.creatorTools();  // validation and the Builder edits
 
-function makeRandom(seed) {  // mulberry32
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
-const random = makeRandom(0xbadc0de);
+const random = seededRandom(0xbadc0de);
 const pick = (list) => list[Math.floor(random() * list.length)];
 
 // A value of a random shape, `depth` levels at most, biased towards the keys entities use.

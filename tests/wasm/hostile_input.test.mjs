@@ -3,18 +3,14 @@
 // a documented clamp with a warning; rotations are always finite unit quaternions; nothing traps
 // (the WebAssembly stack is far smaller than a native one) and nothing leaks.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { glbOfDoc, glbOfJson, gltfBytes } from '../../scripts/lib/fixtures/glb.mjs';
 import { fixture } from './helpers.mjs';
 
-let sb;
-let tools;  // sb.creatorTools(): validation and the Builder edits
-before(async () => {
-  sb = await createSpringBones();
-  tools = await sb.creatorTools();
-});
+const sb = await createSpringBones();
+const tools = await sb.creatorTools();  // validation and the Builder edits
 
 const kHash = 'bafkreihostile';
 const encoder = new TextEncoder();

@@ -7,19 +7,16 @@
 //    which JSON cannot carry), in entities where the cross-checks pass: the decision and the
 //    error messages equal Ajv's.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 
 import { SpringBonesData } from '@dcl/schemas';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
+import { seededRandom } from '../../scripts/lib/fixtures/random.mjs';
 import { fixture } from './helpers.mjs';
 
-let sb;
-let tools;  // sb.creatorTools(): validation and the Builder edits
-before(async () => {
-  sb = await createSpringBones();
-  tools = await sb.creatorTools();
-});
+const sb = await createSpringBones();
+const tools = await sb.creatorTools();  // validation and the Builder edits
 
 const kBaseMale = 'urn:decentraland:off-chain:base-avatars:BaseMale';
 
@@ -78,19 +75,8 @@ describe('the recorded cases (tests/fixtures/validation_cases.json)', () => {
 // ---------------------------------------------------------------------------------------------
 // Generated here
 
-function makeRandom(seed) {  // mulberry32
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
 function generator(seed) {
-  const random = makeRandom(seed);
+  const random = seededRandom(seed);
   const int = (lo, hi) => lo + Math.floor(random() * (hi - lo + 1));
   const pick = (list) => list[Math.floor(random() * list.length)];
   const chance = (p) => random() < p;
