@@ -1,4 +1,4 @@
-// One answer everywhere, Node's part: 1,000 frames of the sample wearable and of the two VRM
+// One answer everywhere, Node's part: 1,000 frames of the sample wearable and of the three VRM
 // fixtures under the scripted sway give bit-identical rotations natively and in Node's
 // WebAssembly (the hash of every frame's rotations, tests/scenarios/frame_hash.mjs).
 // tests/browser/frame_hash.test.mjs checks Chromium against the same native hashes.
