@@ -343,7 +343,8 @@ class RigBuilder {
     std::unordered_map<std::string, int> external;
     for (const ColliderSpec& spec : options_.colliders) {
       const bool plane = spec.shape == Collider::Shape::kPlane;
-      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && isFinite(spec.normal) && std::isfinite(spec.radius);
+      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && (!plane || isFinite(spec.normal)) &&
+                          std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
         continue;
