@@ -1,4 +1,4 @@
-// Writes two small VRM spring-bone test models into tests/fixtures/:
+// Writes three small VRM spring-bone test models into tests/fixtures/:
 //
 //   vrm10_springs.vrm  VRMC_springBone 1.0: two springs (back hair in world space, a skirt panel
 //                      with its center on the hips), sphere and capsule colliders in three groups,
@@ -8,6 +8,10 @@
 //                      roots, one of them branching and with leaves that get virtual tails; a tail
 //                      with its center on the hips), two collider groups of spheres whose offsets
 //                      have non-zero z (VRM 0.x stores them in Unity's axes).
+//   vrm10_extended_colliders.vrm  VRMC_springBone 1.0 with VRMC_springBone_extended_collider: a
+//                      plane, an inside sphere and an inside capsule (each with the base shape
+//                      the extension asks for), and an extension of an unknown version whose base
+//                      sphere applies.
 //
 //   node scripts/make_vrm_fixtures.mjs
 //
@@ -128,6 +132,93 @@ function vrm10() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// VRM 1.0 with VRMC_springBone_extended_collider
+
+// A back-hair strand kept behind a plane on the head, an ear pendant kept inside a sphere on the
+// head, a tail kept inside a capsule on the hips, and one extended collider of an unknown
+// specVersion whose base sphere (on the chest) applies instead. Each extended collider carries
+// the base shape the extension asks writers for: a radius-0 sphere far away for the inside
+// shapes, a huge sphere on the far side for the plane.
+function vrm10Extended() {
+  const { nodes, index, roots } = buildNodes([
+    ...body,
+    ['Hair_Back_1', 'J_Head', [0, 0.1, -0.11], [0.25881904510252074, 0, 0, 0.9659258262890683]],
+    ['Hair_Back_2', 'Hair_Back_1', [0, -0.07, -0.01]],
+    ['Hair_Back_3', 'Hair_Back_2', [0, -0.07, 0]],
+    ['Hair_Back_End', 'Hair_Back_3', [0, -0.06, 0]],
+    ['Ear_L_1', 'J_Head', [0.08, 0, 0]],
+    ['Ear_L_2', 'Ear_L_1', [0, -0.04, 0]],
+    ['Ear_L_End', 'Ear_L_2', [0, -0.04, 0]],
+    ['Tail_1', 'J_Hips', [0, -0.02, -0.12]],
+    ['Tail_2', 'Tail_1', [0, -0.1, -0.05]],
+    ['Tail_3', 'Tail_2', [0, -0.1, -0.03]],
+    ['Tail_End', 'Tail_3', [0, -0.1, 0]],
+  ]);
+  const n = (name) => index.get(name);
+  const joint = (name, p) => ({ node: n(name), ...p });
+  const extended = (shape) => ({ VRMC_springBone_extended_collider: { specVersion: '1.0', shape } });
+  const farAway = { sphere: { offset: [0, -10000, 0], radius: 0 } };
+  const ext = {
+    specVersion: '1.0',
+    colliders: [
+      // The back of the head: tails stay on the -Z side of z = -0.1 (head space).
+      { node: n('J_Head'), shape: { sphere: { offset: [0, 0, 9999.9], radius: 10000 } },
+        extensions: extended({ plane: { offset: [0, 0, -0.1], normal: [0, 0, -1] } }) },
+      { node: n('J_Head'), shape: farAway, extensions: extended({ sphere: { offset: [0.08, -0.05, 0], radius: 0.045, inside: true } }) },
+      { node: n('J_Hips'), shape: farAway,
+        extensions: extended({ capsule: { offset: [0, -0.02, -0.12], tail: [0, -0.35, -0.22], radius: 0.05, inside: true } }) },
+      // A version no reader knows: its base shape, a chest sphere, is the collider.
+      { node: n('J_Chest'), shape: { sphere: { offset: [0, 0.1, -0.12], radius: 0.08 } },
+        extensions: { VRMC_springBone_extended_collider: { specVersion: '9.0', shape: { plane: { normal: [0, 1, 0] } } } } },
+    ],
+    colliderGroups: [
+      { name: 'head_back', colliders: [0, 3] },
+      { name: 'ear', colliders: [1] },
+      { name: 'tail', colliders: [2] },
+    ],
+    springs: [
+      {
+        name: 'hair_back',
+        joints: [
+          joint('Hair_Back_1', { hitRadius: 0.02, stiffness: 1.0, gravityPower: 0.4, gravityDir: [0, -1, 0], dragForce: 0.3 }),
+          joint('Hair_Back_2', { hitRadius: 0.02, stiffness: 0.8, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.3 }),
+          joint('Hair_Back_3', { hitRadius: 0.015, stiffness: 0.6, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.25 }),
+          joint('Hair_Back_End', {}),
+        ],
+        colliderGroups: [0],
+      },
+      {
+        name: 'ear_pendant',
+        joints: [
+          joint('Ear_L_1', { hitRadius: 0.01, stiffness: 0.5, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.3 }),
+          joint('Ear_L_2', { hitRadius: 0.01, stiffness: 0.4, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.3 }),
+          joint('Ear_L_End', {}),
+        ],
+        colliderGroups: [1],
+      },
+      {
+        name: 'tail',
+        joints: [
+          joint('Tail_1', { hitRadius: 0.015, stiffness: 0.7, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.2 }),
+          joint('Tail_2', { hitRadius: 0.015, stiffness: 0.6, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.2 }),
+          joint('Tail_3', { hitRadius: 0.015, stiffness: 0.5, gravityPower: 0.5, gravityDir: [0, -1, 0], dragForce: 0.2 }),
+          joint('Tail_End', {}),
+        ],
+        colliderGroups: [2],
+      },
+    ],
+  };
+  return {
+    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
+    extensionsUsed: ['VRMC_springBone', 'VRMC_springBone_extended_collider'],
+    extensions: { VRMC_springBone: ext },
+    scene: 0,
+    scenes: [{ nodes: roots }],
+    nodes,
+  };
+}
+
+// ---------------------------------------------------------------------------------------------
 // VRM 0.x
 
 function vrm0() {
@@ -192,7 +283,7 @@ function vrm0() {
 }
 
 mkdirSync(outDir, { recursive: true });
-for (const [file, doc] of [['vrm10_springs.vrm', vrm10()], ['vrm0_springs.vrm', vrm0()]]) {
+for (const [file, doc] of [['vrm10_springs.vrm', vrm10()], ['vrm0_springs.vrm', vrm0()], ['vrm10_extended_colliders.vrm', vrm10Extended()]]) {
   const bytes = glbOfDoc(doc);
   writeFileSync(join(outDir, file), bytes);
   console.log(`wrote tests/fixtures/${file} (${bytes.length} bytes, ${doc.nodes.length} nodes)`);

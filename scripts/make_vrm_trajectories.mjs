@@ -29,20 +29,15 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import { VRMSpringBoneJoint, VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
+import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
 import { gltfOf } from './lib/fixtures/glb.mjs';
+import { useExactBoneLength } from './lib/three_vrm_equalized.mjs';
 
 const fps = 60;
 const frames = 240;
-const fixtures = ['vrm10_springs.vrm', 'vrm0_springs.vrm'];
+const fixtures = ['vrm10_springs.vrm', 'vrm0_springs.vrm', 'vrm10_extended_colliders.vrm'];
 const fixturePath = (name) => fileURLToPath(new URL(`../tests/fixtures/${name}`, import.meta.url));
 
-const stockLength = VRMSpringBoneJoint.prototype._calcWorldSpaceBoneLength;
-function currentLength() {
-  // (updateWorldMatrix would not do: three r187 skips it unless the local matrix was just rebuilt.)
-  if (this.child) this.child.matrixWorld.multiplyMatrices(this.child.parent.matrixWorld, this.child.matrix);
-  stockLength.call(this);
-}
 
 const round = (x) => Number(x.toPrecision(10));
 
@@ -81,7 +76,7 @@ function pose(nodeOf, f) {
 }
 
 async function run(name, exactLength) {
-  VRMSpringBoneJoint.prototype._calcWorldSpaceBoneLength = exactLength ? currentLength : stockLength;
+  useExactBoneLength(exactLength);
   const bytes = readFileSync(fixturePath(name));
   const doc = gltfOf(bytes);
   const loader = new GLTFLoader();
@@ -152,7 +147,7 @@ for (const file of fixtures) {
   console.log(`${file}: ${Object.keys(exact.rotations).length} joints, drivers ${Object.keys(exact.drivers)}, ` +
               `collisions ${JSON.stringify(exact.collisions)}; stock three-vrm differs by up to ${worst.toExponential(2)}`);
 }
-VRMSpringBoneJoint.prototype._calcWorldSpaceBoneLength = stockLength;
+useExactBoneLength(false);
 const path = fixturePath('vrm_trajectories.json');
 writeFileSync(path, JSON.stringify(result) + '\n');
 console.log(`wrote ${path}`);

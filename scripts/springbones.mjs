@@ -138,8 +138,9 @@ async function inspect({ glb, values }, out, err) {
   if (rig.colliders.length > 0) {
     lines.push(`colliders (${rig.colliders.length}):`);
     for (const c of rig.colliders) {
-      lines.push(`  ${c.shape} on ${c.node}: offset [${c.offset.join(', ')}]` +
-                 `${c.tail ? `, tail [${c.tail.join(', ')}]` : ''}, radius ${c.radius}`);
+      const size = c.shape === 'plane' ? `normal [${c.normal.join(', ')}]` : `radius ${c.radius}`;
+      lines.push(`  ${c.inside ? 'inside ' : ''}${c.shape} on ${c.node}: offset [${c.offset.join(', ')}]` +
+                 `${c.tail ? `, tail [${c.tail.join(', ')}]` : ''}, ${size}`);
     }
   }
   lines.push(`warnings (${rig.warnings.length}):`);

@@ -42,8 +42,12 @@ ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
         ColliderSpec spec;
         spec.node = c.at("node").get<std::string>();
         spec.offset = vec3(c.at("offset"));
-        spec.radius = c.at("radius").get<float>();
-        if (c.contains("tail")) {
+        spec.radius = c.value("radius", 0.0f);
+        spec.inside = c.value("inside", false);
+        if (c.contains("normal")) {
+          spec.shape = Collider::Shape::kPlane;
+          spec.normal = vec3(c.at("normal"));
+        } else if (c.contains("tail")) {
           spec.shape = Collider::Shape::kCapsule;
           spec.tail = vec3(c.at("tail"));
         }

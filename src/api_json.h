@@ -32,8 +32,9 @@ std::string failureJson(const ApiFailure& failure);
 ApiFailure parseArgument(std::string_view text, const char* what, nlohmann::json& out);
 
 /// The rig options loadRig's JS side writes after checking every field: {"colliders": [{"node",
-/// "offset": [x,y,z], "radius", "tail"?: [x,y,z]}], "hitRadius"} (a collider with a tail is a
-/// capsule); empty text for none. An "invalid-argument" failure for any other shape.
+/// "offset": [x,y,z], "radius"?, "tail"?: [x,y,z], "normal"?: [x,y,z], "inside"?: bool}],
+/// "hitRadius"} (a collider with a normal is a plane, else one with a tail a capsule, else a
+/// sphere); empty text for none. An "invalid-argument" failure for any other shape.
 ApiFailure readRigOptions(std::string_view text, RigOptions& out);
 
 /// JSON has no NaN or Infinity, but a JS object can hold them and the validator must reject them

@@ -342,9 +342,16 @@ class RigBuilder {
     const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
     std::unordered_map<std::string, int> external;
     for (const ColliderSpec& spec : options_.colliders) {
-      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && std::isfinite(spec.radius);
+      const bool plane = spec.shape == Collider::Shape::kPlane;
+      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && (!plane || isFinite(spec.normal)) &&
+                          std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
+        continue;
+      }
+      glm::vec3 normal = spec.normal;
+      if (plane && !toUnitLength(normal)) {
+        warn("collider-invalid", "plane collider on '" + spec.node + "' has a zero normal; ignored");
         continue;
       }
       int driver = -1;
@@ -362,10 +369,12 @@ class RigBuilder {
       }
       Collider collider;
       collider.shape = spec.shape;
+      collider.inside = spec.inside && !plane;
       collider.driver = driver;
       collider.offset = spec.offset;
       collider.tail = spec.shape == Collider::Shape::kCapsule ? spec.tail : spec.offset;
-      collider.radius = spec.radius;
+      collider.normal = plane ? normal : glm::vec3(0.0f, 0.0f, 1.0f);
+      collider.radius = plane ? 0.0f : spec.radius;
       rig_->colliders.push_back(collider);
     }
     for (Joint& joint : rig_->joints) {

@@ -43,9 +43,13 @@ FloatJson colliderJson(const Rig& rig, const Collider& c) {
   if (c.shape == Collider::Shape::kCapsule) {
     out["shape"] = "capsule";
     out["tail"] = vec3(c.tail);
+  } else if (c.shape == Collider::Shape::kPlane) {
+    out["shape"] = "plane";
+    out["normal"] = vec3(c.normal);
   } else {
     out["shape"] = "sphere";
   }
+  out["inside"] = c.inside;
   return out;
 }
 

@@ -182,11 +182,14 @@ struct Instance::State {
   }
 
   // Colliders in world space for this step. The radius scales with the driver: uniformly on the
-  // fast path, by the largest axis scale of a general matrix.
+  // fast path, by the largest axis scale of a general matrix. A plane's normal turns with the
+  // driver's inverse transpose (perpendicular to the plane under any scale), then is made unit; a
+  // singular driver leaves it NaN, and a NaN normal moves no tail.
   void prepareColliders() {
     const auto& all = rig->colliders;
     for (std::size_t c = 0; c < all.size(); ++c) {
       const Collider& collider = all[c];
+      const bool plane = collider.shape == Collider::Shape::kPlane;
       glm::vec3 start, end;
       float scale;
       if (fast_path) {
@@ -197,36 +200,34 @@ struct Instance::State {
         m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);
         m.scale = table.s[slot];
         start = m.apply(collider.offset);
-        end = m.apply(collider.tail);
+        end = plane ? glm::normalize(m.rotation * collider.normal) : m.apply(collider.tail);
         scale = m.scale;
       } else {
         const glm::mat4& m = step_drivers[collider.driver];
         start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
-        end = glm::vec3(m * glm::vec4(collider.tail, 1.0f));
+        end = plane ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * collider.normal)
+                    : glm::vec3(m * glm::vec4(collider.tail, 1.0f));
         scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
       }
+      const float radius = plane ? 0.0f : collider.radius * scale;
       if (fast_path) {
-        lanes->colliders().set(lanes->colliderIndex(lane_copy, c), start, end, collider.radius * scale);
+        lanes->colliders().set(lanes->colliderIndex(lane_copy, c), start, end, radius);
       } else {
-        collider_table.set(c, start, end, collider.radius * scale);
+        collider_table.set(c, start, end, radius);
       }
     }
   }
 
-  // Pushes a tail out of the joint's colliders, each followed by the length constraint again
-  // (VRMC_springBone order). Same arithmetic as the lane kernel's collider pass.
+  // Moves a tail out of (or into, or onto the side of) the joint's colliders, each followed by
+  // the length constraint again (VRMC_springBone order).
   glm::vec3 collide(const Joint& joint, const glm::vec3& head, glm::vec3 tail, float length) const {
     for (int c : joint.colliders) {
       const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
-      const glm::vec3 segment = glm::vec3(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]) - start;
-      const float segment2 = glm::dot(segment, segment);
-      const glm::vec3 v = tail - start;
-      const float t = segment2 > 0.0f ? std::clamp(glm::dot(v, segment) / segment2, 0.0f, 1.0f) : 0.0f;
-      const glm::vec3 away = v - segment * t;
-      const float distance = glm::length(away);
-      const float penetration = collider_table.radius[c] + joint.hit_radius - distance;
-      if (!(penetration > 0.0f) || !(distance > kMinLength)) continue;
-      tail += away * (penetration / distance);
+      const glm::vec3 end(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]);
+      if (!moveTailByCollider(colliderKind(rig->colliders[c]), start, end, collider_table.radius[c], joint.hit_radius,
+                              tail)) {
+        continue;
+      }
       const glm::vec3 offset = tail - head;
       const float offset_length = glm::length(offset);
       if (offset_length > kMinLength && std::isfinite(offset_length)) tail = head + offset * (length / offset_length);

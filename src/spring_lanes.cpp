@@ -91,7 +91,65 @@ glm::vec3 perpendicularTo(const glm::vec3& axis) {
   return glm::normalize(p);
 }
 
+// One collider against the tails of the lanes [begin, end) (between row, lane l = copy + base),
+// each then put back at the bone's length from its head. The collider's row in `table` starts
+// at shape_at. The arithmetic of moveTailByCollider (collider_kind.h), branch-free.
+template <ColliderKind kKind>
+SPRINGBONES_ALWAYS_INLINE inline void collideLanes(const ColliderTable& table, std::size_t shape_at, float* between_row,
+                                                   std::size_t base_lane, std::size_t begin, std::size_t end,
+                                                   float hit_radius) {
+  constexpr std::size_t B = kBlockLanes;
+  const float* __restrict x0 = table.x0.data() + shape_at;
+  const float* __restrict y0 = table.y0.data() + shape_at;
+  const float* __restrict z0 = table.z0.data() + shape_at;
+  const float* __restrict x1 = table.x1.data() + shape_at;
+  const float* __restrict y1 = table.y1.data() + shape_at;
+  const float* __restrict z1 = table.z1.data() + shape_at;
+  const float* __restrict radius = table.radius.data() + shape_at;
+  forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
+    float* __restrict t = between_row + block * kBetweenBlock + i;
+    const std::size_t l = block * B + i - base_lane;  // the copy
+    const float tx = t[kTailX * B], ty = t[kTailY * B], tz = t[kTailZ * B];
+    const float vx = tx - x0[l], vy = ty - y0[l], vz = tz - z0[l];
+    bool pushed;
+    float px, py, pz;
+    if (kKind == ColliderKind::kPlane) {
+      const float nx = x1[l], ny = y1[l], nz = z1[l];
+      const float penetration = hit_radius - (vx * nx + vy * ny + vz * nz);
+      pushed = penetration > 0.0f;
+      const float push = pushed ? penetration : 0.0f;
+      px = tx + nx * push;
+      py = ty + ny * push;
+      pz = tz + nz * push;
+    } else {
+      const float sgx = x1[l] - x0[l], sgy = y1[l] - y0[l], sgz = z1[l] - z0[l];
+      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
+      float along = segment2 > 0.0f ? (vx * sgx + vy * sgy + vz * sgz) / segment2 : 0.0f;
+      along = along < 0.0f ? 0.0f : (along > 1.0f ? 1.0f : along);
+      const float dx = vx - sgx * along, dy = vy - sgy * along, dz = vz - sgz * along;
+      const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const float penetration =
+          kKind == ColliderKind::kInside ? distance + hit_radius - radius[l] : radius[l] + hit_radius - distance;
+      pushed = penetration > 0.0f && distance > kMinLength;
+      const float ratio = penetration / distance;
+      const float push = pushed ? (kKind == ColliderKind::kInside ? -ratio : ratio) : 0.0f;
+      px = tx + dx * push;
+      py = ty + dy * push;
+      pz = tz + dz * push;
+    }
+    const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
+    const float fx = px - hx, fy = py - hy, fz = pz - hz;
+    const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
+    const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
+    const float to_length = t[kLength * B] / offset_length;
+    t[kTailX * B] = usable ? hx + fx * to_length : tx;
+    t[kTailY * B] = usable ? hy + fy * to_length : ty;
+    t[kTailZ * B] = usable ? hz + fz * to_length : tz;
+  });
+}
+
 }  // namespace
+
 
 void ColliderTable::resize(std::size_t colliders) {
   count = colliders;
@@ -157,6 +215,7 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   }
   lanes_per_copy_ = static_cast<std::size_t>(lanes);
   collider_count_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
+  for (std::size_t k = 0; k < collider_count_; ++k) collider_kinds_.push_back(colliderKind(rig_->colliders[k]));
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
   constants_.resize(depth_count_ * lanes_per_copy_);
@@ -496,43 +555,23 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     t[kTailZ * B] = sz;
   });
 
-  // Between the passes, one per collider of the slot: push the tail out of the shape (closest
-  // point on the capsule segment, or the sphere center), then restore the bone length. The
-  // shapes are per copy: row `collider` of the collider table, read at the copy.
+  // Between the passes, one per collider of the slot: move the tail out of (or into) the shape,
+  // then restore the bone length. The shapes are per copy: row `collider` of the collider table,
+  // read at the copy. The kind is the rig's, so each collider runs the loop of its kind only.
   for (std::size_t collider = 0; !kSeed && collider < collider_count_; ++collider) {
     if ((c.collider_mask & (1u << collider)) == 0) continue;
     const std::size_t shape_at = collider * copy_capacity_;
-    const float* __restrict x0 = colliders_.x0.data() + shape_at;
-    const float* __restrict y0 = colliders_.y0.data() + shape_at;
-    const float* __restrict z0 = colliders_.z0.data() + shape_at;
-    const float* __restrict x1 = colliders_.x1.data() + shape_at;
-    const float* __restrict y1 = colliders_.y1.data() + shape_at;
-    const float* __restrict z1 = colliders_.z1.data() + shape_at;
-    const float* __restrict radius = colliders_.radius.data() + shape_at;
-    forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
-      float* __restrict t = between_row + block * kBetweenBlock + i;
-      const std::size_t l = block * B + i - base_lane;  // the copy
-      const float sgx = x1[l] - x0[l], sgy = y1[l] - y0[l], sgz = z1[l] - z0[l];
-      const float segment2 = sgx * sgx + sgy * sgy + sgz * sgz;
-      const float tx = t[kTailX * B], ty = t[kTailY * B], tz = t[kTailZ * B];
-      const float vx = tx - x0[l], vy = ty - y0[l], vz = tz - z0[l];
-      float along = segment2 > 0.0f ? (vx * sgx + vy * sgy + vz * sgz) / segment2 : 0.0f;
-      along = along < 0.0f ? 0.0f : (along > 1.0f ? 1.0f : along);
-      const float dx = vx - sgx * along, dy = vy - sgy * along, dz = vz - sgz * along;
-      const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-      const float penetration = radius[l] + c.hit_radius - distance;
-      const bool pushed = penetration > 0.0f && distance > kMinLength;
-      const float push = pushed ? penetration / distance : 0.0f;
-      const float px = tx + dx * push, py = ty + dy * push, pz = tz + dz * push;
-      const float hx = t[kHeadX * B], hy = t[kHeadY * B], hz = t[kHeadZ * B];
-      const float fx = px - hx, fy = py - hy, fz = pz - hz;
-      const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);
-      const bool usable = pushed && offset_length > kMinLength && offset_length < 1e30f;
-      const float to_length = t[kLength * B] / offset_length;
-      t[kTailX * B] = usable ? hx + fx * to_length : tx;
-      t[kTailY * B] = usable ? hy + fy * to_length : ty;
-      t[kTailZ * B] = usable ? hz + fz * to_length : tz;
-    });
+    switch (collider_kinds_[collider]) {
+      case ColliderKind::kOutside:
+        collideLanes<ColliderKind::kOutside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+        break;
+      case ColliderKind::kInside:
+        collideLanes<ColliderKind::kInside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+        break;
+      case ColliderKind::kPlane:
+        collideLanes<ColliderKind::kPlane>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+        break;
+    }
   }
 
   // Second pass: store the tail (center space), turn the joint toward it, and write the local

@@ -23,6 +23,7 @@
 #include <memory>
 #include <vector>
 
+#include "collider_kind.h"
 #include "springbones.h"
 
 namespace springbones {
@@ -34,8 +35,9 @@ struct DriverTable {
 };
 
 /// Collider shapes in world space for one step: a segment (x0..x1; a point for a sphere) and a
-/// radius. At most kMaxLaneColliders per rig take part on the lane path (a bit mask per joint);
-/// there, one row per rig collider of one entry per copy (SpringLanes::colliderIndex).
+/// radius, or for a plane a point of it (x0) and its unit normal (x1), radius 0. At most
+/// kMaxLaneColliders per rig take part on the lane path (a bit mask per joint); there, one row per
+/// rig collider of one entry per copy (SpringLanes::colliderIndex).
 struct ColliderTable {
   std::size_t count = 0;
   std::vector<float> x0, y0, z0, x1, y1, z1, radius;
@@ -130,6 +132,7 @@ class SpringLanes {
   std::size_t lane_capacity_ = 0;   // R * copy_capacity_
   std::size_t blocks_per_row_ = 0;
   std::size_t collider_count_ = 0;  // rig colliders on the lane path
+  std::vector<ColliderKind> collider_kinds_;  // per rig collider on the lane path
   bool any_center_ = false;
 
   // The rig's layout and constants.

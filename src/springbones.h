@@ -155,22 +155,28 @@ struct Driver {
   std::string name;
 };
 
-/// A collision shape carried by a driver's world matrix (VRMC_springBone colliders).
+/// A collision shape carried by a driver's world matrix (VRMC_springBone colliders, and the
+/// plane and inside shapes of VRMC_springBone_extended_collider).
 struct Collider {
-  enum class Shape { kSphere, kCapsule };
+  enum class Shape { kSphere, kCapsule, kPlane };
   Shape shape = Shape::kSphere;
+  /// Sphere and capsule only: the tail is kept inside the shape rather than pushed out of it.
+  bool inside = false;
   int driver = -1;
-  glm::vec3 offset{0.0f};  ///< sphere center / capsule start, in the driver node's space
+  glm::vec3 offset{0.0f};  ///< sphere center / capsule start / a point of the plane, driver space
   glm::vec3 tail{0.0f};    ///< capsule end, in the driver node's space
-  float radius = 0.0f;     ///< in the driver node's space (world radius = radius x its scale)
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  ///< plane only: the side tails are kept on, driver space
+  float radius = 0.0f;     ///< in the driver node's space (world radius = radius x its scale); 0 for a plane
 };
 
 /// A collider to attach by node name, for avatars whose GLB says nothing about colliders.
 struct ColliderSpec {
   std::string node;
   Collider::Shape shape = Collider::Shape::kSphere;
+  bool inside = false;
   glm::vec3 offset{0.0f};
   glm::vec3 tail{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};
   float radius = 0.0f;
 };
 

@@ -23,6 +23,16 @@ inline bool isFinite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+/// `v` made unit length, false (and `v` untouched) for a zero or non-finite one. Scaled by its
+/// largest component first, so a long finite vector does not overflow on the way.
+inline bool toUnitLength(glm::vec3& v) {
+  const float largest = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+  if (!(largest > 0.0f) || !std::isfinite(largest)) return false;
+  const glm::vec3 scaled = v / largest;
+  v = scaled / glm::length(scaled);
+  return true;
+}
+
 /// Inverse of an affine matrix, or false when it has no usable inverse (a zero scale, or
 /// non-finite entries). Callers treat a center without an inverse as world space for that step.
 inline bool affineInverse(const glm::mat4& m, glm::mat4& out) {

@@ -39,9 +39,10 @@
 //  - VRM 0.x vectors are stored in Unity's axes: collider offsets and gravityDir get z negated
 //    (three-vrm negates z of the offsets but takes gravityDir as is; UniVRM's migration converts
 //    both). VRMC_springBone vectors are used as they are.
-//  - Colliders: sphere and capsule. A VRMC_springBone_extended_collider shape (plane, inside) is
-//    not supported: the collider's base shape is used, as the extension requires writers to
-//    provide one (`vrm-extended-collider`). Collider nodes become drivers; a collider on a joint or
+//  - Colliders: sphere and capsule, and VRMC_springBone_extended_collider's plane, inside sphere
+//    and inside capsule (specVersion "1.0" or the draft's "1.0-draft"), which replace the base
+//    shape; an unknown version or shape, or an unreadable one, falls back to the base shape the
+//    extension requires writers to provide (`vrm-extended-collider`). Collider nodes become drivers; a collider on a joint or
 //    below one is skipped (its driver matrix would depend on the simulation; three-vrm orders such
 //    updates instead). Only colliders some built joint uses are kept, in file order; a joint's
 //    collider list is sorted and without duplicates, so the push-out order is file order, not the
@@ -157,8 +158,10 @@ struct FileCollider {
   bool valid = false;
   int node = -1;
   Collider::Shape shape = Collider::Shape::kSphere;
+  bool inside = false;
   glm::vec3 offset{0.0f};
   glm::vec3 tail{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};
   float radius = 0.0f;
   std::string path;
 };
@@ -370,13 +373,13 @@ class VrmRigBuilder {
     if (!c.is_object()) return invalid("is not an object");
     auto node = c.find("node");
     if (node == c.end() || !readIndex(*node, nodes().size(), out.node)) return invalid("names no node of the file");
+    if (auto ext = c.find("extensions"); ext != c.end() && ext->is_object()) {
+      if (auto extended = ext->find("VRMC_springBone_extended_collider"); extended != ext->end()) {
+        if (readExtendedCollider(*extended, path + "/extensions/VRMC_springBone_extended_collider", out)) return out;
+      }
+    }
     auto shape = c.find("shape");
     if (shape == c.end() || !shape->is_object()) return invalid("has no shape");
-    if (auto ext = c.find("extensions"); ext != c.end() && ext->is_object() &&
-                                         ext->find("VRMC_springBone_extended_collider") != ext->end()) {
-      warn("vrm-extended-collider", "collider uses VRMC_springBone_extended_collider, which is not supported; its base shape is used",
-           path + "/extensions/VRMC_springBone_extended_collider");
-    }
     auto sphere = shape->find("sphere");
     auto capsule = shape->find("capsule");
     const bool is_sphere = sphere != shape->end() && sphere->is_object();
@@ -385,23 +388,103 @@ class VrmRigBuilder {
     if (is_sphere && is_capsule) {
       warn("vrm-collider-shape", "collider has both a sphere and a capsule; the sphere is used", path + "/shape");
     }
-    const json& body = is_sphere ? *sphere : *capsule;
-    out.shape = is_sphere ? Collider::Shape::kSphere : Collider::Shape::kCapsule;
-    if (auto it = body.find("offset"); it != body.end() && !readVec3Array(*it, out.offset)) {
-      return invalid("has an offset that is not 3 finite numbers");
-    }
-    if (auto it = body.find("radius"); it != body.end() && (!readFloat(*it, out.radius) || out.radius < 0.0f)) {
-      return invalid("has a radius that is not a finite number >= 0");
-    }
-    out.tail = out.offset;
-    if (!is_sphere) {
-      out.tail = glm::vec3(0.0f);
-      if (auto it = body.find("tail"); it != body.end() && !readVec3Array(*it, out.tail)) {
-        return invalid("has a tail that is not 3 finite numbers");
-      }
-    }
+    std::string why;
+    if (!readRoundShape(is_sphere ? *sphere : *capsule, !is_sphere, false, out, why)) return invalid(why);
     out.valid = true;
     return out;
+  }
+
+  // A sphere or capsule body ({offset, radius, tail (capsules), inside (extended shapes)}) into
+  // `out`; false with the reason for a value that cannot be read.
+  static bool readRoundShape(const json& body, bool capsule, bool extended, FileCollider& out, std::string& why) {
+    out.shape = capsule ? Collider::Shape::kCapsule : Collider::Shape::kSphere;
+    out.offset = glm::vec3(0.0f);
+    out.radius = 0.0f;
+    if (auto it = body.find("offset"); it != body.end() && !readVec3Array(*it, out.offset)) {
+      why = "has an offset that is not 3 finite numbers";
+      return false;
+    }
+    if (auto it = body.find("radius"); it != body.end() && (!readFloat(*it, out.radius) || out.radius < 0.0f)) {
+      why = "has a radius that is not a finite number >= 0";
+      return false;
+    }
+    out.tail = out.offset;
+    if (capsule) {
+      out.tail = glm::vec3(0.0f);
+      if (auto it = body.find("tail"); it != body.end() && !readVec3Array(*it, out.tail)) {
+        why = "has a tail that is not 3 finite numbers";
+        return false;
+      }
+    }
+    out.inside = false;
+    if (auto it = body.find("inside"); extended && it != body.end()) {
+      if (!it->is_boolean()) {
+        why = "has an inside that is not a boolean";
+        return false;
+      }
+      out.inside = it->get<bool>();
+    }
+    return true;
+  }
+
+  // VRMC_springBone_extended_collider: its shape replaces the base shape when the extension's
+  // specVersion is one we know ("1.0", or the draft's "1.0-draft") and its shape is one of the
+  // three and readable. Otherwise the base shape is the fallback the extension requires writers
+  // to provide, with a warning (three-vrm 3.5.5 falls back the same way for an unknown version;
+  // it reads "1.0" only).
+  bool readExtendedCollider(const json& ext, const std::string& path, FileCollider& out) {
+    auto fallback = [&](const std::string& why) {
+      warn("vrm-extended-collider", "extended collider " + why + "; the base shape is used", path);
+      return false;
+    };
+    if (!ext.is_object()) return fallback("is not an object");
+    auto version = ext.find("specVersion");
+    if (version == ext.end() || !version->is_string()) return fallback("has no specVersion");
+    const std::string& v = version->get_ref<const std::string&>();
+    if (v != "1.0" && v != "1.0-draft") return fallback("has specVersion \"" + v + "\", which is not known");
+    auto shape = ext.find("shape");
+    if (shape == ext.end() || !shape->is_object()) return fallback("has no shape");
+    const FileCollider base = out;
+    std::string why;
+    bool read = false;
+    if (auto sphere = shape->find("sphere"); sphere != shape->end() && sphere->is_object()) {
+      read = readRoundShape(*sphere, false, true, out, why);
+    } else if (auto capsule = shape->find("capsule"); capsule != shape->end() && capsule->is_object()) {
+      read = readRoundShape(*capsule, true, true, out, why);
+    } else if (auto plane = shape->find("plane"); plane != shape->end() && plane->is_object()) {
+      read = readPlaneShape(*plane, out, why);
+    } else {
+      return fallback("has no sphere, capsule or plane shape");
+    }
+    if (!read) {
+      out = base;
+      return fallback(why);
+    }
+    out.valid = true;
+    return true;
+  }
+
+  // A plane body ({offset, normal}, normal (0, 0, 1) by default) into `out`.
+  static bool readPlaneShape(const json& body, FileCollider& out, std::string& why) {
+    out.shape = Collider::Shape::kPlane;
+    out.offset = glm::vec3(0.0f);
+    out.tail = glm::vec3(0.0f);
+    out.radius = 0.0f;
+    out.inside = false;
+    out.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+    if (auto it = body.find("offset"); it != body.end() && !readVec3Array(*it, out.offset)) {
+      why = "has an offset that is not 3 finite numbers";
+      return false;
+    }
+    if (auto it = body.find("normal"); it != body.end() && !readVec3Array(*it, out.normal)) {
+      why = "has a normal that is not 3 finite numbers";
+      return false;
+    }
+    if (!toUnitLength(out.normal)) {
+      why = "has a zero normal";
+      return false;
+    }
+    return true;
   }
 
   // Adds a collider group to the spring being read (springs_.size() is its index), once however
@@ -859,9 +942,11 @@ class VrmRigBuilder {
       }
       Collider collider;
       collider.shape = c.shape;
+      collider.inside = c.inside;
       collider.driver = driverFor(c.node);
       collider.offset = c.offset;
       collider.tail = c.tail;
+      collider.normal = c.normal;
       collider.radius = c.radius;
       rig_index[id] = static_cast<int>(rig_->colliders.size());
       rig_->colliders.push_back(collider);

@@ -200,6 +200,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const ColliderTable& collid
     out.start = glm::vec3(colliders.x0[c], colliders.y0[c], colliders.z0[c]);
     out.end = glm::vec3(colliders.x1[c], colliders.y1[c], colliders.z1[c]);
     out.radius = colliders.radius[c];
+    out.kind = colliderKind(rig_.colliders[c]);
   }
   step(driver_world, collider_scratch_.data(), count, h, rotations_out, joint_world_out);
 }
@@ -273,20 +274,14 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
     }
     projectLength(head, rest_offset, length, x);
     bool contact = false;
-    // Colliders: C = |x - closest point of the segment| - (radius + hitRadius) >= 0, hard. The
-    // same arithmetic as the default path's push-out, each followed by the length again.
+    // Colliders, hard inequalities: outside C = |x - closest point of the segment| - (radius +
+    // hitRadius) >= 0, inside C = (radius - hitRadius) - |x - closest point| >= 0, plane
+    // C = (x - point).normal - hitRadius >= 0. The same arithmetic as the default path's, each
+    // followed by the length again.
     for (int c : joint.colliders) {
       if (c < 0 || static_cast<std::size_t>(c) >= collider_count) continue;
       const XpbdCollider& collider = colliders[c];
-      const glm::vec3 segment = collider.end - collider.start;
-      const float segment2 = glm::dot(segment, segment);
-      const glm::vec3 v = x - collider.start;
-      const float t = segment2 > 0.0f ? std::clamp(glm::dot(v, segment) / segment2, 0.0f, 1.0f) : 0.0f;
-      const glm::vec3 away = v - segment * t;
-      const float distance = glm::length(away);
-      const float penetration = collider.radius + joint.hit_radius - distance;
-      if (!(penetration > 0.0f) || !(distance > kMinLength)) continue;
-      x += away * (penetration / distance);
+      if (!moveTailByCollider(collider.kind, collider.start, collider.end, collider.radius, joint.hit_radius, x)) continue;
       projectLength(head, rest_offset, length, x);
       contact = true;
     }

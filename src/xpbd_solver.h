@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "collider_kind.h"
 #include "springbones.h"
 
 namespace springbones {
@@ -35,11 +36,13 @@ struct XpbdOptions {
 };
 
 /// One collider in world space for one substep: the segment start..end (start == end for a
-/// sphere) and the radius, already scaled by its driver.
+/// sphere) and the radius, already scaled by its driver; for a plane a point of it and its unit
+/// normal (moveTailByCollider's arguments).
 struct XpbdCollider {
   glm::vec3 start{0.0f};
   glm::vec3 end{0.0f};
   float radius = 0.0f;
+  ColliderKind kind = ColliderKind::kOutside;
 };
 
 class XpbdSolver {

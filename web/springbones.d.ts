@@ -94,18 +94,28 @@ export type HashOptions =
     };
 
 /**
- * A collision shape on a node, in that node's space: a sphere, or a capsule when `tail` is given
- * (offset to tail, swept by radius). `node` is a GLB node, or an avatar bone the GLB does not have
- * (e.g. 'Avatar_Head'), which then becomes a driver (node -1) whose world matrix the caller writes.
+ * A collision shape on a node, in that node's space: a sphere, a capsule (offset to tail, swept by
+ * radius) or a plane (through offset, facing normal). Without `shape`, a collider with a `tail` is
+ * a capsule and one without a sphere. `node` is a GLB node, or an avatar bone the GLB does not
+ * have (e.g. 'Avatar_Head'), which then becomes a driver (node -1) whose world matrix the caller
+ * writes. A key that does not belong to the shape (a sphere's `tail`, a plane's `radius`) is a
+ * TypeError.
  */
 export interface ColliderOptions {
   node: string;
-  /** Sphere centre / capsule start, finite. Default [0, 0, 0]. */
+  /** Default: 'capsule' when `tail` is given, else 'sphere'. */
+  shape?: 'sphere' | 'capsule' | 'plane';
+  /** Sphere centre / capsule start / a point of the plane, finite. Default [0, 0, 0]. */
   offset?: readonly [number, number, number] | Float32Array | Float64Array;
-  /** Finite, >= 0, in the node's space (scaled with it). */
-  radius: number;
-  /** Capsule end, finite. */
+  /** Sphere and capsule (required for them): finite, >= 0, in the node's space (scaled with it). */
+  radius?: number;
+  /** Capsule end, finite. Default [0, 0, 0]. */
   tail?: readonly [number, number, number] | Float32Array | Float64Array;
+  /** Plane: the side joints are kept on, finite, not [0, 0, 0] (made unit). Default [0, 0, 1]. */
+  normal?: readonly [number, number, number] | Float32Array | Float64Array;
+  /** Sphere and capsule: keep the joints' tails inside the shape (radius - hitRadius from its
+   *  centre or axis) instead of outside it. Default false. */
+  inside?: boolean;
 }
 
 export type LoadOptions = HashOptions & {
@@ -277,11 +287,16 @@ export interface Collider {
   readonly driver: number;
   /** That driver's name. */
   readonly node: string;
-  readonly shape: 'sphere' | 'capsule';
-  /** Sphere centre / capsule start in the node's space. */
+  readonly shape: 'sphere' | 'capsule' | 'plane';
+  /** Sphere and capsule: tails are kept inside the shape rather than outside. False for planes. */
+  readonly inside: boolean;
+  /** Sphere centre / capsule start / a point of the plane in the node's space. */
   readonly offset: readonly [number, number, number];
   /** Capsule end in the node's space (capsules only). */
   readonly tail?: readonly [number, number, number];
+  /** Unit normal of a plane in the node's space (planes only). */
+  readonly normal?: readonly [number, number, number];
+  /** In the node's space; 0 for a plane. */
   readonly radius: number;
 }
 

@@ -644,22 +644,49 @@ function rigOptionsJson(options) {
   if (hitRadius !== undefined) out.hitRadius = checkNonNegative('loadRig: hitRadius', hitRadius);
   if (colliders !== undefined) {
     if (!Array.isArray(colliders)) throw new TypeError('loadRig: colliders must be an array');
-    out.colliders = colliders.map((c, i) => {
-      const where = `loadRig: colliders[${i}]`;
-      if (c === null || typeof c !== 'object' || Array.isArray(c)) throw new TypeError(`${where} must be an object`);
-      checkKeys(where, c, ['node', 'offset', 'radius', 'tail']);
-      if (typeof c.node !== 'string') throw new TypeError(`${where}.node must be a string (a node name)`);
-      if (c.node.length === 0) throw new RangeError(`${where}.node must not be empty`);
-      const collider = {
-        node: c.node,
-        offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset),
-        radius: checkNonNegative(`${where}.radius`, c.radius),
-      };
-      if (c.tail !== undefined) collider.tail = checkVec3(`${where}.tail`, c.tail);
-      return collider;
-    });
+    out.colliders = colliders.map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
   }
   return JSON.stringify(out);
+}
+
+const kColliderShapes = ['sphere', 'capsule', 'plane'];
+
+// One collider of loadRig's options, checked: a sphere, a capsule (a tail) or a plane (a normal),
+// as `shape` says or, without it, as a tail makes it a capsule. Sphere and capsule take `inside`.
+function colliderJson(where, c) {
+  if (c === null || typeof c !== 'object' || Array.isArray(c)) throw new TypeError(`${where} must be an object`);
+  checkKeys(where, c, ['node', 'shape', 'offset', 'radius', 'tail', 'normal', 'inside']);
+  if (typeof c.node !== 'string') throw new TypeError(`${where}.node must be a string (a node name)`);
+  if (c.node.length === 0) throw new RangeError(`${where}.node must not be empty`);
+  if (c.shape !== undefined) {
+    if (typeof c.shape !== 'string') throw new TypeError(`${where}.shape must be a string`);
+    if (!kColliderShapes.includes(c.shape)) {
+      throw new RangeError(`${where}.shape must be one of ${kColliderShapes.join(', ')}, got '${c.shape}'`);
+    }
+  }
+  const shape = c.shape ?? (c.tail !== undefined ? 'capsule' : 'sphere');
+  const only = (key, shapes) => {
+    if (c[key] !== undefined && !shapes.includes(shape)) {
+      throw new TypeError(`${where}.${key} is not a property of a ${shape} collider`);
+    }
+  };
+  only('tail', ['capsule']);
+  only('normal', ['plane']);
+  only('radius', ['sphere', 'capsule']);
+  only('inside', ['sphere', 'capsule']);
+  const collider = { node: c.node, offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset) };
+  if (shape === 'plane') {
+    collider.normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
+    if (collider.normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);
+    return collider;
+  }
+  collider.radius = checkNonNegative(`${where}.radius`, c.radius);
+  if (shape === 'capsule') collider.tail = c.tail === undefined ? [0, 0, 0] : checkVec3(`${where}.tail`, c.tail);
+  if (c.inside !== undefined) {
+    if (typeof c.inside !== 'boolean') throw new TypeError(`${where}.inside must be a boolean`);
+    collider.inside = c.inside;
+  }
+  return collider;
 }
 
 function checkVec3(what, value) {

@@ -106,6 +106,11 @@ inline std::string checkRig(const Rig& rig) {
   }
   for (const Collider& c : rig.colliders) {
     if (c.driver < 0 || c.driver >= drivers) return "collider driver out of range";
+    if (!(c.radius >= 0.0f) || !std::isfinite(c.radius)) return "bad collider radius";
+    if (c.shape == Collider::Shape::kPlane) {
+      if (c.inside || c.radius != 0.0f) return "a plane collider with inside or a radius";
+      if (!(std::fabs(glm::length(c.normal) - 1.0f) < 1e-5f)) return "a plane normal that is not unit";
+    }
   }
   for (const Warning& w : rig.warnings) {
     if (w.code.empty() || w.message.empty()) return "warning without code or message";
@@ -435,10 +440,17 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   for (int c = 0; c < collider_count; ++c) {
     ColliderSpec spec;
     spec.node = in.byte() % 4 == 0 ? std::string("Avatar_External") : names[in.byte() % node_count];
-    spec.shape = in.byte() % 2 == 0 ? Collider::Shape::kSphere : Collider::Shape::kCapsule;
+    // Sphere, capsule, plane, inside sphere, inside capsule; a plane with any inside and radius.
+    const int shape = in.byte() % 5;
+    spec.shape = shape == 2 ? Collider::Shape::kPlane
+                 : shape % 2 == 1 ? Collider::Shape::kCapsule : Collider::Shape::kSphere;
+    spec.inside = shape >= 3 || (shape == 2 && in.byte() % 2 == 0);
     for (int k = 0; k < 3; ++k) spec.offset[k] = toFloat(in.number(0.2, ByteReader::kAny));
     for (int k = 0; k < 3; ++k) spec.tail[k] = toFloat(in.number(0.2, ByteReader::kAny));
     spec.radius = toFloat(in.number(0.2, ByteReader::kAny));
+    if (shape == 2) {
+      for (int k = 0; k < 3; ++k) spec.normal[k] = toFloat(in.number(1.0, ByteReader::kAny));
+    }
     rig_options.colliders.push_back(spec);
   }
   rig_options.hit_radius = toFloat(in.number(0.05, ByteReader::kAny));
@@ -533,11 +545,13 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     for (std::size_t c = 0; c < colliders.size(); ++c) {
       const Collider& collider = rig->colliders[c];
       const glm::mat4& m = driver_world[collider.driver];
+      colliders[c].kind = colliderKind(collider);
       colliders[c].start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
-      colliders[c].end = collider.shape == Collider::Shape::kCapsule
-                             ? glm::vec3(m * glm::vec4(collider.tail, 1.0f))
-                             : colliders[c].start;
-      colliders[c].radius = collider.radius * glm::length(glm::vec3(m[0]));
+      colliders[c].end = collider.shape == Collider::Shape::kPlane
+                             ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * collider.normal)
+                         : collider.shape == Collider::Shape::kCapsule ? glm::vec3(m * glm::vec4(collider.tail, 1.0f))
+                                                                       : colliders[c].start;
+      colliders[c].radius = collider.shape == Collider::Shape::kPlane ? 0.0f : collider.radius * glm::length(glm::vec3(m[0]));
     }
   };
   auto checkXpbd = [&](const char* when) -> std::string {

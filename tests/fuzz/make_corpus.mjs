@@ -5,7 +5,7 @@
 //   metadata/      the fixture metadata plus one input per distinct outcome of the validator's
 //                  differential cases (tests/fixtures/validation_cases.json), at most 48
 //   simulation/    pseudo-random byte programs (the target builds everything from bytes)
-//   vrm/           the VRM fixtures (0.x and 1.0), both extensions in one file, glTF text
+//   vrm/           the VRM fixtures (0.x, 1.0, 1.0 with extended colliders), both extensions in one file, glTF text
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -66,7 +66,7 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
 // --- vrm
 {
   const dir = reset('vrm');
-  for (const name of ['vrm0_springs.vrm', 'vrm10_springs.vrm']) {
+  for (const name of ['vrm0_springs.vrm', 'vrm10_springs.vrm', 'vrm10_extended_colliders.vrm']) {
     const vrm = fixture(name);
     writeFileSync(join(dir, name.replace('.vrm', '')), vrm.length > 20 + vrm.readUInt32LE(12) ? withoutBin(vrm) : vrm);
   }

@@ -263,6 +263,30 @@ TEST(VrmLoader, Vrm10FixtureReadsPerJointParametersCentersAndColliders) {
 // ---------------------------------------------------------------------------------------------
 // The VRM 0.x fixture
 
+TEST(VrmLoader, ExtendedColliderFixtureReadsPlaneInsideShapesAndAFallback) {
+  auto rig = loadFixtureRig("vrm10_extended_colliders.vrm");
+  ASSERT_TRUE(rig);
+  expectRigInvariants(*rig);
+  ASSERT_EQ(rig->colliders.size(), 4u) << describeWarnings(rig->warnings);
+  const auto& c = rig->colliders;
+  EXPECT_EQ(c[0].shape, Collider::Shape::kPlane);
+  EXPECT_TRUE(vecNear(c[0].offset, {0, 0, -0.1f}, 0.0f));
+  EXPECT_TRUE(vecNear(c[0].normal, {0, 0, -1}, 0.0f));
+  EXPECT_EQ(c[1].shape, Collider::Shape::kSphere);
+  EXPECT_TRUE(c[1].inside);
+  EXPECT_FLOAT_EQ(c[1].radius, 0.045f);
+  EXPECT_EQ(c[2].shape, Collider::Shape::kCapsule);
+  EXPECT_TRUE(c[2].inside);
+  EXPECT_TRUE(vecNear(c[2].tail, {0, -0.35f, -0.22f}, 0.0f));
+  EXPECT_EQ(c[3].shape, Collider::Shape::kSphere);  // the unknown version's base sphere
+  EXPECT_FALSE(c[3].inside);
+  EXPECT_EQ(driverName(*rig, c[3].driver), "J_Chest");
+  EXPECT_EQ(test::countWarnings(rig->warnings, "vrm-extended-collider"), 1) << describeWarnings(rig->warnings);
+  EXPECT_EQ(joint(*rig, "Hair_Back_1").colliders, (std::vector<int>{0, 3}));
+  EXPECT_EQ(joint(*rig, "Ear_L_2").colliders, (std::vector<int>{1}));
+  EXPECT_EQ(joint(*rig, "Tail_3").colliders, (std::vector<int>{2}));
+}
+
 TEST(VrmLoader, Vrm0FixtureMapsBoneGroupsToEveryDescendant) {
   VrmSpringFormat format = VrmSpringFormat::kNone;
   auto rig = loadFixtureRig("vrm0_springs.vrm", &format);
@@ -321,9 +345,9 @@ TEST(VrmLoader, Vrm0FixtureMapsBoneGroupsToEveryDescendant) {
 // ---------------------------------------------------------------------------------------------
 // Simulation against three-vrm 3.5.5
 
-TEST(VrmTrajectories, AgreeWithThreeVrmOnBothFixtures) {
+TEST(VrmTrajectories, AgreeWithThreeVrmOnEveryFixture) {
   const json reference = json::parse(test::readFixtureText("vrm_trajectories.json"));
-  ASSERT_EQ(reference["models"].size(), 2u);
+  ASSERT_EQ(reference["models"].size(), 3u);
   const double fps = reference["fps"].get<double>();
   for (const json& model : reference["models"]) {
     const std::string file = model["file"];
@@ -566,7 +590,7 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
       {{"node", 1}, {"shape", {{"plane", {}}}}},                                                                // 4 no base shape
       {{"node", 1},
        {"shape", {{"sphere", {{"radius", 0.02}}}}},
-       {"extensions", {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", {{"plane", {}}}}}}}}},  // 5 base
+       {"extensions", {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", {{"plane", json::object()}}}}}}}},  // 5 plane
       {{"node", 42}, {"shape", {{"sphere", {{"radius", 0.1}}}}}},  // 6 no such node
       {{"node", 0}, {"shape", {{"sphere", {{"radius", 0.3}}}}}},   // 7 unused by any spring
   });
@@ -574,25 +598,88 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   json springs = json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {1, 0, 0, 7}}}});
   auto rig = mustLoad(nodes, vrmc(springs, colliders, groups));
   expectRigInvariants(*rig);
-  // Kept, in file order: 0 (sphere on Head), 1 (capsule on Root), 5 (sphere on Head).
+  // Kept, in file order: 0 (sphere on Head), 1 (capsule on Root), 5 (a plane on Head, the
+  // extension's default normal).
   ASSERT_EQ(rig->colliders.size(), 3u) << describeWarnings(rig->warnings);
   EXPECT_EQ(rig->colliders[0].shape, Collider::Shape::kSphere);
   EXPECT_EQ(rig->colliders[1].shape, Collider::Shape::kCapsule);
   EXPECT_TRUE(vecNear(rig->colliders[1].tail, {0, 1, 0}, 0.0f));
-  EXPECT_FLOAT_EQ(rig->colliders[2].radius, 0.02f);
+  EXPECT_EQ(rig->colliders[2].shape, Collider::Shape::kPlane);
+  EXPECT_TRUE(vecNear(rig->colliders[2].normal, {0, 0, 1}, 0.0f));
+  EXPECT_EQ(rig->colliders[2].radius, 0.0f);
   for (const Joint& j : rig->joints) EXPECT_EQ(j.colliders, (std::vector<int>{0, 1, 2}));
   const std::string p = "/extensions/VRMC_springBone/";
   EXPECT_NE(test::findWarning(rig->warnings, "collider-on-spring-bone", p + "colliders/2"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/3"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/4"), nullptr);
-  EXPECT_NE(test::findWarning(rig->warnings, "vrm-extended-collider",
-                              p + "colliders/5/extensions/VRMC_springBone_extended_collider"),
-            nullptr);
+  EXPECT_EQ(test::countWarnings(rig->warnings, "vrm-extended-collider"), 0) << describeWarnings(rig->warnings);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/6"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "colliderGroups/1/colliders/5"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "springs/0/colliderGroups/3"), nullptr);
   // Root and Head are drivers (Head: parent of A and collider node), nothing for collider 7.
   EXPECT_EQ(rig->drivers.size(), 2u);
+}
+
+// VRMC_springBone_extended_collider: a readable shape of a known version replaces the base
+// shape; anything else falls back to the base shape with a warning.
+TEST(VrmLoader, ExtendedCollidersReplaceTheBaseShapeOrFallBack) {
+  const json base = {{"sphere", {{"offset", {0, 0.2, 0}}, {"radius", 0.3}}}};
+  auto extended = [&](json ext) {
+    return json{{"node", 1}, {"shape", base}, {"extensions", {{"VRMC_springBone_extended_collider", ext}}}};
+  };
+  auto known = [](json shape, const std::string& version = "1.0") {
+    return json{{"specVersion", version}, {"shape", shape}};
+  };
+  json colliders = json::array({
+      extended(known({{"sphere", {{"offset", {1, 2, 3}}, {"radius", 0.5}, {"inside", true}}}})),                  // 0
+      extended(known({{"capsule", {{"offset", {0, 0, 0}}, {"tail", {0, -1, 0}}, {"radius", 0.25}, {"inside", true}}}})),  // 1
+      extended(known({{"plane", {{"offset", {0, -0.5, 0}}, {"normal", {0, 2, 0}}}}}, "1.0-draft")),               // 2
+      extended(known({{"sphere", {{"radius", 0.1}}}})),                                                           // 3 outside
+      extended(known({{"plane", json::object()}}, "2.0")),                                                               // 4 unknown version
+      extended({{"shape", {{"plane", json::object()}}}}),                                                          // 5 no version
+      extended(known({{"cone", json::object()}})),                                                                       // 6 unknown shape
+      extended(known({{"plane", {{"normal", {0, 0, 0}}}}})),                                                      // 7 zero normal
+      extended(known({{"sphere", {{"radius", -1}}}})),                                                            // 8 negative radius
+      extended(known({{"capsule", {{"inside", "yes"}}}})),                                                        // 9 inside not a bool
+      extended("plane"),                                                                                          // 10 not an object
+      {{"node", 1}, {"shape", {{"sphere", {{"radius", 0.1}, {"inside", true}}}}}},  // 11 base shapes have no inside
+      {{"node", 1}, {"extensions", {{"VRMC_springBone_extended_collider", known({{"plane", json::object()}})}}}},  // 12 no base needed
+  });
+  std::vector<int> all(colliders.size());
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}}), colliders,
+                                         json::array({{{"colliders", all}}})));
+  expectRigInvariants(*rig);
+  ASSERT_EQ(rig->colliders.size(), colliders.size()) << describeWarnings(rig->warnings);
+  const auto& c = rig->colliders;
+  EXPECT_EQ(c[0].shape, Collider::Shape::kSphere);
+  EXPECT_TRUE(c[0].inside);
+  EXPECT_TRUE(vecNear(c[0].offset, {1, 2, 3}, 0.0f));
+  EXPECT_EQ(c[0].radius, 0.5f);
+  EXPECT_EQ(c[1].shape, Collider::Shape::kCapsule);
+  EXPECT_TRUE(c[1].inside);
+  EXPECT_TRUE(vecNear(c[1].tail, {0, -1, 0}, 0.0f));
+  EXPECT_EQ(c[2].shape, Collider::Shape::kPlane);  // the draft's version is read too
+  EXPECT_FALSE(c[2].inside);
+  EXPECT_TRUE(vecNear(c[2].offset, {0, -0.5f, 0}, 0.0f));
+  EXPECT_TRUE(vecNear(c[2].normal, {0, 1, 0}, 0.0f));  // made unit
+  EXPECT_EQ(c[3].shape, Collider::Shape::kSphere);
+  EXPECT_FALSE(c[3].inside);
+  EXPECT_EQ(c[3].radius, 0.1f);
+  for (std::size_t k = 4; k <= 11; ++k) {  // the base sphere
+    EXPECT_EQ(c[k].shape, Collider::Shape::kSphere) << k;
+    EXPECT_FALSE(c[k].inside) << k;
+    EXPECT_TRUE(vecNear(c[k].offset, k == 11 ? glm::vec3(0.0f) : glm::vec3(0, 0.2f, 0), 0.0f)) << k;
+  }
+  EXPECT_EQ(c[12].shape, Collider::Shape::kPlane);
+  const std::string p = "/extensions/VRMC_springBone/colliders/";
+  for (int k : {4, 5, 6, 7, 8, 9, 10}) {
+    EXPECT_NE(test::findWarning(rig->warnings, "vrm-extended-collider",
+                                p + std::to_string(k) + "/extensions/VRMC_springBone_extended_collider"),
+              nullptr)
+        << k << describeWarnings(rig->warnings);
+  }
+  EXPECT_EQ(test::countWarnings(rig->warnings, "vrm-extended-collider"), 7) << describeWarnings(rig->warnings);
 }
 
 TEST(VrmLoader, ShortOrBrokenSpringsAreSkippedWithWarnings) {
@@ -852,7 +939,14 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
                             {0, -0.01f, 0}));
     }
     json colliders = json::array();
-    for (int c = 0; c < collider_count; ++c) colliders.push_back({{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}});
+    // Extended shapes count like the others: every third collider a plane, every third an inside sphere.
+    for (int c = 0; c < collider_count; ++c) {
+      json collider = {{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}};
+      const json extended = c % 3 == 1 ? json{{"plane", {{"normal", {0, 1, 0}}}}}
+                                       : json{{"sphere", {{"radius", 0.5}, {"inside", true}}}};
+      if (c % 3 != 0) collider["extensions"] = {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", extended}}}};
+      colliders.push_back(collider);
+    }
     json ids = json::array();
     for (int r = 0; r < repeats; ++r) {
       for (int c = 0; c < collider_count; ++c) ids.push_back(c);
@@ -875,6 +969,10 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
   ASSERT_FALSE(loadDoc(nodes, ext, rig));
   ASSERT_EQ(rig->joints.size(), 20u);
   for (const Joint& j : rig->joints) EXPECT_EQ(j.colliders.size(), 50u);
+  EXPECT_EQ(std::count_if(rig->colliders.begin(), rig->colliders.end(), [](const Collider& c) { return c.inside; }), 16);
+  EXPECT_EQ(std::count_if(rig->colliders.begin(), rig->colliders.end(),
+                          [](const Collider& c) { return c.shape == Collider::Shape::kPlane; }),
+            17);
 }
 
 }  // namespace

@@ -61,9 +61,10 @@ export async function frameHashes(sb, read) {
   return out;
 }
 
-/** The sample wearable and the two VRM fixtures, by repository path. */
+/** The sample wearable and the three VRM fixtures, by repository path. */
 export const frameHashCases = [
   { name: 'sample wearable', file: 'web/demo/assets/hair_wearable.glb', metadata: 'web/demo/assets/hair_wearable.metadata.json' },
   { name: 'VRM 0.x fixture', file: 'tests/fixtures/vrm0_springs.vrm', vrm: true },
   { name: 'VRM 1.0 fixture', file: 'tests/fixtures/vrm10_springs.vrm', vrm: true },
+  { name: 'VRM 1.0 extended colliders fixture', file: 'tests/fixtures/vrm10_extended_colliders.vrm', vrm: true },
 ];

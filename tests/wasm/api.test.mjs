@@ -155,7 +155,7 @@ describe('loadRig', () => {
     assert.deepEqual(Object.keys(joint), ['centerDriver', 'chain', 'hitRadius', 'name', 'node', 'params', 'parent',
       'parentDriver', 'restLength', 'tail', 'tailNode', 'tailOffset']);
     assert.deepEqual(rig.drivers, [{ name: 'Avatar_Head', node: 0 }]);
-    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.2, shape: 'sphere' }]);
+    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.2, shape: 'sphere', inside: false }]);
     const drivers = rig.drivers;
     rig.dispose();
     assert.equal(rig.joints, first);

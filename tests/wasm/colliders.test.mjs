@@ -1,6 +1,6 @@
-// Colliders through loadRig's options: spheres and capsules on named nodes (GLB nodes or avatar
-// bones the GLB does not have, which become drivers the caller moves), the joint hit radius, and
-// the argument checks.
+// Colliders through loadRig's options: spheres, capsules and planes, outside or inside, on named
+// nodes (GLB nodes or avatar bones the GLB does not have, which become drivers the caller moves),
+// the joint hit radius, and the argument checks.
 import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
@@ -56,7 +56,7 @@ describe('pushing a chain out', () => {
     assert.ok(distance(tails(plain, free)[1], center) < 0.011, 'without colliders the tail stays inside');
 
     const rig = load({ colliders: [{ node: 'Avatar_Head', offset, radius: kRadius }], hitRadius: kHit });
-    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', shape: 'sphere', offset, radius: kRadius }]);
+    assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', shape: 'sphere', inside: false, offset, radius: kRadius }]);
     assert.ok(rig.joints.every((j) => j.hitRadius === kHit));
     const pushed = rig.createInstance();
     settle(pushed);
@@ -89,7 +89,7 @@ describe('pushing a chain out', () => {
   test('a collider on an avatar bone the GLB lacks becomes a driver the caller moves', () => {
     const rig = load({ colliders: [{ node: 'Avatar_Chest', radius: kRadius }], hitRadius: kHit });
     assert.deepEqual(rig.drivers, [{ name: 'Avatar_Head', node: 0 }, { name: 'Avatar_Chest', node: -1 }]);
-    assert.deepEqual(rig.colliders, [{ driver: 1, node: 'Avatar_Chest', shape: 'sphere', offset: [0, 0, 0], radius: kRadius }]);
+    assert.deepEqual(rig.colliders, [{ driver: 1, node: 'Avatar_Chest', shape: 'sphere', inside: false, offset: [0, 0, 0], radius: kRadius }]);
     assert.equal(rig.warnings.length, 0);
     const instance = rig.createInstance();
     const chest = instance.driverMatrices.subarray(16, 32);
@@ -116,6 +116,71 @@ describe('pushing a chain out', () => {
   });
 });
 
+describe('extended shapes: inside sphere, inside capsule, plane', () => {
+  // Each shape beside the chain (tails at rest at x 0, z 0.05, y 1.55 / 1.50 / 1.45) so that
+  // some rest tail is on its forbidden side; `allowed(tail)` is how far a tail is on the allowed
+  // side (world), `kHit` included.
+  const head = [0, 1.6, 0];
+  const world = (p) => [head[0] + p[0], head[1] + p[1], head[2] + p[2]];
+  const shapes = [
+    {
+      name: 'inside sphere',
+      collider: { node: 'Avatar_Head', shape: 'sphere', inside: true, offset: [0.03, -0.07, 0.05], radius: 0.06 },
+      allowed: (t) => 0.06 - kHit - distance(t, world([0.03, -0.07, 0.05])),
+    },
+    {
+      name: 'inside capsule',
+      collider: { node: 'Avatar_Head', inside: true, offset: [0.04, 0, 0.05], tail: [0.04, -0.2, 0.05], radius: 0.04 },
+      allowed: (t) => 0.04 - kHit - distanceToSegment(t, world([0.04, 0, 0.05]), world([0.04, -0.2, 0.05])),
+    },
+    {
+      name: 'plane',
+      collider: { node: 'Avatar_Head', shape: 'plane', offset: [0.02, 0, 0], normal: [2, 0, 0] },
+      allowed: (t) => t[0] - (0.02 + kHit),
+    },
+  ];
+
+  for (const shape of shapes) {
+    test(`${shape.name}: rest tails are on its forbidden side; both integrators bring them back`, () => {
+      const plain = load();
+      const free = plain.createInstance();
+      settle(free);
+      const without = Math.min(...tails(plain, free).map(shape.allowed));
+      assert.ok(without < -0.005, `without it a tail is on the forbidden side (${without})`);
+      const rig = load({ colliders: [shape.collider], hitRadius: kHit });
+      for (const integrator of ['vrm', 'xpbd']) {
+        const instance = rig.createInstance({ integrator });
+        settle(instance);
+        // Each step's stiffness pulls toward the rest pose again and the length constraint after
+        // the move gives back some of it, so a tail may stay a little on the forbidden side: here
+        // under a centimetre, and at most a third of the way it is without the shape.
+        const withShape = Math.min(...tails(rig, instance).map(shape.allowed));
+        assert.ok(withShape > -0.01 && withShape > without / 3, `${integrator}: ${withShape} (without the shape ${without})`);
+        assert.ok(instance.rotations.every(Number.isFinite));
+        instance.dispose();
+      }
+      for (const x of [free, plain, rig]) x.dispose();
+    });
+  }
+
+  test('rig.colliders reports shape, inside, a plane\'s unit normal and radius 0', () => {
+    const rig = load({ colliders: shapes.map((s) => s.collider), hitRadius: kHit });
+    assert.deepEqual(rig.colliders, [
+      { driver: 0, node: 'Avatar_Head', shape: 'sphere', inside: true, offset: [0.03, -0.07, 0.05], radius: 0.06 },
+      { driver: 0, node: 'Avatar_Head', shape: 'capsule', inside: true, offset: [0.04, 0, 0.05], tail: [0.04, -0.2, 0.05], radius: 0.04 },
+      { driver: 0, node: 'Avatar_Head', shape: 'plane', inside: false, offset: [0.02, 0, 0], normal: [1, 0, 0], radius: 0 },
+    ]);
+    assert.deepEqual(rig.warnings, []);
+    rig.dispose();
+  });
+
+  test('a capsule named by shape needs no tail; inside: false is an outside shape', () => {
+    const rig = load({ colliders: [{ node: 'Avatar_Head', shape: 'capsule', radius: 0.1 }, { node: 'Avatar_Head', radius: 0.1, inside: false }] });
+    assert.deepEqual(rig.colliders.map((c) => [c.shape, c.tail, c.inside]), [['capsule', [0, 0, 0], false], ['sphere', undefined, false]]);
+    rig.dispose();
+  });
+});
+
 describe('argument checks', () => {
   function expectBeforeCrossing(type, options) {
     const before = sb.stats();
@@ -132,7 +197,16 @@ describe('argument checks', () => {
       [TypeError, { colliders: [{ ...ok, offset: [0, '0', 0] }] }], [RangeError, { colliders: [{ ...ok, offset: [0, NaN, 0] }] }],
       [TypeError, { colliders: [{ ...ok, radius: undefined }] }], [RangeError, { colliders: [{ ...ok, radius: -0.1 }] }],
       [RangeError, { colliders: [{ ...ok, radius: Infinity }] }], [TypeError, { colliders: [{ ...ok, tail: 1 }] }],
-      [RangeError, { colliders: [{ ...ok, tail: [0, 0, -Infinity] }] }], [TypeError, { colliders: [{ ...ok, shape: 'box' }] }],
+      [RangeError, { colliders: [{ ...ok, tail: [0, 0, -Infinity] }] }], [RangeError, { colliders: [{ ...ok, shape: 'box' }] }],
+      [TypeError, { colliders: [{ ...ok, shape: 2 }] }], [TypeError, { colliders: [{ ...ok, shape: 'sphere', tail: [0, 1, 0] }] }],
+      [TypeError, { colliders: [{ ...ok, normal: [0, 1, 0] }] }], [TypeError, { colliders: [{ ...ok, inside: 'yes' }] }],
+      [TypeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', radius: 0.1 }] }],
+      [TypeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', inside: true }] }],
+      [TypeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', tail: [0, 1, 0] }] }],
+      [RangeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', normal: [0, 0, 0] }] }],
+      [RangeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', normal: [0, NaN, 1] }] }],
+      [TypeError, { colliders: [{ node: 'Avatar_Head', shape: 'plane', normal: [0, 1] }] }],
+      [TypeError, { colliders: [{ node: 'Avatar_Head', shape: 'capsule', tail: [0, 1, 0] }] }],
       [TypeError, { hitRadius: '0.1' }], [RangeError, { hitRadius: -1 }], [RangeError, { hitRadius: NaN }],
     ]) {
       expectBeforeCrossing(type, options);

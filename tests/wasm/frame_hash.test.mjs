@@ -1,4 +1,4 @@
-// One answer everywhere, Node's part: 1,000 frames of the sample wearable and of the two VRM
+// One answer everywhere, Node's part: 1,000 frames of the sample wearable and of the three VRM
 // fixtures under the scripted sway give bit-identical rotations natively and in Node's
 // WebAssembly (the hash of every frame's rotations, tests/scenarios/frame_hash.mjs).
 // tests/browser/frame_hash.test.mjs checks Chromium against the same native hashes.
@@ -20,6 +20,6 @@ test('1,000 frames hash the same natively and in Node', async (t) => {
     t.diagnostic(`${name} (${joints} joints): native ${hash}, Node ${node[name].hash}`);
   }
   assert.deepEqual(node, native);
-  // Three different answers: the hash depends on the rig, so equal hashes are not a constant.
-  assert.equal(new Set(Object.values(node).map((h) => h.hash)).size, 3);
+  // A different answer per rig: the hash depends on the rig, so equal hashes are not a constant.
+  assert.equal(new Set(Object.values(node).map((h) => h.hash)).size, Object.keys(native).length);
 });

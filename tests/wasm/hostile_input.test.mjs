@@ -403,6 +403,36 @@ describe('driver matrices and frame times', () => {
     });
   });
 
+  test('extended colliders of extreme finite sizes under bad driver matrices keep rotations finite unit quaternions', () => {
+    const huge = 3e38, tiny = 1e-38;
+    const colliders = [
+      { node: 'Avatar_Head', inside: true, offset: [huge, 0, 0], radius: huge },
+      { node: 'Avatar_Head', inside: true, offset: [0, -0.1, 0], radius: 0 },
+      { node: 'Avatar_Head', inside: true, offset: [0, 0, 0], tail: [0, -huge, tiny], radius: tiny },
+      { node: 'Avatar_Head', shape: 'plane', offset: [0, -huge, 0], normal: [tiny, tiny, 0] },
+      { node: 'Avatar_Head', shape: 'plane', offset: [0, huge, 0], normal: [huge, huge, huge] },
+      { node: 'Avatar_Hips', shape: 'plane', normal: [0, -1, tiny] },
+    ];
+    const rig = sb.loadRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), { contentHash: kHash, colliders, hitRadius: 1e30 });
+    try {
+      assert.equal(rig.colliders.length, colliders.length, JSON.stringify(rig.warnings));
+      for (const integrator of ['vrm', 'xpbd']) {
+        const inst = rig.createInstance({ integrator });
+        const rest = Float32Array.from(inst.driverMatrices);
+        stepAndCheck(inst, 5);
+        for (const fill of [NaN, Infinity, 0, 3e38, 1e-40]) {
+          inst.driverMatrices.set(rest.map((v, k) => (k % 16 === 15 ? 1 : v * fill)));
+          stepAndCheck(inst, 3);
+          inst.driverMatrices.set(rest);
+          stepAndCheck(inst, 3);
+        }
+        inst.dispose();
+      }
+    } finally {
+      rig.dispose();
+    }
+  });
+
   test('dt of 1e9 runs at most maxSubsteps steps, dt of -1 does nothing, a non-finite dt is a RangeError', () => {
     withRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), (rig, inst) => {
       stepAndCheck(inst, 10);

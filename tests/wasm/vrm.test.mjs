@@ -47,6 +47,20 @@ describe('loadVrm', () => {
     rig.dispose();
   });
 
+  test('VRMC_springBone_extended_collider: plane and inside shapes in rig.colliders, an unknown version falls back', () => {
+    const rig = sb.loadVrm(fixture('vrm10_extended_colliders.vrm'));
+    assert.deepEqual(rig.colliders.map((c) => [c.node, c.shape, c.inside]), [
+      ['J_Head', 'plane', false], ['J_Head', 'sphere', true], ['J_Hips', 'capsule', true], ['J_Chest', 'sphere', false],
+    ]);
+    assert.deepEqual(rig.colliders[0].normal, [0, 0, -1]);
+    assert.equal(rig.colliders[0].radius, 0);
+    assert.deepEqual(rig.warnings.map((w) => [w.code, w.path]),
+      [['vrm-extended-collider', '/extensions/VRMC_springBone/colliders/3/extensions/VRMC_springBone_extended_collider']]);
+    stepAndCheck(rig);
+    stepAndCheck(rig, { integrator: 'xpbd' });
+    rig.dispose();
+  });
+
   test('VRM 0.x (secondaryAnimation): leaves have a virtual tail (no node, an offset)', () => {
     const rig = sb.loadVrm(fixture('vrm0_springs.vrm'));
     assert.equal(rig.format, 'vrm0');
