@@ -13,6 +13,7 @@ import { fileURLToPath } from 'node:url';
 import { AnimationMixer, Group, Matrix4, Scene, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from './sample_wearable.mjs';
+import { glbBytes, metadataKeyOf } from './helpers.mjs';
 import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
 
@@ -51,6 +52,40 @@ describe('the shapes', () => {
     assert.deepEqual(arm.offset, [0, 0, 0]);
     assert.ok(Math.abs(arm.tail[0] - 27) < 1e-3 && Math.abs(arm.radius - 0.17 * 27) < 1e-3);
     rig.dispose();
+  });
+
+  test('a larger avatar: the same shapes in bone space, larger in the world', () => {
+    // The fixture's node hierarchy alone (the core reads no meshes), its Armature scaled 1.5 times.
+    const bytes = readFileSync(join(fixtures, 'avatar_hair.glb'));
+    const json = JSON.parse(bytes.subarray(20, 20 + bytes.readUInt32LE(12)).toString('utf8'));
+    const nodes = json.nodes.map(({ mesh, skin, ...node }) => node);
+    const springBones = JSON.parse(readFileSync(join(fixtures, 'avatar_hair.metadata.json'), 'utf8'));
+    const options = { contentHash: metadataKeyOf('avatar_hair.glb'), colliders: 'dcl-body' };
+    const load = (scale) => {
+      const scaled = nodes.map((n) => (n.name === 'Armature' ? { ...n, scale: n.scale.map((v) => v * scale) } : n));
+      return sb.loadRig(glbBytes({ asset: json.asset, scene: json.scene, scenes: json.scenes, nodes: scaled }), springBones, options);
+    };
+    const normal = load(1), large = load(1.5);
+    assert.equal(large.colliders.length, 8);
+    /** World centre of the head sphere at rest: its driver's rest matrix applied to its offset. */
+    const headCentre = (rig) => {
+      const instance = rig.createInstance();
+      const m = instance.driverMatrices.subarray(16 * rig.colliders[0].driver);
+      const [x, y, z] = rig.colliders[0].offset;
+      const centre = [0, 1, 2].map((r) => m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r]);
+      instance.dispose();
+      return centre;
+    };
+    large.colliders.forEach((c, i) => {
+      const n = normal.colliders[i];
+      assert.equal(c.node, n.node);
+      assert.ok(Math.abs(c.radius - n.radius) < 1e-3, `${c.node}: ${c.radius} vs ${n.radius} in bone space`);
+      c.offset.forEach((v, k) => assert.ok(Math.abs(v - n.offset[k]) < 1e-3, `${c.node} offset`));
+    });
+    const [a, b] = [headCentre(normal), headCentre(large)];
+    a.forEach((v, k) => assert.ok(Math.abs(b[k] - 1.5 * v) < 1e-4, `head centre ${b} is not 1.5 x ${a}`));
+    normal.dispose();
+    large.dispose();
   });
 
   test('off unless asked for', () => {
