@@ -37,6 +37,14 @@ ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
       return glm::vec3(a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>());
     };
     if (value.contains("hitRadius")) out.hit_radius = value.at("hitRadius").get<float>();
+    if (value.contains("preset")) {
+      const std::string preset = value.at("preset").get<std::string>();
+      if (preset != "dcl-body") {
+        out = RigOptions{};
+        return ApiFailure{"invalid-argument", "rig options: unknown collider preset '" + preset + "'", ""};
+      }
+      out.preset = ColliderPreset::kDclBody;
+    }
     if (value.contains("colliders")) {
       for (const json& c : value.at("colliders")) {
         ColliderSpec spec;
@@ -123,6 +131,8 @@ std::string limitsJson() {
               {"maxSubsteps", kMaxSubsteps},
               {"maxXpbdIterations", kMaxXpbdIterations},
               {"maxMetadataBytes", kMaxMetadataBytes},
+              {"maxWindStrength", kMaxWindStrength},
+              {"maxGustFrequency", kMaxGustFrequency},
               {"integrators",
                {{"vrm", {{"stepHz", vrm.step_hz}, {"maxSubsteps", vrm.max_substeps}}},
                 {"xpbd",

@@ -33,8 +33,8 @@ ApiFailure parseArgument(std::string_view text, const char* what, nlohmann::json
 
 /// The rig options loadRig's JS side writes after checking every field: {"colliders": [{"node",
 /// "offset": [x,y,z], "radius"?, "tail"?: [x,y,z], "normal"?: [x,y,z], "inside"?: bool}],
-/// "hitRadius"} (a collider with a normal is a plane, else one with a tail a capsule, else a
-/// sphere); empty text for none. An "invalid-argument" failure for any other shape.
+/// "preset"?: "dcl-body", "hitRadius"} (a collider with a normal is a plane, else one with a tail a
+/// capsule, else a sphere); empty text for none. An "invalid-argument" failure for any other shape.
 ApiFailure readRigOptions(std::string_view text, RigOptions& out);
 
 /// JSON has no NaN or Infinity, but a JS object can hold them and the validator must reject them
@@ -53,7 +53,7 @@ std::string candidatesJson(const std::string& content_hash, const std::vector<Sp
                            const std::vector<Warning>& warnings);
 
 /// The limits and defaults the JS API checks its arguments against, as the core defines them:
-/// {maxStepHz, maxSubsteps, maxXpbdIterations, maxMetadataBytes, integrators: {vrm: {stepHz,
+/// {maxStepHz, maxSubsteps, maxXpbdIterations, maxMetadataBytes, maxWindStrength, maxGustFrequency, integrators: {vrm: {stepHz,
 /// maxSubsteps}, xpbd: {stepHz, maxSubsteps, xpbdIterations}}}.
 std::string limitsJson();
 

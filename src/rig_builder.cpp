@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "body_colliders.h"
 #include "springbones.h"
 #include "transform_math.h"
 
@@ -338,10 +339,18 @@ class RigBuilder {
   // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
   // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
   void addColliders() {
-    if (options_.colliders.empty() || rig_->joints.empty()) return;
+    if ((options_.colliders.empty() && options_.preset == ColliderPreset::kNone) || rig_->joints.empty()) return;
     const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
+    // A preset's shapes first, then the caller's.
+    const std::vector<ColliderSpec>* specs = &options_.colliders;
+    std::vector<ColliderSpec> with_preset;
+    if (options_.preset == ColliderPreset::kDclBody) {
+      with_preset = dclBodyColliders(rig_->skeleton, rig_->warnings);
+      for (const ColliderSpec& spec : options_.colliders) with_preset.push_back(spec);
+      specs = &with_preset;
+    }
     std::unordered_map<std::string, int> external;
-    for (const ColliderSpec& spec : options_.colliders) {
+    for (const ColliderSpec& spec : *specs) {
       const bool plane = spec.shape == Collider::Shape::kPlane;
       const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && (!plane || isFinite(spec.normal)) &&
                           std::isfinite(spec.radius);

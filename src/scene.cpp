@@ -18,6 +18,7 @@ std::size_t Scene::add(Instance* instance) {
   by_distance_.reserve(count);
   stepping_.reserve(count);
   members_.push_back(instance);
+  if (has_wind_) instance->setWind(wind_);
   positions_.resize(3 * count, 0.0f);
   active_.push_back(1);
   return count - 1;
@@ -35,6 +36,12 @@ void Scene::remove(Instance* instance) {
 void Scene::setBudget(int max_active, const glm::vec3& viewer) {
   max_active_ = max_active;
   if (std::isfinite(viewer.x) && std::isfinite(viewer.y) && std::isfinite(viewer.z)) viewer_ = viewer;
+}
+
+void Scene::setWind(const Wind& wind) {
+  has_wind_ = true;
+  wind_ = wind;
+  for (Instance* instance : members_) instance->setWind(wind);
 }
 
 void Scene::step(double dt) {

@@ -21,6 +21,7 @@
 //    WebAssembly builds choose alike.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <vector>
@@ -122,6 +123,12 @@ struct Instance::State {
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
   std::vector<float> rotations;                        // output, x y z w per joint
+
+  // Wind (springbones.h): what setWind left, the steps taken so far (the wind's clock: simulated
+  // time, not wall time) and this step's pull times h, as the general path adds it.
+  Wind wind;
+  std::uint64_t wind_steps = 0;
+  glm::vec3 step_wind{0.0f};
 
   // Jumps (see carryAcrossJump).
   bool jump_requested = false;
@@ -264,6 +271,7 @@ struct Instance::State {
     glm::vec3 next = fromCenter(joint, current + inertia);
     next += in.rest_dir * (p.stiffness * h);
     next += p.gravity_dir * (p.gravity_power * h);
+    next += step_wind;
     glm::vec3 offset = next - in.head;
     const float offset_length = glm::length(offset);
     offset = offset_length > kMinLength && std::isfinite(offset_length)
@@ -378,6 +386,19 @@ struct Instance::State {
     const double h = step_seconds;
     const double at = frame_dropped ? double(i + 1) / frame_steps : ((i + 1) * h - frame_start) / frame_dt;
     prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
+    prepareWind();
+  }
+
+  // The wind of the coming step, at the simulated time of its start, for whichever path runs it.
+  void prepareWind() {
+    const glm::vec3 pull = windAt(wind, static_cast<double>(wind_steps) * step_seconds);
+    ++wind_steps;
+    if (xpbd) {
+      xpbd->setWind(pull);
+      return;
+    }
+    step_wind = pull * static_cast<float>(step_seconds);
+    if (fast_path) lanes->setWind(lane_copy, step_wind);
   }
 
   void endFrame() {
@@ -478,6 +499,22 @@ const float* Instance::worldMatrices() const {
 }
 
 int Instance::lastSteps() const { return state_->frame_steps; }
+
+void Instance::setWind(const Wind& wind) {
+  Wind& w = state_->wind;
+  w = wind;
+  w.strength = std::isnan(wind.strength) ? 0.0f : std::clamp(wind.strength, 0.0f, kMaxWindStrength);
+  w.gust_frequency = std::isnan(wind.gust_frequency) ? 0.0f : std::clamp(wind.gust_frequency, 0.0f, kMaxGustFrequency);
+  const float length = glm::length(wind.direction);
+  if (length > 0.0f && std::isfinite(length)) {
+    w.direction = wind.direction / length;
+  } else {
+    w.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+    w.strength = 0.0f;
+  }
+}
+
+const Wind& Instance::wind() const { return state_->wind; }
 
 void Instance::reset() {
   state_->seeded = false;

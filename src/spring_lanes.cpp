@@ -333,6 +333,7 @@ void SpringLanes::growTo(std::size_t copies) {
     widen_rows(*v, collider_count_, 0.0f);
   }
   colliders_.count = collider_count_ * capacity;
+  for (auto* v : {&wind_x_, &wind_y_, &wind_z_}) widen_rows(*v, 1, 0.0f);
   copy_rotations_.resize(capacity, nullptr);
   for (std::size_t k = capacity; k-- > old_capacity;) free_copies_.push_back(k);  // lowest last, taken first
   copy_capacity_ = capacity;
@@ -345,6 +346,7 @@ std::size_t SpringLanes::addCopy(float* rotations) {
   const std::size_t copy = free_copies_.back();
   free_copies_.pop_back();
   copy_rotations_[copy] = rotations;
+  setWind(copy, glm::vec3(0.0f));
   return copy;
 }
 
@@ -488,10 +490,13 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
   const float* __restrict cqz = drivers_.qz.data() + center_at;
   const float* __restrict cqw = drivers_.qw.data() + center_at;
   const float* __restrict cs = drivers_.s.data() + center_at;
+  const float* __restrict windx = wind_x_.data();
+  const float* __restrict windy = wind_y_.data();
+  const float* __restrict windz = wind_z_.data();
   constexpr std::size_t B = kBlockLanes;
 
   // First pass: the rest transform under the parent, then Verlet inertia (center space) with
-  // drag, the stiffness and gravity impulses, and the bone length. Seeding stops at the rest tail.
+  // drag, the stiffness, gravity and wind impulses, and the bone length. Seeding stops at the rest tail.
   // Out, between the passes: the head, the bone's world length and scale, the new tail (world).
   forEachLane(begin, end, [&](std::size_t block, std::size_t i) SPRINGBONES_ALWAYS_INLINE {
     const float* __restrict s = slot_row + block * kSlotBlock + i;
@@ -533,9 +538,10 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
       }
       const float k = c.stiffness * h;
       const float g = c.gravity_power * h;
-      wx = wx + dx * k + c.gx * g;
-      wy = wy + dy * k + c.gy * g;
-      wz = wz + dz * k + c.gz * g;
+      // The wind's step after gravity's: adding a zero wind changes no bit.
+      wx = wx + dx * k + c.gx * g + windx[l];
+      wy = wy + dy * k + c.gy * g + windy[l];
+      wz = wz + dz * k + c.gz * g + windz[l];
       // Back onto the sphere of the bone length; a tail lost on the head restarts at rest.
       const float fx = wx - hx, fy = wy - hy, fz = wz - hz;
       const float offset_length = std::sqrt(fx * fx + fy * fy + fz * fz);

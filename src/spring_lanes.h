@@ -74,6 +74,13 @@ class SpringLanes {
   /// Where rig collider c of a copy goes in the collider table.
   std::size_t colliderIndex(std::size_t copy, std::size_t collider) const { return collider * copy_capacity_ + copy; }
   ColliderTable& colliders() { return colliders_; }
+  /// A copy's wind for its next run: the displacement it adds to every tail in one step (world
+  /// space, the wind's pull times h), as gravity adds its own.
+  void setWind(std::size_t copy, const glm::vec3& step_pull) {
+    wind_x_[copy] = step_pull.x;
+    wind_y_[copy] = step_pull.y;
+    wind_z_[copy] = step_pull.z;
+  }
 
   /// Seeds (tails at rest, no velocity) or advances every joint of the copies in `ranges`
   /// (ascending, not overlapping) by one step of h seconds, then writes their rotations.
@@ -146,6 +153,7 @@ class SpringLanes {
   std::vector<std::size_t> free_copies_;
   DriverTable drivers_;
   ColliderTable colliders_;
+  std::vector<float> wind_x_, wind_y_, wind_z_;  // per copy, see setWind
 
   // Per slot, depth_count_ rows in blocks: the tail state and the local rotation.
   std::vector<float> slots_;

@@ -180,8 +180,18 @@ struct ColliderSpec {
   float radius = 0.0f;
 };
 
+/// Ready-made collider sets a rig can ask for by name (RigOptions::preset).
+enum class ColliderPreset {
+  kNone,
+  /// Decentraland's body: head sphere, neck capsule, two chest capsules, shoulder and upper-arm
+  /// capsules, sized from the rest lengths of the 62-bone armature's bones in the GLB
+  /// (body_colliders.h; docs/semantics.md, "Body colliders").
+  kDclBody,
+};
+
 struct RigOptions {
   std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
+  ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
   float hit_radius = 0.0f;              ///< joint radius against them, world units, >= 0
 };
 
@@ -251,6 +261,23 @@ struct InstanceOptions {
   float jump_angle = kDefaultJumpAngle;
 };
 
+/// A wind blowing on every joint of an instance: a pull on each tail like gravityPower's, world
+/// space, with gusts that are a seeded function of the instance's simulated time (windAt), so the
+/// same seed gives the same motion, natively and in WebAssembly (docs/semantics.md, "Wind").
+struct Wind {
+  glm::vec3 direction{1.0f, 0.0f, 0.0f};  ///< world direction; zero or non-finite: no wind
+  float strength = 0.0f;                  ///< [0, kMaxWindStrength], world units per second
+  float gust_frequency = 0.0f;            ///< [0, kMaxGustFrequency], gusts per second; 0: steady
+  std::uint32_t seed = 0;                 ///< picks the gust sequence
+};
+inline constexpr float kMaxWindStrength = 10.0f;
+inline constexpr float kMaxGustFrequency = 10.0f;
+
+/// The wind's pull at `time` seconds of simulated time: direction x strength x a gust factor in
+/// [0.5, 1] (1 when gust_frequency is 0). Zero for a wind with no usable direction or strength.
+/// Arithmetic only (no libm), so native and WebAssembly builds agree to the bit.
+glm::vec3 windAt(const Wind& wind, double time);
+
 class Instance {
  public:
   /// The rig must outlive nothing: the instance keeps it alive. Options out of range are clamped,
@@ -289,6 +316,12 @@ class Instance {
   int jumps() const;
   /// Changes the thresholds of jump detection (the options' rules); a NaN keeps that one as it is.
   void setJumpThresholds(float distance, float angle);
+  /// Sets the wind on this instance, from its next step on (a Scene's setWind sets it on every
+  /// member). Out-of-range values are clamped: strength and gust_frequency to their ranges (NaN:
+  /// 0), the direction normalized (zero or non-finite: no wind).
+  void setWind(const Wind& wind);
+  /// The wind in use, as clamped by setWind.
+  const Wind& wind() const;
   /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
   /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
   /// max_substeps when the frame was longer than that many steps and its excess was dropped.
@@ -323,6 +356,10 @@ class Scene {
   /// max_active < 0: no budget, every instance steps. Non-finite viewer coordinates are ignored.
   void setBudget(int max_active, const glm::vec3& viewer);
 
+  /// Sets the wind of every instance in the scene, and of every one added later (an instance's own
+  /// setWind afterwards overrides it for that instance until the scene's wind is set again).
+  void setWind(const Wind& wind);
+
   /// Steps the active instances by dt (same rules as Instance::step).
   void step(double dt);
   /// Whether the instance in `slot` was simulated by the last step.
@@ -338,6 +375,8 @@ class Scene {
   std::vector<Instance*> stepping_;                          // scratch: this step's instances
   int max_active_ = -1;
   glm::vec3 viewer_{0.0f};
+  bool has_wind_ = false;
+  Wind wind_;
 };
 
 }  // namespace springbones

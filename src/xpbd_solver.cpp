@@ -54,7 +54,7 @@
 //    with b = w / alpha~, and further passes reproduce it. So the iterations only matter, and only
 //    run, while a collider is active.
 //  - gravityPower, gravityDir -> an external force on the tail in the predict step
-//    (x += h^2 F / m).
+//    (x += h^2 F / m); the wind's pull (windAt) is another such force.
 //  - drag -> implicit (backward Euler) velocity damping: each substep keeps rho = (1 -
 //    drag)^(h / h0) of the velocity, so a free tail loses the same fraction per 1/60 s as in the
 //    default, at any substep rate. In the solve it scales the tail's inverse mass by rho (backward
@@ -236,6 +236,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
     const glm::vec3 current = current_tail_[j];
     glm::vec3 x = fromCenter(joint.center_driver, current + (current - previous_tail_[j]) * keep_[j], driver_world);
     x += joint.params.gravity_dir * (joint.params.gravity_power * h * h * inverse_mass_[j]);
+    x += wind_ * (h * h * inverse_mass_[j]);
     glm::vec3 previous = current;
     if (!isFinite(x)) {
       // Lost (a center or a state that overflowed): restart at rest with no velocity.

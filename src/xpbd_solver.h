@@ -65,6 +65,10 @@ class XpbdSolver {
   void step(const glm::mat4* driver_world, const ColliderTable& colliders, float h, float* rotations_out,
             glm::mat4* joint_world_out);
 
+  /// The wind's pull for the following steps (windAt, world space): a force on every tail like
+  /// gravityPower x gravityDir.
+  void setWind(const glm::vec3& pull) { wind_ = pull; }
+
   /// World position of a joint's tail particle after the last seed/step (tests, reports).
   glm::vec3 tailWorld(std::size_t joint) const { return tail_world_[joint]; }
   /// A joint's tail state: the current and previous tail particle, in the joint's center space.
@@ -102,6 +106,7 @@ class XpbdSolver {
   // Per joint, for the current substep length (recomputed when h changes).
   float rates_h_ = -1.0f;
   std::vector<float> keep_;          // velocity kept per substep, (1 - drag)^(h / h0)
+  glm::vec3 wind_{0.0f};
   std::vector<float> inverse_mass_;  // w of the tail in the solve, finite even at drag 1
 
   // Per joint, simulation state.

@@ -325,6 +325,28 @@ int instanceJumps(int instance) {
   return i ? i->jumps() : -1;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
+
+Wind windOf(float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
+  Wind wind;
+  wind.direction = glm::vec3(dx, dy, dz);
+  wind.strength = strength;
+  wind.gust_frequency = gust_frequency;
+  wind.seed = seed >= 0.0 && seed <= 4294967295.0 ? static_cast<std::uint32_t>(seed) : 0u;
+  return wind;
+}
+bool instanceSetWind(int instance, float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->setWind(windOf(dx, dy, dz, strength, gust_frequency, seed));
+  return i != nullptr;
+}
+bool sceneSetWind(int scene, float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
+  Scene* s = findScene(scene);
+  if (s != nullptr) s->setWind(windOf(dx, dy, dz, strength, gust_frequency, seed));
+  return s != nullptr;
+}
+
 /// Diagnostics for leak tests: live handles and bytes malloc has handed out.
 std::string stats() {
   const struct mallinfo info = mallinfo();
@@ -362,6 +384,8 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("sceneSetBudget", &sceneSetBudget);
   emscripten::function("sceneStep", &sceneStep);
   emscripten::function("sceneIsActive", &sceneIsActive);
+  emscripten::function("instanceSetWind", &instanceSetWind);
+  emscripten::function("sceneSetWind", &sceneSetWind);
   emscripten::function("sceneActivePtr", &sceneActivePtr);
   emscripten::function("disposeScene", &disposeScene);
   emscripten::function("stats", &stats);

@@ -118,9 +118,18 @@ export interface ColliderOptions {
   inside?: boolean;
 }
 
+/**
+ * A ready-made collider set. 'dcl-body' (a preview option, not part of the standard): a head
+ * sphere and capsules for the neck, chest, shoulders and upper arms, built from the rest pose of
+ * the Decentraland armature bones the GLB carries, sized from their rest lengths
+ * (docs/semantics.md, "Body colliders"). Shapes whose bones the GLB lacks are left out with a
+ * `body-collider-skipped` warning.
+ */
+export type ColliderPreset = 'dcl-body';
+
 export type LoadOptions = HashOptions & {
-  /** Colliders every joint collides with (none by default). The GLB is not touched. */
-  colliders?: readonly ColliderOptions[];
+  /** Colliders every joint collides with (none by default), or a preset's name. The GLB is not touched. */
+  colliders?: readonly ColliderOptions[] | ColliderPreset;
   /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0. */
   hitRadius?: number;
   /** Default jumpDistance of the rig's instances (InstanceOptions; createInstance's overrides it). */
@@ -361,6 +370,22 @@ export interface Rig {
 }
 
 /** One avatar's simulation state. */
+/**
+ * A wind (docs/semantics.md, "Wind"): a pull on every joint's tail like gravityPower x gravityDir,
+ * with gusts that are a function of the seed and the instance's simulated time, so the same seed
+ * gives the same motion.
+ */
+export interface WindOptions {
+  /** World direction, 3 finite numbers, normalized; not all zero unless strength is 0. */
+  direction: readonly [number, number, number] | Float32Array | Float64Array;
+  /** World units per second, as gravityPower, in [0, 10]. */
+  strength: number;
+  /** Gusts per second, in [0, 10]; the pull varies smoothly between 50% and 100% of strength. Default 0: steady. */
+  gustFrequency?: number;
+  /** An integer in [0, 2^32 - 1] choosing the gust sequence. Default 0. */
+  seed?: number;
+}
+
 export interface Instance {
   /**
    * Driver world matrices, column-major 4x4 (three.js Matrix4.elements order), 16 floats per
@@ -405,6 +430,11 @@ export interface Instance {
    * moving beyond jumpDistance / jumpAngle per step are jumps without this call.
    */
   jump(): void;
+  /**
+   * Wind on this instance from its next step on; null for none. Overrides its scenes' wind until
+   * a scene's setWind is called again. TypeError / RangeError for a bad argument.
+   */
+  setWind(wind: WindOptions | null): void;
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   readonly jumps: number;
   /**
@@ -437,6 +467,8 @@ export interface Scene {
    * @throws RangeError for a negative or fractional maxActive or non-finite coordinates
    */
   setBudget(maxActive: number | null, viewerX?: number, viewerY?: number, viewerZ?: number): void;
+  /** Wind on every instance in the scene and on each one added later; null for none. */
+  setWind(wind: WindOptions | null): void;
   /**
    * Steps every (budgeted) instance by dt seconds, as instance.step does, in one call: the
    * instances of one rig go through each step together (one SIMD kernel pass over all their

@@ -136,7 +136,7 @@ class SpringBones {
     const m = this.#m;
     const handle = call(() => m.createScene());
     if (handle === 0) throw takeError(m);
-    return new Scene(m, handle);
+    return new Scene(m, handle, this.#limits);
   }
 
   /** Diagnostics: live rigs, instances and scenes, WASM memory size and bytes in use by malloc. */
@@ -303,7 +303,7 @@ class Rig {
       // NaN keeps the core's default for the one not given.
       m.instanceSetJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
     }
-    return new Instance(m, handle);
+    return new Instance(m, handle, this.#limits);
   }
 
   /**
@@ -320,6 +320,7 @@ class Rig {
 class Instance {
   #m;
   #handle;
+  #limits;
   #driverPtr;
   #rotationsPtr;
   #worldPtr;
@@ -338,9 +339,10 @@ class Instance {
     };
   }
 
-  constructor(m, handle) {
+  constructor(m, handle, limits) {
     this.#m = m;
     this.#handle = handle;
+    this.#limits = limits;
     this.#driverPtr = m.driverMatricesPtr(handle);
     this.#rotationsPtr = m.rotationsPtr(handle);
     this.#worldPtr = m.worldMatricesPtr(handle);
@@ -420,6 +422,18 @@ class Instance {
     this.#m.instanceJump(this.#handle);
   }
 
+  /**
+   * Wind on this instance from its next step on: {direction: [x, y, z] (world, normalized),
+   * strength (world units per second, like gravityPower), gustFrequency? (gusts per second, 0:
+   * steady), seed? (an integer; the same seed, the same gusts)}; null for none. Overrides its
+   * scenes' wind until a scene's is set again.
+   */
+  setWind(wind) {
+    if (this.#handle === 0) throw disposedError('instance');
+    const args = windArguments('setWind', wind, this.#limits);
+    this.#m.instanceSetWind(this.#handle, ...args);
+  }
+
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   get jumps() {
     if (this.#handle === 0) throw disposedError('instance');
@@ -446,6 +460,7 @@ class Instance {
 class Scene {
   #m;
   #handle;
+  #limits;
   #members = [];  // instances in slot order, as the core holds them
   #positionsPtr = 0;
   #positions;
@@ -458,9 +473,10 @@ class Scene {
     };
   }
 
-  constructor(m, handle) {
+  constructor(m, handle, limits) {
     this.#m = m;
     this.#handle = handle;
+    this.#limits = limits;
     this.#refresh();
     Object.freeze(this);
   }
@@ -544,6 +560,16 @@ class Scene {
     checkCoordinate('viewerY', viewerY);
     checkCoordinate('viewerZ', viewerZ);
     this.#m.sceneSetBudget(this.#handle, max, viewerX, viewerY, viewerZ);
+  }
+
+  /**
+   * Wind on every instance of the scene, and on each one added later (instance.setWind's
+   * argument; null for none). An instance's own setWind afterwards overrides it for that one.
+   */
+  setWind(wind) {
+    if (this.#handle === 0) throw disposedError('scene');
+    const args = windArguments('setWind', wind, this.#limits);
+    this.#m.sceneSetWind(this.#handle, ...args);
   }
 
   /** Steps every instance (or the budget's nearest) by dt seconds, in one call into WebAssembly. */
@@ -636,14 +662,20 @@ function resolveHash(m, where, options) {
   return hash;
 }
 
-// The colliders and hitRadius of loadRig's options, checked, as the JSON the bindings read.
+// The colliders (a list, or a preset's name) and hitRadius of loadRig's options, checked, as the
+// JSON the bindings read.
 function rigOptionsJson(options) {
   const { colliders, hitRadius } = options;
   if (colliders === undefined && hitRadius === undefined) return '';
   const out = {};
   if (hitRadius !== undefined) out.hitRadius = checkNonNegative('loadRig: hitRadius', hitRadius);
-  if (colliders !== undefined) {
-    if (!Array.isArray(colliders)) throw new TypeError('loadRig: colliders must be an array');
+  if (typeof colliders === 'string') {
+    if (!kColliderPresets.includes(colliders)) {
+      throw new RangeError(`loadRig: colliders must be an array or one of ${kColliderPresets.join(', ')}, got '${colliders}'`);
+    }
+    out.preset = colliders;
+  } else if (colliders !== undefined) {
+    if (!Array.isArray(colliders)) throw new TypeError(`loadRig: colliders must be an array or '${kColliderPresets[0]}'`);
     out.colliders = colliders.map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
   }
   return JSON.stringify(out);
@@ -687,6 +719,34 @@ function colliderJson(where, c) {
     collider.inside = c.inside;
   }
   return collider;
+}
+
+const kColliderPresets = ['dcl-body'];
+const kWindKeys = ['direction', 'strength', 'gustFrequency', 'seed'];
+
+// setWind's argument, checked against the core's limits: [dx, dy, dz, strength, gustFrequency,
+// seed]; null is no wind.
+function windArguments(where, wind, limits) {
+  if (wind === null) return [1, 0, 0, 0, 0, 0];
+  if (typeof wind !== 'object' || Array.isArray(wind)) {
+    throw new TypeError(`${where}: wind must be an object {direction, strength, gustFrequency?, seed?} or null`);
+  }
+  checkKeys(`${where}: wind`, wind, kWindKeys);
+  const direction = checkVec3(`${where}: wind.direction`, wind.direction);
+  const strength = checkRange(`${where}: wind.strength`, wind.strength, limits.maxWindStrength);
+  const gustFrequency = wind.gustFrequency === undefined
+    ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, limits.maxGustFrequency);
+  const seed = wind.seed === undefined ? 0 : checkInteger(`${where}: wind.seed`, wind.seed, 0, 0xffffffff);
+  if (strength > 0 && direction.every((v) => v === 0)) {
+    throw new RangeError(`${where}: wind.direction must not be zero`);
+  }
+  return [...direction, strength, gustFrequency, seed];
+}
+
+function checkRange(what, value, max) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!(value >= 0 && value <= max)) throw new RangeError(`${what} must be in [0, ${max}], got ${value}`);
+  return value;
 }
 
 function checkVec3(what, value) {

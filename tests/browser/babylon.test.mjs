@@ -54,6 +54,17 @@ test('the panel drives updateParams: a slider sets a chain\'s parameter, switchi
   assert.deepEqual(consoleErrors, []);
 });
 
+test('the wind slider goes to simulation.setWind without errors', { skip }, async () => {
+  await page.locator('#wind').fill('2');
+  assert.equal(await page.locator('#wind-value').textContent(), '2.0');
+  await page.waitForTimeout(300);
+  const rotations = await demo(() => window.springbonesBabylonDemo.rotations());
+  assert.ok(rotations.every(Number.isFinite));
+  await page.locator('#wind').fill('0');
+  assert.equal(await page.locator('#wind-value').textContent(), '0.0');
+  assert.deepEqual(consoleErrors, []);
+});
+
 test('teleport: the avatar moves and the page keeps running; screenshot', { skip }, async () => {
   await page.locator('#teleport').click();
   await page.waitForTimeout(400);

@@ -1,7 +1,8 @@
-// The avatar's colliders in the demo: the page passes a head sphere and two torso
-// capsules to loadRig, and with them no joint tail of the sample enters the head sphere while the
-// avatar is shaken and spun hard, with either integrator. Without them the same motion does put
-// hair inside the head, so the check can fail.
+// The avatar's colliders in the demo: the page asks loadRig for the 'dcl-body' preset (from the
+// wearable's Hips-to-Head armature: head sphere, neck, chest and upper-belly capsules), and with
+// them no joint tail of the sample enters the head sphere while the avatar is shaken and spun hard,
+// with either integrator. Without them the same motion does put hair inside the head, so the check
+// can fail. And the wind slider blows the hair.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { skip, useDemoPage } from './demoPage.mjs';
@@ -37,11 +38,11 @@ const hardMotion = () => demo(() => {
 test('the rig gets the avatar colliders, drawn on demand', { skip }, async () => {
   let state = await demo(() => window.springbonesDemo.state());
   assert.equal(state.colliders, true, 'colliders are on by default');
-  assert.equal(state.rigColliders, 3, 'head sphere and two torso capsules');
+  assert.equal(state.rigColliders, 4, 'head sphere, neck, chest and upper-belly capsules');
   assert.equal(state.collidersShown, 0);
   await page.locator('#show-colliders').check();
   state = await demo(() => window.springbonesDemo.state());
-  assert.equal(state.collidersShown, 3, 'one wireframe per collider, on the avatar bones');
+  assert.equal(state.collidersShown, 4, 'one wireframe per collider, on the avatar bones');
   await page.locator('#colliders').uncheck();
   state = await demo(() => window.springbonesDemo.state());
   assert.equal(state.rigColliders, 0);
@@ -50,7 +51,7 @@ test('the rig gets the avatar colliders, drawn on demand', { skip }, async () =>
   await page.locator('#colliders').check();
   await page.locator('#show-colliders').uncheck();
   state = await demo(() => window.springbonesDemo.state());
-  assert.equal(state.rigColliders, 3);
+  assert.equal(state.rigColliders, 4);
   assert.equal(state.collidersShown, 0);
   assert.deepEqual(consoleErrors, []);
 });
@@ -74,3 +75,27 @@ for (const integrator of ['vrm', 'xpbd']) {
     assert.deepEqual(consoleErrors, []);
   });
 }
+
+test('the wind slider sets a wind on every avatar, which moves the hair', { skip }, async () => {
+  const pose = () => demo(() => {
+    const d = window.springbonesDemo;
+    d.setPaused(true);
+    d.setAnimation('idle');
+    d.reset();
+    d.advance(2);
+    return d.rotations();
+  });
+  const calm = await pose();
+  await page.locator('#wind').evaluate((input) => {
+    input.value = '2';
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  assert.equal((await demo(() => window.springbonesDemo.state())).wind, 2);
+  const windy = await pose();
+  const largest = Math.max(...calm.map((v, i) => Math.abs(v - windy[i])));
+  assert.ok(largest > 0.05, `the wind changed no rotation by more than ${largest}`);
+  await demo(() => window.springbonesDemo.setWind(0));
+  const calmAgain = await pose();
+  assert.deepEqual(calmAgain, calm, 'no wind: the same motion as before, bit for bit');
+  assert.deepEqual(consoleErrors, []);
+});

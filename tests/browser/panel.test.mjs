@@ -249,7 +249,7 @@ test('chain lines, colliders and the readout', { skip }, async () => {
   await page.locator('#show-chains').uncheck();
   assert.equal((await state()).chainsShown, 0);
   await page.locator('#show-colliders').check();
-  assert.equal((await state()).collidersShown, 3);
+  assert.equal((await state()).collidersShown, 4, 'the dcl-body preset: head, neck, chest, upper belly');
   await page.locator('#show-colliders').uncheck();
 
   await page.locator('#integrator').selectOption('xpbd');

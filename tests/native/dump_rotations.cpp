@@ -5,6 +5,7 @@
 //
 //   dump_rotations <glb> <springBones.json | -> <hash | -> <frames> <fps>
 //                  [--drive rest|sway] [--step-hz H] [--max-substeps N] [--out FILE]
+//                  [--wind STRENGTH,GUSTS,SEED] [--body-colliders]
 //
 // "-" for the metadata means none; "-" for the hash means the GLB's own content hash. Frame k
 // (1..frames) sets the drivers for time k / fps and steps by 1 / fps. --drive sway is the motion
@@ -113,7 +114,7 @@ int usage() {
   std::fprintf(stderr,
                "usage: dump_rotations <glb> <springBones.json|-> <hash|-> <frames> <fps>\n"
                "                      [--drive rest|sway] [--step-hz H] [--max-substeps N] [--out FILE]\n"
-               "                      [--vrm] [--hash]\n");
+               "                      [--vrm] [--hash] [--wind STRENGTH,GUSTS,SEED] [--body-colliders]\n");
   return 2;
 }
 
@@ -127,10 +128,18 @@ int main(int argc, char** argv) {
   std::string drive = "rest", out_path;
   InstanceOptions options;
   bool vrm = false, hash_only = false;
+  bool wind_on = false;
+  Wind wind;
+  RigOptions rig_options;
   for (int i = 6; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--vrm" || flag == "--hash") {
       (flag == "--vrm" ? vrm : hash_only) = true;
+      continue;
+    }
+    if (flag == "--body-colliders") {  // loadRig's colliders: 'dcl-body', hitRadius 0.01
+      rig_options.preset = ColliderPreset::kDclBody;
+      rig_options.hit_radius = 0.01f;
       continue;
     }
     if (i + 1 >= argc) return usage();
@@ -143,6 +152,12 @@ int main(int argc, char** argv) {
       options.max_substeps = std::atoi(value.c_str());
     } else if (flag == "--out") {
       out_path = value;
+    } else if (flag == "--wind") {  // from direction (1, 0, 0.5), as tests/wasm/parity.test.mjs sets it
+      unsigned seed = 0;
+      if (std::sscanf(value.c_str(), "%f,%f,%u", &wind.strength, &wind.gust_frequency, &seed) != 3) return usage();
+      wind.direction = glm::vec3(1.0f, 0.0f, 0.5f);
+      wind.seed = seed;
+      wind_on = true;
     } else {
       return usage();
     }
@@ -178,9 +193,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
       return 1;
     }
-    rig = buildRig(std::move(skeleton), model, std::move(warnings));
+    rig = buildRig(std::move(skeleton), model, std::move(warnings), rig_options);
   }
   Instance instance(rig, options);
+  if (wind_on) instance.setWind(wind);
 
   std::FILE* out = out_path.empty() ? stdout : std::fopen(out_path.c_str(), "w");
   if (out == nullptr) {

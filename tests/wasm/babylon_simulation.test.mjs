@@ -132,6 +132,42 @@ for (const which of kBabylonVersions) {
       assert.deepEqual(quaternionOf(joints[0]), rest, 'dispose puts the joints back at rest');
     });
 
+    test('setWind blows every wearable, set before the module comes too; null stops it', async () => {
+      const scene = kit.scene();
+      let resolve;
+      const simulation = new SpringBoneSimulation(new Promise((r) => { resolve = r; }));
+      const gusty = { direction: [1, 0, 0], strength: 2, gustFrequency: 0.5, seed: 3 };
+      simulation.setWind(gusty);  // before the module: kept
+      const containers = [];
+      for (const itemId of ['windy', 'calm']) {
+        const container = await kit.load(scene, glb);
+        container.addAllToScene();
+        simulation.registerWearable(scene, container, itemId, { springBones: metadata, contentHash: hash });
+        containers.push(container);
+      }
+      resolve(sb);
+      await simulation.ready;
+      const calm = new SpringBoneSimulation(sb);
+      const still = await kit.load(scene, glb);
+      still.addAllToScene();
+      calm.registerWearable(scene, still, 'still', { springBones: metadata, contentHash: hash });
+      simulation.start(scene);
+      calm.start(scene);
+      const tip = (c) => nodeNamed(c, 'SpringBone_ponytail_3');
+      for (let f = 0; f < 90; f++) scene.render();
+      const blown = maxAbsDiff(quaternionOf(tip(containers[0])), quaternionOf(tip(still)));
+      assert.ok(blown > 0.02, `the wind turns the ponytail (${blown})`);
+      assert.deepEqual(quaternionOf(tip(containers[1])), quaternionOf(tip(containers[0])), 'every wearable, the same gusts');
+      assert.throws(() => simulation.setWind({ direction: [0, 0, 0], strength: 1 }), RangeError);
+      simulation.setWind(null);
+      simulation.reset();
+      calm.reset();
+      for (let f = 0; f < 90; f++) scene.render();
+      assert.deepEqual(quaternionOf(tip(containers[0])), quaternionOf(tip(still)), 'no wind: as the calm one, bit for bit');
+      simulation.dispose(scene);
+      calm.dispose(scene);
+    });
+
     test('updateParams: a removed chain is back at rest at once, an added root starts a chain, a non-root adds none', async () => {
       const { simulation, scene, container, frame, rest } = await sample();
       for (let f = 0; f < 30; f++) frame(f);

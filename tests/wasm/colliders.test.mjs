@@ -191,7 +191,7 @@ describe('argument checks', () => {
   test('bad colliders and hit radii are TypeError / RangeError before crossing; the module keeps working', () => {
     const ok = { node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.1 };
     for (const [type, options] of [
-      [TypeError, { colliders: ok }], [TypeError, { colliders: 'head' }], [TypeError, { colliders: [null] }],
+      [TypeError, { colliders: ok }], [RangeError, { colliders: 'head' }], [TypeError, { colliders: 7 }], [TypeError, { colliders: [null] }],
       [TypeError, { colliders: [{ ...ok, node: undefined }] }], [TypeError, { colliders: [{ ...ok, node: 3 }] }],
       [RangeError, { colliders: [{ ...ok, node: '' }] }], [TypeError, { colliders: [{ ...ok, offset: [0, 0] }] }],
       [TypeError, { colliders: [{ ...ok, offset: [0, '0', 0] }] }], [RangeError, { colliders: [{ ...ok, offset: [0, NaN, 0] }] }],

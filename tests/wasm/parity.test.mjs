@@ -32,20 +32,25 @@ after(() => {
   if (scratch) rmSync(scratch, { recursive: true, force: true });
 });
 
-function runNative({ glbPath, metadataPath, hash, frames, fps, stepHz, maxSubsteps }) {
+function runNative({ glbPath, metadataPath, hash, frames, fps, stepHz, maxSubsteps, wind, bodyColliders }) {
   const args = [glbPath, metadataPath ?? '-', hash ?? '-', String(frames), String(fps), '--drive', 'sway'];
+  if (wind !== undefined) args.push('--wind', `${wind.strength},${wind.gustFrequency},${wind.seed}`);
+  if (bodyColliders) args.push('--body-colliders');
   if (stepHz !== undefined) args.push('--step-hz', String(stepHz));
   if (maxSubsteps !== undefined) args.push('--max-substeps', String(maxSubsteps));
   const text = execFileSync(dumper, args, { encoding: 'utf8', maxBuffer: 1 << 28 });
   return text.trim().split('\n').map((line) => JSON.parse(line));
 }
 
-function runWasm({ glb, springBones, hash, frames, fps, stepHz, maxSubsteps }) {
+function runWasm({ glb, springBones, hash, frames, fps, stepHz, maxSubsteps, wind, bodyColliders }) {
   const options = {};
   if (stepHz !== undefined) options.stepHz = stepHz;
   if (maxSubsteps !== undefined) options.maxSubsteps = maxSubsteps;
-  const rig = sb.loadRig(glb, springBones, hash === undefined ? {} : { contentHash: hash });
+  const rigOptions = hash === undefined ? {} : { contentHash: hash };
+  if (bodyColliders) Object.assign(rigOptions, { colliders: 'dcl-body', hitRadius: 0.01 });
+  const rig = sb.loadRig(glb, springBones, rigOptions);
   const inst = rig.createInstance(options);
+  if (wind !== undefined) inst.setWind({ direction: [1, 0, 0.5], ...wind });
   const rest = Float32Array.from(inst.driverMatrices);
   const out = [];
   for (let k = 1; k <= frames; ++k) {
@@ -109,6 +114,9 @@ describe('native and WASM agree within 1e-6 under the scripted sway', () => {
   });
   test('avatar_hair.glb at 144 fps with stepHz 90', () => {
     check(hair(), { frames: 400, fps: 144, stepHz: 90 });
+  });
+  test('avatar_hair.glb with a gusting wind and the dcl-body colliders (gusts are arithmetic only)', () => {
+    check(hair(), { frames: 300, fps: 45, wind: { strength: 1.5, gustFrequency: 2, seed: 12345 }, bodyColliders: true });
   });
   test('avatar_hair.glb at 8 fps, maxSubsteps 2 (surplus time dropped)', () => {
     check(hair(), { frames: 60, fps: 8, maxSubsteps: 2 });

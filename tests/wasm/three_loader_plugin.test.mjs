@@ -53,6 +53,17 @@ describe('SpringBonesLoaderPlugin', () => {
     }
   });
 
+  test("colliders: 'dcl-body' passes through to loadRig", async () => {
+    const gltf = await loadWithPlugin({ springBones: metadata, glb: wearableBytes, colliders: 'dcl-body', hitRadius: 0.01 });
+    const wearable = gltf.userData.springBones;
+    const direct = sb.loadRig(wearableBytes, metadata, { colliders: 'dcl-body', hitRadius: 0.01 });
+    assert.equal(wearable.rig.colliders.length, 4);
+    assert.deepEqual(wearable.rig.colliders, direct.colliders);
+    assert.deepEqual(wearable.warnings.map((w) => w.code), ['body-collider-skipped']);
+    direct.dispose();
+    wearable.dispose();
+  });
+
   test('another GLB\'s hash loads no chains, with the rig\'s model-not-found warning', async () => {
     const gltf = await loadWithPlugin({ springBones: metadata, contentHash: 'bafkreianothermodel' });
     const wearable = gltf.userData.springBones;

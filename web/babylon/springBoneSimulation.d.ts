@@ -1,7 +1,7 @@
 // Types of the Babylon.js drop-in (springBoneSimulation.js). Babylon is not imported: the
 // parameters are described by the few members the class uses, which Babylon 4.2's `babylonjs`
 // and the current `@babylonjs/core` both have, so a consumer of either type-checks.
-import type { ColliderOptions, Instance, Rig, SpringBoneEntry, SpringBones, SpringBonesData } from '../springbones.js';
+import type { ColliderOptions, ColliderPreset, Instance, Rig, SpringBoneEntry, SpringBones, SpringBonesData, WindOptions } from '../springbones.js';
 
 /** A Babylon Scene, as the simulation uses it. */
 export interface BabylonSceneLike {
@@ -24,7 +24,7 @@ export type SpringBonesModelEntry = Record<string, SpringBoneEntry>;
 /** The whole springBones with loadRig's choice of entry (and its colliders and jump thresholds). */
 export type SpringBonesWithHashOptions = {
   springBones: SpringBonesData | object | null;
-  colliders?: readonly ColliderOptions[];
+  colliders?: readonly ColliderOptions[] | ColliderPreset;
   hitRadius?: number;
   jumpDistance?: number;
   jumpAngle?: number;
@@ -73,6 +73,12 @@ export class SpringBoneSimulation {
   reset(itemId?: string): void;
   /** The avatar moves discontinuously before the next frame (a teleport): carry the hair across. */
   jump(itemId?: string): void;
+  /**
+   * Wind on every wearable, those registered later too (the direction in the glTF's space, as
+   * gravityDir); null for none. Kept until the module is there, checked then.
+   * @throws TypeError / RangeError for a bad wind once the module is there
+   */
+  setWind(wind: WindOptions | null): void;
   /** The rig of a registered wearable; null before the module is there or after a load error. */
   rigOf(itemId: string): Rig | null;
 }

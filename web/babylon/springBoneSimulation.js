@@ -221,6 +221,7 @@ export class SpringBoneSimulation {
       }
     }
     this._membersChanged();
+    if (this._wind !== undefined) this._sbScene.setWind(this._wind);  // set before the module came
   }
 
   /**
@@ -310,6 +311,19 @@ export class SpringBoneSimulation {
    */
   jump(itemId) {
     for (const wearable of this._selected(itemId)) if (wearable.instance) carryAcrossJump(wearable.instance);
+  }
+
+  /**
+   * Wind on every wearable, those registered later too (scene.setWind's argument: {direction,
+   * strength, gustFrequency?, seed?}, the direction in the glTF's space as gravityDir is; null for
+   * none). Before the module is there it is kept and checked when the module comes.
+   * @throws TypeError / RangeError for a bad wind once the module is there
+   */
+  setWind(wind) {
+    if (this._sbScene) {
+      this._sbScene.setWind(wind);
+    }
+    this._wind = wind;
   }
 
   /** The rig of a registered wearable (null before the module is there or on a load error). */

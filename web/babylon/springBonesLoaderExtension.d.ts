@@ -1,7 +1,7 @@
 // Types of the Babylon.js glTF loader extension (springBonesLoaderExtension.js). Babylon is not
 // imported: the loader and its class are described by the members the extension uses, which
 // Babylon 4.2's `babylonjs-loaders` and the current `@babylonjs/loaders` both have.
-import type { ColliderOptions, Rig, SpringBones, SpringBonesData, SpringBonesError } from '../springbones.js';
+import type { ColliderOptions, ColliderPreset, Rig, SpringBones, SpringBonesData, SpringBonesError } from '../springbones.js';
 
 export const kSpringBonesExtensionName: 'springbones';
 
@@ -16,7 +16,7 @@ export interface SpringBonesLoaderExtensionOptions {
   bodyShape?: string;
   /** The GLB's bytes: the entry under their content hash. */
   glb?: Uint8Array | ArrayBuffer;
-  colliders?: readonly ColliderOptions[];
+  colliders?: readonly ColliderOptions[] | ColliderPreset;
   hitRadius?: number;
 }
 

@@ -1,20 +1,11 @@
-// The avatar's colliders: a head sphere and two torso capsules on the Decentraland
-// armature, handed to sb.loadRig next to the wearable's metadata (the GLB is not touched), and a
-// wireframe drawing of a rig's colliders.
-//
-// Offsets and radii are in the bone's own space. Decentraland's `Armature` carries scale 0.01, so
-// that space is in centimetres; the sample avatar's bone frames below the hips are world-aligned
-// at rest (+Y up, the avatar faces +Z). Sizes follow the sample's body (scripts/make_sample_avatar.mjs):
-// the skull is an ellipsoid centred 9 cm above Avatar_Head with radii 9.2 x 11.2 x 10.2 cm, the
-// chest one 5 cm above Avatar_Spine2 with radii 17 x 11.5 x 11 cm. The sphere stays inside the
-// hair cap and clear of the roots of every chain, so nothing starts inside it.
+// The avatar's colliders: the core's 'dcl-body' preset (a head sphere and capsules for the neck,
+// chest, shoulders and upper arms, measured from the Decentraland armature the wearable's GLB
+// carries; docs/semantics.md, "Body colliders"), handed to sb.loadRig next to the wearable's
+// metadata (the GLB is not touched), and a wireframe drawing of a rig's colliders.
 import * as THREE from 'three';
 
-export const AVATAR_COLLIDERS = Object.freeze([
-  Object.freeze({ node: 'Avatar_Head', offset: Object.freeze([0, 9, 1]), radius: 9.5 }),
-  Object.freeze({ node: 'Avatar_Spine2', offset: Object.freeze([-6, 5, -0.5]), tail: Object.freeze([6, 5, -0.5]), radius: 11 }),
-  Object.freeze({ node: 'Avatar_Spine1', offset: Object.freeze([-5, 6, 0]), tail: Object.freeze([5, 6, 0]), radius: 9.5 }),
-]);
+/** loadRig's colliders option for the avatar's body. */
+export const AVATAR_COLLIDERS = 'dcl-body';
 
 /** Radius of every joint's tail against the colliders, metres (world units). */
 export const AVATAR_HIT_RADIUS = 0.01;

@@ -26,6 +26,7 @@ const kModuleDownload = fetch(new URL('../../dist/springbones_wasm.wasm', import
 const kSpacing = 1.1;         // metres between avatars of a crowd
 const kFade = 0.35;           // seconds of cross-fade between clips
 const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut for the animation
+const kMaxDemoWind = 3;       // the wind slider's end: hair blown well back, not flat
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
 const kViewerScratch = new THREE.Vector3();      // the camera's world position, for the budget
 // Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
@@ -50,6 +51,8 @@ class Preview {
     this.integrator = 'vrm';
     this.colliders = true;     // the avatar's head and torso colliders go into the rig
     this.showColliders = false;
+    this.headSphere = null;    // the body colliders' head sphere (headClearance)
+    this.wind = 0;             // the wind slider's strength, world units per second
     this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
     this.springFrames = new RecentFrames(1000);  // ms per frame in group.update (drivers, scene.step, rotations)
@@ -243,6 +246,9 @@ class Preview {
     for (const w of attachment.warnings) {
       if (!handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
     }
+    // The head sphere of the body colliders, kept for headClearance when they are switched off.
+    const head = attachment.rig.colliders.find((c) => c.shape === 'sphere' && c.node === 'Avatar_Head');
+    if (head) this.headSphere = head;
     avatar.colliderHelper?.dispose();
     const objectOf = (driver) => attachment.driverObjects[driver] ?? armature.get(attachment.rig.drivers[driver].name) ?? null;
     avatar.colliderHelper = new ColliderHelper(attachment.rig.colliders, objectOf);
@@ -366,6 +372,18 @@ class Preview {
     this.showColliders = show;
     $('show-colliders').checked = show;
     for (const a of this.avatars) a.colliderHelper?.setVisible(show);
+  }
+
+  /**
+   * Wind of `strength` (world units per second, like gravityPower) on every avatar: from the
+   * front and a little from the avatar's right, gusting about every two seconds, the same gusts
+   * on every run (a fixed seed).
+   */
+  setWind(strength) {
+    this.wind = Math.min(kMaxDemoWind, Math.max(0, Number(strength) || 0));
+    $('wind').value = String(this.wind);
+    $('wind-num').textContent = this.wind.toFixed(1);
+    this.group?.scene.setWind(this.wind > 0 ? { direction: [-0.3, 0, -1], strength: this.wind, gustFrequency: 0.5, seed: 1 } : null);
   }
 
   /**
@@ -532,6 +550,7 @@ function wireControls(preview) {
   $('view-preset').addEventListener('change', (e) => preview.setView(e.target.value));
   $('colliders').addEventListener('change', (e) => preview.setColliders(e.target.checked));
   $('show-colliders').addEventListener('change', (e) => preview.setShowColliders(e.target.checked));
+  $('wind').addEventListener('input', (e) => preview.setWind(e.target.value));
   $('budget').addEventListener('change', (e) => preview.setBudget(e.target.value === 'all' ? null : Number(e.target.value)));
   $('avatars').addEventListener('change', (e) => {
     preview.setAvatarCount(Number(e.target.value));
@@ -569,6 +588,7 @@ function debugHook(preview, creator) {
       springMsPerFrame: preview.springMsMedian(),
       integrator: preview.integrator,
       colliders: preview.colliders,
+      wind: preview.wind,
       rigColliders: first()?.rig.colliders.length ?? 0,
       collidersShown: preview.avatars.reduce((n, a) => n + (a.colliderHelper?.lines.filter((l) => l.visible && l.parent).length ?? 0), 0),
       chainsShown: preview.avatars.filter((a) => a.helper?.visible && a.helper.parent).length,
@@ -632,20 +652,23 @@ function debugHook(preview, creator) {
       }));
     },
     setBudget: (n) => preview.setBudget(n),
+    setWind: (strength) => preview.setWind(strength),
     setColliders: (on) => preview.setColliders(Boolean(on)),
     setShowColliders: (show) => preview.setShowColliders(Boolean(show)),
     /**
-     * How far the first avatar's joint tails are outside its head sphere (AVATAR_COLLIDERS[0],
-     * whether or not the rig has colliders), from the instance's world matrices after the last
-     * step: { clearance (metres, negative inside), joint, radius }.
+     * How far the first avatar's joint tails are outside its head sphere (the body colliders'
+     * head sphere of the last rig that had them, whether or not the rig has colliders now), from
+     * the instance's world matrices after the last step: { clearance (metres, negative inside),
+     * joint, radius }.
      */
     headClearance: () => {
       const a = preview.avatars[0];
-      const head = a && avatarArmature(a.root).get(AVATAR_COLLIDERS[0].node);
+      const sphere = preview.headSphere;
+      const head = a && sphere && avatarArmature(a.root).get(sphere.node);
       if (!a?.attachment || !head) return null;
       const { rig, instance } = a.attachment;
-      const centre = new THREE.Vector3().fromArray(AVATAR_COLLIDERS[0].offset).applyMatrix4(head.matrixWorld);
-      const radius = AVATAR_COLLIDERS[0].radius * head.matrixWorld.getMaxScaleOnAxis();
+      const centre = new THREE.Vector3().fromArray(sphere.offset).applyMatrix4(head.matrixWorld);
+      const radius = sphere.radius * head.matrixWorld.getMaxScaleOnAxis();
       const world = instance.worldMatrices;
       const m = new THREE.Matrix4();
       const tail = new THREE.Vector3();

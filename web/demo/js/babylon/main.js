@@ -72,6 +72,12 @@ document.getElementById('teleport').addEventListener('click', () => {
   simulation.jump();  // carried across the move: no whip
 });
 document.getElementById('reset').addEventListener('click', () => simulation.reset());
+document.getElementById('wind').addEventListener('input', (event) => {
+  const strength = Number(event.target.value);
+  document.getElementById('wind-value').textContent = strength.toFixed(1);
+  // From the avatar's front (+Z in the glTF's space, where the direction is given), gusting.
+  simulation.setWind(strength > 0 ? { direction: [-0.3, 0, -1], strength, gustFrequency: 0.5, seed: 1 } : null);
+});
 
 await simulation.ready;
 const sb = await sbPromise;
