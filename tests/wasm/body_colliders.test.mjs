@@ -13,7 +13,8 @@ import { fileURLToPath } from 'node:url';
 import { AnimationMixer, Group, Matrix4, Scene, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from './sample_wearable.mjs';
-import { glbBytes, metadataKeyOf } from './helpers.mjs';
+import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
+import { metadataKeyOf } from './helpers.mjs';
 import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
 
@@ -63,7 +64,7 @@ describe('the shapes', () => {
     const options = { contentHash: metadataKeyOf('avatar_hair.glb'), colliders: 'dcl-body' };
     const load = (scale) => {
       const scaled = nodes.map((n) => (n.name === 'Armature' ? { ...n, scale: n.scale.map((v) => v * scale) } : n));
-      return sb.loadRig(glbBytes({ asset: json.asset, scene: json.scene, scenes: json.scenes, nodes: scaled }), springBones, options);
+      return sb.loadRig(glbOfDoc({ asset: json.asset, scene: json.scene, scenes: json.scenes, nodes: scaled }), springBones, options);
     };
     const normal = load(1), large = load(1.5);
     assert.equal(large.colliders.length, 8);
