@@ -14,8 +14,8 @@
 #include <string>
 #include <utility>
 
-#include "api_json.h"
-#include "springbones.h"
+#include "boundary/api_json.h"
+#include "springbones/springbones.h"
 
 namespace springbones::bindings {
 

@@ -27,13 +27,13 @@
 #include <emscripten/bind.h>
 #include <nlohmann/json.hpp>
 
-#include "api_json.h"
 #include "binding_errors.h"
-#include "content_hash.h"
-#include "entity.h"
-#include "rig_description.h"
-#include "springbones.h"
-#include "vrm_loader.h"
+#include "boundary/api_json.h"
+#include "boundary/rig_description.h"
+#include "content_hash/content_hash.h"
+#include "loading/entity.h"
+#include "loading/vrm_loader.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace {

@@ -13,13 +13,13 @@
 #include <emscripten/bind.h>
 #include <nlohmann/json.hpp>
 
-#include "api_json.h"
 #include "binding_errors.h"
-#include "builder_edits.h"
-#include "content_hash.h"
-#include "rig_description.h"
-#include "springbones.h"
-#include "validation.h"
+#include "boundary/api_json.h"
+#include "boundary/rig_description.h"
+#include "content_hash/content_hash.h"
+#include "creator_tools/builder_edits.h"
+#include "creator_tools/validation.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace {

@@ -160,7 +160,7 @@ class SpringBones {
   }
 }
 
-// The rig description: the core's JSON text (describeRig, src/rig_description.h), parsed and
+// The rig description: the core's JSON text (describeRig, src/boundary/rig_description.h), parsed and
 // deep-frozen on its first read, which the per-frame path never needs.
 class RigDescription {
   #text;

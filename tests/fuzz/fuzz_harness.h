@@ -23,21 +23,21 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
-#include "content_hash.h"
-#include "entity.h"
-#include "rig_description.h"
-#include "springbones.h"
-#if __has_include("xpbd_solver.h")
-#include "xpbd_solver.h"
+#include "boundary/rig_description.h"
+#include "content_hash/content_hash.h"
+#include "creator_tools/builder_edits.h"
+#include "loading/entity.h"
+#include "springbones/springbones.h"
+#if __has_include("simulation/xpbd_solver.h")
+#include "simulation/xpbd_solver.h"
 #define SPRINGBONES_FUZZ_HAS_XPBD 1
 #endif
-#if __has_include("vrm_loader.h")
-#include "vrm_loader.h"
+#if __has_include("loading/vrm_loader.h")
+#include "loading/vrm_loader.h"
 #define SPRINGBONES_FUZZ_HAS_VRM 1
 #endif
-#if __has_include("validation.h")
-#include "validation.h"
+#if __has_include("creator_tools/validation.h")
+#include "creator_tools/validation.h"
 #define SPRINGBONES_FUZZ_HAS_VALIDATION 1
 #endif
 

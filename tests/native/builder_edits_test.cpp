@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
+#include "creator_tools/builder_edits.h"
 
 namespace springbones {
 namespace {

@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace {

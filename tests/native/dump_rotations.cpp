@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "content_hash.h"
-#include "springbones.h"
-#include "vrm_loader.h"
+#include "content_hash/content_hash.h"
+#include "loading/vrm_loader.h"
+#include "springbones/springbones.h"
 
 namespace {
 

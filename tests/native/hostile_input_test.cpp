@@ -20,10 +20,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
-#include "springbones.h"
+#include "creator_tools/builder_edits.h"
+#include "creator_tools/validation.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "validation.h"
 
 namespace springbones {
 namespace {

@@ -38,9 +38,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
 #include "xpbd_runner.h"
-#include "xpbd_solver.h"
 
 namespace {
 

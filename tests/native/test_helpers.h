@@ -17,7 +17,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace test {

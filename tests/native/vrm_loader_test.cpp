@@ -1,4 +1,4 @@
-// VRM spring bones (src/vrm_loader.cpp): the mapping of VRMC_springBone 1.0 and VRM 0.x
+// VRM spring bones (src/loading/vrm_loader.cpp): the mapping of VRMC_springBone 1.0 and VRM 0.x
 // secondaryAnimation onto a Rig, checked on the fixtures of scripts/make_vrm_fixtures.mjs and on
 // small documents built here; agreement of the simulation with @pixiv/three-vrm-springbone 3.5.5
 // (tests/fixtures/vrm_trajectories.json, scripts/make_vrm_trajectories.mjs); and bad input.
@@ -15,10 +15,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "gltf_json.h"
-#include "springbones.h"
+#include "loading/gltf_json.h"
+#include "loading/vrm_loader.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "vrm_loader.h"
 
 namespace springbones {
 namespace {
