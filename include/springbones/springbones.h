@@ -1,6 +1,7 @@
 // springbones: spring-bone physics for avatar wearables (Decentraland ADR-316, VRM family).
 //
-// The whole public C++ API. A wearable is loaded once into an immutable Rig (GLB hierarchy +
+// The runtime's public C++ API (the VRM reader, the content hash, the JSON texts of the JavaScript
+// boundary and the creator tools have their own headers beside this one). A wearable is loaded once into an immutable Rig (GLB hierarchy +
 // data.springBones metadata -> flat list of simulated joints); every avatar wearing it gets its
 // own Instance (simulation state). Per frame the caller writes driver world matrices, calls
 // step(dt) and reads one local rotation per joint. Nothing here throws: failures come back as an
@@ -16,7 +17,6 @@
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <nlohmann/json_fwd.hpp>
 
 namespace springbones {
 
@@ -116,13 +116,11 @@ struct ModelEntry {
   std::string entryPath(const BoneEntry& bone) const;
 };
 
-/// Picks data.springBones.models[hash] and reads it with the runtime's forgiving rules: defaults
-/// for missing fields, clamping of out-of-range values and replacement of non-finite ones, each
-/// with a warning. `springBones` is the value of data.springBones (null: no spring bones).
-/// Errors only for shapes that cannot be read at all (not an object, models not an object).
-Error parseSpringBones(const nlohmann::json& springBones, const std::string& hash, ModelEntry& out,
-                       std::vector<Warning>& warnings);
-/// Same, from JSON text (at most kMaxMetadataBytes).
+/// Picks data.springBones.models[hash] from the JSON text of data.springBones (at most
+/// kMaxMetadataBytes; "null": no spring bones) and reads it with the runtime's forgiving rules:
+/// defaults for missing fields, clamping of out-of-range values and replacement of non-finite
+/// ones, each with a warning. Errors only for text that does not parse and shapes that cannot be
+/// read at all (not an object, models not an object).
 Error parseSpringBonesText(std::string_view text, const std::string& hash, ModelEntry& out,
                            std::vector<Warning>& warnings);
 

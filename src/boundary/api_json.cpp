@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "boundary/rig_description.h"
+#include "loading/entity.h"
 
 namespace springbones {
 
@@ -130,6 +131,13 @@ std::string limitsJson() {
 
 std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use) {
   return json{{"rigs", rigs}, {"instances", instances}, {"scenes", scenes}, {"heapInUse", heap_in_use}}.dump();
+}
+
+ApiFailure mainFileHashFor(std::string_view entity_text, const std::string& body_shape, std::string& hash) {
+  hash.clear();
+  json entity;
+  if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return f;
+  return toFailure(mainFileHashFor(entity, body_shape, hash));
 }
 
 }  // namespace springbones

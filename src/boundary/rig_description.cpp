@@ -3,6 +3,8 @@
 
 #include <utility>
 
+#include "springbones/boundary.h"
+
 namespace springbones {
 namespace {
 

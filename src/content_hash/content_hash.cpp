@@ -2,10 +2,11 @@
 // ipfs-unixfs-importer (v15 era) with { cidVersion: 1, rawLeaves: true } and the importer's defaults.
 // Every constant below is one of those defaults; change any of them and the hashes no longer match
 // the ones the catalyst stores. docs/content-hash.md walks through the derivation with examples.
-#include "content_hash/content_hash.h"
+#include "springbones/content_hash.h"
 
 #include <algorithm>
 
+#include "content_hash/cid.h"
 #include "content_hash/sha256.h"
 
 namespace springbones {

@@ -7,8 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "boundary/api_json.h"
+#include "boundary/rig_description.h"
 #include "common/json_depth.h"
 #include "loading/entity.h"
+#include "springbones/content_hash.h"
 
 namespace springbones {
 
@@ -103,6 +106,32 @@ Error setSpringBoneParams(const json& springBones, const json& entity, const std
   }
   result["models"] = std::move(models);
   out = std::move(result);
+  return {};
+}
+
+ApiFailure detectSpringBones(const std::uint8_t* data, std::size_t size, std::string_view springbones_text,
+                             const std::string& hash, std::string& candidates_json) {
+  candidates_json.clear();
+  Skeleton skeleton;
+  if (Error e = loadSkeleton(data, size, skeleton)) return toFailure(e);
+  const std::string key = hash.empty() ? contentHash(data, size) : hash;
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  if (Error e = parseSpringBonesText(springbones_text, key, model, warnings)) return toFailure(e);
+  candidates_json = candidatesJson(key, detectSpringBones(skeleton, model), warnings);
+  return {};
+}
+
+ApiFailure setSpringBoneParams(std::string_view springbones_text, std::string_view entity_text,
+                               const std::string& body_shape, const std::string& node_name,
+                               std::string_view params_text, std::string& out_text) {
+  out_text.clear();
+  json springBones, entity, params, out;
+  if (ApiFailure f = parseArgument(springbones_text, "metadata", springBones)) return f;
+  if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return f;
+  if (ApiFailure f = parseArgument(params_text, "params", params)) return f;
+  if (Error e = setSpringBoneParams(springBones, entity, body_shape, node_name, params, out)) return toFailure(e);
+  out_text = dumpReplacingInvalidUtf8(out);  // at most 64 levels deep
   return {};
 }
 

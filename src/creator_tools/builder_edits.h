@@ -8,24 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "springbones/springbones.h"
+#include "springbones/creator_tools.h"
 
 namespace springbones {
-
-struct SpringBoneCandidate {
-  std::string name;
-  int node = -1;
-  int parent_candidate = -1;  ///< index in the returned list of the nearest candidate ancestor
-  bool has_entry = false;     ///< the metadata already has an entry for this node
-  bool is_root = false;       ///< the entry's isRoot, or (no entry) true for top-most candidates
-  BoneParams params;          ///< the entry's values as the runtime reads them, or the defaults
-  bool has_center = false;
-  std::string center;
-};
-
-/// Every node whose name contains "springbone", parents first, with prefill values taken from
-/// `existing` (the parsed entry for this GLB's hash; pass a default ModelEntry when there is none).
-std::vector<SpringBoneCandidate> detectSpringBones(const Skeleton& skeleton, const ModelEntry& existing);
 
 /// Returns a copy of `springBones` (null or an object) with models[hash][node_name] = params, where
 /// hash is the content hash of the main file of `body_shape`'s representation in `entity`. A GLB

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "boundary/api_json.h"
 #include "common/json_pointer.h"
 #include "creator_tools/utf8_append.h"
 #include "loading/bone_params.h"
@@ -513,6 +514,17 @@ Error validateSpringBones(const json& subject, std::vector<ValidationError>& err
   } catch (...) {
     errors = internalFailure();
   }
+  return {};
+}
+
+ApiFailure validateSpringBones(std::string_view entity_text, const std::string& marker, std::string& errors_json) {
+  errors_json.clear();
+  json entity;
+  if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return f;
+  restoreNonFinite(entity, marker);
+  std::vector<ValidationError> errors;
+  if (Error e = validateSpringBones(entity, errors)) return toFailure(e);
+  errors_json = validationErrorsJson(errors);
   return {};
 }
 

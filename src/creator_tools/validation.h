@@ -10,18 +10,9 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "springbones/springbones.h"
+#include "springbones/creator_tools.h"
 
 namespace springbones {
-
-struct ValidationError {
-  /// JSON pointer (RFC 6901 escaping, like Ajv's instancePath) of the offending value inside
-  /// springBones, e.g. "/models/<hash>/<bone>/stiffness"; empty for springBones itself. Errors
-  /// about the entity's own structure point into the entity instead ("/content/2",
-  /// "/metadata/data/representations"); their message says so.
-  std::string path;
-  std::string message;
-};
 
 /// Checks springBones against the SpringBonesData schema as Ajv 8 does with allErrors: every error,
 /// in Ajv's order, with Ajv's text ("must be <= 4"); empty means valid. NaN and infinities held by

@@ -3,6 +3,8 @@
 // for metadata it would reject, so every problem here is a warning with a fallback, except shapes
 // that leave nothing to read (springBones or models[hash] not an object). One reader, on
 // nlohmann-json: the text form is parsed by it and read by the same code as a parsed value.
+#include "loading/metadata.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>

@@ -50,7 +50,7 @@
 //  - Centers: the spring's (1.0) or group's (0.x, -1 = none) center node becomes a driver. A
 //    center that is a joint or lies below one is replaced by world space (`center-is-spring-bone`),
 //    as rig_builder.cpp does.
-#include "loading/vrm_loader.h"
+#include "springbones/vrm.h"
 
 #include <algorithm>
 #include <cmath>
@@ -893,8 +893,8 @@ class VrmRigBuilder {
   std::vector<int> group_stamp_;
 };
 
-}  // namespace
-
+// The spring bones of a document whose skeleton is read: `extensions` is the value of its root
+// "extensions" (null when absent).
 Error buildVrmRig(Skeleton skeleton, const nlohmann::json& extensions, std::shared_ptr<const Rig>& out,
                   VrmSpringFormat* format) {
   out.reset();
@@ -911,7 +911,9 @@ Error buildVrmRig(Skeleton skeleton, const nlohmann::json& extensions, std::shar
   return {};
 }
 
-Error loadVrmRig(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out, VrmSpringFormat* format) {
+}  // namespace
+
+Error loadVrm(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out, VrmSpringFormat* format) {
   out.reset();
   if (format != nullptr) *format = VrmSpringFormat::kNone;
   Skeleton skeleton;

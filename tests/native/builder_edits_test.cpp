@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "creator_tools/builder_edits.h"
+#include "loading/metadata.h"
 
 namespace springbones {
 namespace {

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "loading/metadata.h"
 #include "springbones/springbones.h"
 
 namespace springbones {

@@ -22,6 +22,7 @@
 
 #include "creator_tools/builder_edits.h"
 #include "creator_tools/validation.h"
+#include "loading/metadata.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

@@ -38,6 +38,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "loading/metadata.h"
 #include "simulation/xpbd_solver.h"
 #include "springbones/springbones.h"
 #include "xpbd_runner.h"

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "loading/metadata.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

@@ -17,6 +17,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "loading/metadata.h"
 #include "springbones/springbones.h"
 
 namespace springbones {

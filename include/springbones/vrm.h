@@ -15,7 +15,6 @@
 #include <cstdint>
 #include <memory>
 
-#include <nlohmann/json_fwd.hpp>
 
 #include "springbones/springbones.h"
 
@@ -39,12 +38,7 @@ inline constexpr std::size_t kMaxVrmColliderReferences = std::size_t(1) << 22;
 /// spring-bone extension has a shape that cannot be read at all (not an object, `springs` not an
 /// array...), kLimitExceeded beyond kMaxVrmColliderReferences. Everything else that is skipped or
 /// replaced becomes a Warning in Rig::warnings. On failure `out` is reset. `format`, when given, receives which extension was read.
-Error loadVrmRig(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out,
-                 VrmSpringFormat* format = nullptr);
-
-/// The second half of loadVrmRig, for callers that already hold the skeleton and the parsed
-/// document: `extensions` is the value of the document's root "extensions" (null when absent).
-Error buildVrmRig(Skeleton skeleton, const nlohmann::json& extensions, std::shared_ptr<const Rig>& out,
-                  VrmSpringFormat* format = nullptr);
+Error loadVrm(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out,
+            VrmSpringFormat* format = nullptr);
 
 }  // namespace springbones

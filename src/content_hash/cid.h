@@ -1,5 +1,6 @@
-// Decentraland content hash: the CIDv1 that `hashV1` of npm @dcl/hashing (3.x) gives a file,
-// i.e. what the catalyst and the Builder use as the key of a wearable's GLB or texture.
+// The pieces of contentHash (springbones/content_hash.h): the blocks and CIDs of a file's DAG, for
+// the tests to check intermediate bytes against the worked example of docs/content-hash.md and to
+// exercise deep trees with small chunks.
 #pragma once
 
 #include <array>
@@ -10,14 +11,6 @@
 
 namespace springbones {
 
-// Returns the content hash of the size bytes at data as a CIDv1 string ("bafkrei..." or "bafybei...").
-// Accepts any size, including 0 (data may be null only when size is 0); reads data in place.
-// Throws nothing for any input (only std::bad_alloc if a few kilobytes cannot be allocated).
-std::string contentHash(const std::uint8_t* data, std::size_t size);
-
-// The pieces of contentHash, exposed so tests can check intermediate bytes against the worked
-// example of docs/content-hash.md and exercise deep trees with small chunks. Not part of the
-// stable API.
 namespace detail {
 
 using Cid = std::array<std::uint8_t, 36>;  // 0x01 codec 0x12 0x20 + sha256: CIDv1, sha2-256
