@@ -177,6 +177,8 @@ struct RigOptions {
   float hit_radius = 0.0f;              ///< joint radius against them, world units, >= 0
 };
 
+class SpringLanes;  // the simulation's lane pool (src/simulation/spring_lanes.h)
+
 struct Rig {
   Skeleton skeleton;
   std::vector<Joint> joints;    ///< parents before children
@@ -184,6 +186,10 @@ struct Rig {
   std::vector<int> chain_roots;  ///< joint indices of the roots
   std::vector<Collider> colliders;
   std::vector<Warning> warnings;
+  /// The lane pool the rig's instances share (the fast path): made by the first instance that
+  /// takes it, freed with the last. Written by the instances, so a rig and its instances belong
+  /// to one thread at a time (docs/design.md, "Threads").
+  mutable std::weak_ptr<SpringLanes> lane_pool;
 };
 
 /// Builds the chains of a skeleton from the chosen metadata entry (the rules: docs/semantics.md).
@@ -267,8 +273,6 @@ class Instance {
   /// step(dt) for each of `count` instances (distinct, not null), with the same results, but the
   /// instances of one rig on the fast path go through each step together (one kernel run for all
   /// of them).
-  /// Instances of one rig share that storage, so, like one instance, they are not thread-safe:
-  /// step the instances of a rig from one thread.
   static void stepAll(Instance* const* instances, std::size_t count, double dt);
   /// Forgets the motion; the next step re-seeds the tails at rest under the current drivers.
   void reset();

@@ -36,6 +36,8 @@ namespace springbones {
 namespace {
 
 constexpr float kMinLength = 1e-6f;
+// The parent of a chain root that hangs from no driver.
+const glm::mat4 kIdentity(1.0f);
 
 // A jump threshold as used: a finite number above 0, else 0 (detection off).
 float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
@@ -118,6 +120,7 @@ struct Instance::State {
   std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
   std::shared_ptr<SpringLanes> lanes;  // the rig's lane pool (fast path); null: the rig or XPBD cannot use it
   std::size_t lane_copy = 0;           // this instance's copy in it
+  bool batched = false;                // stepAll: this frame's steps go through the pool with others
   std::vector<glm::mat4> joint_world;                  // general path world transforms
   bool world_from_similarity = false;                  // which of the two is current
   mutable std::vector<float> world_output;             // worldMatrices(), filled on request
@@ -282,7 +285,6 @@ struct Instance::State {
   }
 
   const glm::mat4& parentMatrix(const Joint& joint) const {
-    static const glm::mat4 kIdentity(1.0f);
     if (joint.parent_joint >= 0) return joint_world[joint.parent_joint];
     if (joint.parent_driver >= 0) return step_drivers[joint.parent_driver];
     return kIdentity;
@@ -503,28 +505,13 @@ void Instance::step(double dt) {
 }
 
 void Instance::stepAll(Instance* const* instances, std::size_t count, double dt) {
-  // A step of the lane path for one copy: which pool, at which rate, which copy. Kept between
-  // calls so a frame allocates nothing.
-  struct LaneStep {
-    SpringLanes* pool;
-    float h;
-    std::size_t copy;
-    bool operator<(const LaneStep& o) const {
-      if (pool != o.pool) return std::less<SpringLanes*>()(pool, o.pool);
-      if (h != o.h) return h < o.h;
-      return copy < o.copy;
-    }
-  };
-  static std::vector<State*> batched;
-  static std::vector<LaneStep> lane_steps;
-  static std::vector<CopyRange> ranges;
-  batched.clear();
   int most_steps = 0;
   for (std::size_t n = 0; n < count; ++n) {
     State& s = *instances[n]->state_;
+    s.batched = false;
     if (!s.beginFrame(dt)) continue;
     if (s.fast_path && !s.xpbd) {
-      batched.push_back(&s);
+      s.batched = true;
       most_steps = std::max(most_steps, s.frame_steps);
       continue;
     }
@@ -534,33 +521,25 @@ void Instance::stepAll(Instance* const* instances, std::size_t count, double dt)
     }
     s.endFrame();
   }
-  // Step i of every lane-path instance that has one, each pool's copies in as few runs as they
-  // allow (consecutive copies at the same rate form one run).
+  // Step i of every lane-path instance that has one: each queues its copy in its rig's pool, then
+  // each pool runs its queue in as few runs as the copies allow.
   for (int i = 0; i < most_steps; ++i) {
-    lane_steps.clear();
-    for (State* s : batched) {
-      if (i >= s->frame_steps) continue;
-      s->prepareStep(i);
-      s->world_from_similarity = true;
-      lane_steps.push_back({s->lanes.get(), static_cast<float>(s->step_seconds), s->lane_copy});
+    for (std::size_t n = 0; n < count; ++n) {
+      State& s = *instances[n]->state_;
+      if (!s.batched || i >= s.frame_steps) continue;
+      s.prepareStep(i);
+      s.world_from_similarity = true;
+      s.lanes->queueStep(s.lane_copy, static_cast<float>(s.step_seconds));
     }
-    std::sort(lane_steps.begin(), lane_steps.end());
-    for (std::size_t a = 0; a < lane_steps.size();) {
-      std::size_t b = a;
-      ranges.clear();
-      while (b < lane_steps.size() && lane_steps[b].pool == lane_steps[a].pool && lane_steps[b].h == lane_steps[a].h) {
-        if (!ranges.empty() && ranges.back().end == lane_steps[b].copy) {
-          ranges.back().end = lane_steps[b].copy + 1;
-        } else {
-          ranges.push_back({lane_steps[b].copy, lane_steps[b].copy + 1});
-        }
-        ++b;
-      }
-      lane_steps[a].pool->run(ranges.data(), ranges.size(), lane_steps[a].h, /*seed=*/false);
-      a = b;
+    for (std::size_t n = 0; n < count; ++n) {
+      State& s = *instances[n]->state_;
+      if (s.batched) s.lanes->runQueued();  // the first instance of a pool runs it, the others find it empty
     }
   }
-  for (State* s : batched) s->endFrame();
+  for (std::size_t n = 0; n < count; ++n) {
+    State& s = *instances[n]->state_;
+    if (s.batched) s.endFrame();
+  }
 }
 
 }  // namespace springbones

@@ -111,34 +111,16 @@ void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& 
 // ---------------------------------------------------------------------------------------------
 // The pool
 
-namespace {
-
-// The pools alive, one per rig. A pool takes its entry out when it dies (see acquire), so nothing
-// of it stays allocated: an entry left until a later acquire kept the pool's own storage, and a
-// dead pool's memory then depended on when the next rig happened to be instanced.
-// Never destroyed: pools owned by other static objects may die after it at exit.
-std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>>& livePools() {
-  static auto* pools = new std::vector<std::pair<const Rig*, std::weak_ptr<SpringLanes>>>();
-  return *pools;
-}
-
-}  // namespace
-
 std::shared_ptr<SpringLanes> SpringLanes::acquire(const std::shared_ptr<const Rig>& rig) {
-  auto& pools = livePools();
-  for (const auto& entry : pools) {
-    if (entry.first != rig.get()) continue;
-    if (std::shared_ptr<SpringLanes> pool = entry.second.lock()) return pool;
-  }
+  // A pool of this rig: a copied Rig carries the original's reference, to a pool of another rig.
+  if (std::shared_ptr<SpringLanes> pool = rig->lane_pool.lock(); pool && pool->rig_ == rig) return pool;
   // Not make_shared: its single allocation would outlive the pool for as long as a weak_ptr does.
-  const Rig* key = rig.get();
-  std::shared_ptr<SpringLanes> pool(new SpringLanes(rig), [key](SpringLanes* dying) {
-    auto& all = livePools();
-    all.erase(std::remove_if(all.begin(), all.end(), [key](const auto& entry) { return entry.first == key; }),
-              all.end());
+  // The rig forgets the pool when it dies, so nothing of it stays allocated while the rig lives on.
+  std::shared_ptr<SpringLanes> pool(new SpringLanes(rig), [](SpringLanes* dying) {
+    dying->rig_->lane_pool.reset();
     delete dying;
   });
-  pools.emplace_back(key, pool);
+  rig->lane_pool = pool;
   return pool;
 }
 
@@ -286,7 +268,27 @@ std::size_t SpringLanes::addCopy(float* rotations) {
   const std::size_t copy = free_copies_.back();
   free_copies_.pop_back();
   copy_rotations_[copy] = rotations;
+  queued_.reserve(copy_capacity_);
+  queued_runs_.reserve(copy_capacity_);
   return copy;
+}
+
+void SpringLanes::runQueued() {
+  std::sort(queued_.begin(), queued_.end());
+  for (std::size_t a = 0; a < queued_.size();) {
+    queued_runs_.clear();
+    std::size_t b = a;
+    for (; b < queued_.size() && queued_[b].h == queued_[a].h; ++b) {
+      if (!queued_runs_.empty() && queued_runs_.back().end == queued_[b].copy) {
+        queued_runs_.back().end = queued_[b].copy + 1;
+      } else {
+        queued_runs_.push_back({queued_[b].copy, queued_[b].copy + 1});
+      }
+    }
+    run(queued_runs_.data(), queued_runs_.size(), queued_[a].h, /*seed=*/false);
+    a = b;
+  }
+  queued_.clear();
 }
 
 void SpringLanes::releaseCopy(std::size_t copy) {

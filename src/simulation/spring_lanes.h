@@ -13,9 +13,6 @@
 // parents-first.
 // Transforms are similarities (rotation, translation, uniform scale); the solver only takes this
 // path when every driver and every rest scale is one.
-//
-// The pool is shared by every instance of a rig (see acquire()); like the instances it is not
-// thread-safe: step the instances of one rig from one thread.
 #pragma once
 
 #include <cstddef>
@@ -52,8 +49,8 @@ struct CopyRange {
 
 class SpringLanes {
  public:
-  /// The pool of `rig`'s lanes, shared by every instance of that rig alive in this process (one
-  /// is made on first use and freed with its last instance).
+  /// The pool of `rig`'s lanes, shared by the rig's instances: the rig holds it for them
+  /// (Rig::lane_pool), the first instance makes it and the last one frees it.
   static std::shared_ptr<SpringLanes> acquire(const std::shared_ptr<const Rig>& rig);
 
   explicit SpringLanes(std::shared_ptr<const Rig> rig);
@@ -76,6 +73,12 @@ class SpringLanes {
   /// Seeds (tails at rest, no velocity) or advances every joint of the copies in `ranges`
   /// (ascending, not overlapping) by one step of h seconds, then writes their rotations.
   void run(const CopyRange* ranges, std::size_t range_count, float h, bool seed);
+
+  /// Queues one step of h seconds for a copy; runQueued() then steps every queued copy, those at
+  /// the same rate together, and empties the queue (Instance::stepAll: all copies of a rig in as
+  /// few runs as they allow, consecutive copies at one rate forming one run).
+  void queueStep(std::size_t copy, float h) { queued_.push_back({h, copy}); }
+  void runQueued();
 
   /// World transform of a joint of a copy after its last run (rig joint index).
   void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
@@ -141,6 +144,14 @@ class SpringLanes {
   // Copies.
   std::vector<float*> copy_rotations_;          // nullptr: a free copy
   std::vector<std::size_t> free_copies_;
+  // The steps queued for runQueued() and its runs, sized with the copies so a frame allocates nothing.
+  struct QueuedStep {
+    float h;
+    std::size_t copy;
+    bool operator<(const QueuedStep& o) const { return h != o.h ? h < o.h : copy < o.copy; }
+  };
+  std::vector<QueuedStep> queued_;
+  std::vector<CopyRange> queued_runs_;
   DriverTable drivers_;
   ColliderTable colliders_;
 

@@ -88,6 +88,9 @@
 namespace springbones {
 namespace {
 
+// The parent of a chain root that hangs from no driver.
+const glm::mat4 kIdentity(1.0f);
+
 constexpr float kMinLength = 1e-6f;
 
 // The hard bone-length constraint with a kinematic head: exact projection onto the sphere. A tail
@@ -175,7 +178,6 @@ glm::vec3 XpbdSolver::fromCenter(int center, const glm::vec3& local, const glm::
 }
 
 void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::mat4* joint_world_out) {
-  static const glm::mat4 kIdentity(1.0f);
   prepareCenters(driver_world);
   const auto& joints = rig_.joints;
   for (std::size_t j = 0; j < joints.size(); ++j) {
@@ -206,7 +208,6 @@ void XpbdSolver::step(const glm::mat4* driver_world, const ColliderTable& collid
 
 void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* colliders, std::size_t collider_count,
                       float h, float* rotations_out, glm::mat4* joint_world_out) {
-  static const glm::mat4 kIdentity(1.0f);
   if (!(h > 0.0f) || !std::isfinite(h)) return;
   prepareCenters(driver_world);
   prepareRates(h);
