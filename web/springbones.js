@@ -39,7 +39,7 @@ export async function createSpringBones(options = {}) {
   });
   let limits;
   try {
-    // The core's limits and defaults (api_json.h limitsJson), read once: the argument checks below
+    // The core's limits and defaults (limitsJson, springbones/boundary.h), read once: the argument checks below
     // use them, so the JS API never types a limit of its own.
     limits = deepFreeze(JSON.parse(module.limitsJson()));
   } catch (cause) {
@@ -160,7 +160,7 @@ class SpringBones {
   }
 }
 
-// The rig description: the core's JSON text (describeRig, src/boundary/rig_description.h), parsed and
+// The rig description: the core's JSON text (describeRig, springbones/boundary.h), parsed and
 // deep-frozen on its first read, which the per-frame path never needs.
 class RigDescription {
   #text;

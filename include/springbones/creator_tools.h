@@ -31,10 +31,11 @@ struct ValidationError {
 
 
 /// The catalyst's errors for the springBones of an entity or Builder item given as JSON text, as
-/// JSON [{path, message}] in `errors_json` (empty array: valid); the rules are validation.h's
-/// validateSpringBones (src/creator_tools/). `marker`: the JS side's stand-in for the non-finite
-/// numbers JSON cannot hold, put back before validating ("" for none; see api_json.h's
-/// restoreNonFinite). Failures: "entity-bad-json", or the Error of an entity of neither shape.
+/// JSON [{path, message}] in `errors_json` (empty array: valid), by the rules of
+/// validateSpringBones in src/creator_tools/validation.h. `marker`: the JS side's stand-in for the
+/// non-finite numbers JSON cannot hold, put back before validating ("" for none; restoreNonFinite
+/// in src/boundary/api_json.h). Failures: "entity-bad-json", or the Error of an entity of neither
+/// shape.
 ApiFailure validateSpringBones(std::string_view entity_text, const std::string& marker, std::string& errors_json);
 
 // ---------------------------------------------------------------------------------------------
@@ -64,10 +65,10 @@ std::vector<SpringBoneCandidate> detectSpringBones(const Skeleton& skeleton, con
 ApiFailure detectSpringBones(const std::uint8_t* data, std::size_t size, std::string_view springbones_text,
                              const std::string& hash, std::string& candidates_json);
 
-/// setSpringBoneParams (builder_edits.h's rules) over JSON texts: springBones (null or an
-/// object), the entity, and params (an object, or null to remove the node's entry); the new
-/// springBones as JSON text in `out_text`. Failures: "metadata-bad-json", "entity-bad-json",
-/// "params-bad-json", or the Error of the edit.
+/// setSpringBoneParams (the rules: src/creator_tools/builder_edits.h) over JSON texts: springBones
+/// (null or an object), the entity, and params (an object, or null to remove the node's entry);
+/// the new springBones as JSON text in `out_text`. Failures: "metadata-bad-json",
+/// "entity-bad-json", "params-bad-json", or the Error of the edit.
 ApiFailure setSpringBoneParams(std::string_view springbones_text, std::string_view entity_text,
                                const std::string& body_shape, const std::string& node_name,
                                std::string_view params_text, std::string& out_text);

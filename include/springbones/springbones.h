@@ -1,11 +1,11 @@
 // springbones: spring-bone physics for avatar wearables (Decentraland ADR-316, VRM family).
 //
 // The runtime's public C++ API (the VRM reader, the content hash, the JSON texts of the JavaScript
-// boundary and the creator tools have their own headers beside this one). A wearable is loaded once into an immutable Rig (GLB hierarchy +
-// data.springBones metadata -> flat list of simulated joints); every avatar wearing it gets its
-// own Instance (simulation state). Per frame the caller writes driver world matrices, calls
-// step(dt) and reads one local rotation per joint. Nothing here throws: failures come back as an
-// Error, questionable input as Warnings.
+// boundary and the creator tools have their own headers beside this one). A wearable is loaded
+// once into an immutable Rig (GLB hierarchy + data.springBones metadata -> flat list of simulated
+// joints); every avatar wearing it gets its own Instance (simulation state). Per frame the caller
+// writes driver world matrices, calls step(dt) and reads one local rotation per joint. Nothing
+// here throws: failures come back as an Error, questionable input as Warnings.
 #pragma once
 
 #include <cstddef>
@@ -208,7 +208,7 @@ std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
 enum class Integrator { kVrm, kXpbd };
 
 // Limits and defaults of InstanceOptions, defined here only (the JS API reads them from the
-// module, see api_json.h limitsJson).
+// module, see boundary.h limitsJson).
 inline constexpr double kMinStepHz = 1.0;
 inline constexpr double kMaxStepHz = 1000.0;
 inline constexpr int kMaxSubsteps = 64;

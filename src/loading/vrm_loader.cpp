@@ -1,4 +1,4 @@
-// VRM spring bones into a Rig (see vrm_loader.h for the two formats).
+// VRM spring bones into a Rig (see springbones/vrm.h for the two formats).
 //
 // How the file's model becomes ours, and the choices where the references disagree:
 //  - Joints. VRMC_springBone: pair (joints[k], joints[k+1]) is one joint on joints[k]'s node with
