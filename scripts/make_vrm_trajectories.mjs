@@ -2,7 +2,7 @@
 // run by @pixiv/three-vrm-springbone 3.5.5 (three.js GLTFLoader + VRMSpringBoneLoaderPlugin, in
 // Node: the files have no buffers or images, so GLTFLoader parses them without a DOM), one
 // manager.update(1/60) per frame. tests/native/vrm_loader_test.cpp loads the same files with
-// loadVrmRig, writes the recorded driver matrices and compares the joints' local rotations.
+// loadVrm, writes the recorded driver matrices and compares the joints' local rotations.
 //
 //   node scripts/make_vrm_trajectories.mjs
 //

@@ -1,6 +1,6 @@
 // Generates tests/fixtures/validation_cases.json: springBones inputs judged by the real
 // SpringBonesData.validate of @dcl/schemas (Ajv 8, allErrors), so the C++ validator
-// (src/validation.cpp) can be checked against it case by case (tests/native/validation_test.cpp).
+// (src/creator_tools/validation.cpp) can be checked against it case by case (tests/native/validation_test.cpp).
 //
 //   node scripts/validation_cases.mjs        (needs `npm install` first)
 //

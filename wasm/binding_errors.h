@@ -14,12 +14,12 @@
 #include <string>
 #include <utility>
 
-#include "api_json.h"
-#include "springbones.h"
+#include "springbones/boundary.h"
+#include "springbones/springbones.h"
 
 namespace springbones::bindings {
 
-// Its code is the core's errorCodeName(), one of api_json.h's argument codes, or one that only
+// Its code is the core's errorCodeName(), one of boundary.h's argument codes, or one that only
 // exists at the boundary: "out-of-memory", "internal-error", "bad-handle".
 inline ApiFailure g_error;
 

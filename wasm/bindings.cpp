@@ -8,7 +8,10 @@
 //    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
 //  - Bulk data crosses as pointers into WASM memory (GLB bytes and springBones text in, driver
 //    matrices in, rotations out); structured data crosses as one JSON string each way, written and
-//    read by the core (rig_description.h, api_json.h).
+//    read by the core (springbones/boundary.h).
+//  - An entry point has the name of the core function it calls (contentHash, describeRig...) and
+//    of the JS method that calls it; an instance's operations are the Instance methods' names
+//    (step, jump...), a scene's are prefixed with "scene" (sceneStep), their handle first.
 //  - Nothing throws across the boundary: every entry point that can fail catches every C++
 //    exception and turns it into an error, so bad input never aborts the module and the next call
 //    works.
@@ -25,20 +28,15 @@
 #include <utility>
 
 #include <emscripten/bind.h>
-#include <nlohmann/json.hpp>
 
-#include "api_json.h"
 #include "binding_errors.h"
-#include "content_hash.h"
-#include "entity.h"
-#include "rig_description.h"
-#include "springbones.h"
-#include "vrm_loader.h"
+#include "springbones/boundary.h"
+#include "springbones/content_hash.h"
+#include "springbones/springbones.h"
+#include "springbones/vrm.h"
 
-namespace springbones {
+namespace springbones::bindings {
 namespace {
-
-using nlohmann::json;
 
 struct LoadedRig {
   std::shared_ptr<const Rig> rig;
@@ -54,10 +52,6 @@ std::unordered_map<int, std::unique_ptr<Instance>> g_instances;
 // every scene first, so a scene never steps freed memory.
 std::unordered_map<int, std::unique_ptr<Scene>> g_scenes;
 int g_next_handle = 1;
-
-using bindings::fail;
-using bindings::guarded;
-using bindings::takeError;
 
 int newHandle() {
   // 2^31 - 1 handles per module lifetime; past that, refuse rather than wrap onto live ones.
@@ -77,9 +71,6 @@ int badHandle(const char* what, int handle) {
 // ---------------------------------------------------------------------------------------------
 // Entry points
 
-/// The limits and defaults of the core (api_json.h limitsJson), read once by the JS API.
-std::string limits() { return limitsJson(); }
-
 /// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text as `metadata_size`
 /// UTF-8 bytes at `metadata_data` (the text "null" for none; bytes, not a JS string, because
 /// embind converts strings with a per-character JavaScript loop), the models key (empty: the
@@ -95,7 +86,7 @@ int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data,
     Skeleton skeleton;
     if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
     LoadedRig loaded;
-    loaded.hash = hash.empty() ? contentHash(bytes, size) : hash;
+    loaded.hash = hash.empty() ? springbones::contentHash(bytes, size) : hash;
     ModelEntry model;
     std::vector<Warning> warnings;
     const std::string_view metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
@@ -113,7 +104,7 @@ int loadVrm(std::uintptr_t data, std::size_t size) {
   return guarded([&] {
     LoadedRig loaded;
     VrmSpringFormat format = VrmSpringFormat::kNone;
-    if (Error e = loadVrmRig(reinterpret_cast<const std::uint8_t*>(data), size, loaded.rig, &format)) {
+    if (Error e = springbones::loadVrm(reinterpret_cast<const std::uint8_t*>(data), size, loaded.rig, &format)) {
       return fail(e);
     }
     loaded.format = format == VrmSpringFormat::kVrmcSpringBone1 ? "vrmc-springbone"
@@ -127,34 +118,32 @@ int loadVrm(std::uintptr_t data, std::size_t size) {
 
 /// The GLB hash of the representation `body_shape` wears in the entity (JSON text), or "" with
 /// the error pending.
-std::string mainFileHash(const std::string& entity_text, const std::string& body_shape) {
+std::string mainFileHashFor(const std::string& entity_text, const std::string& body_shape) {
   std::string hash;
   const int ok = guarded([&] {
-    json entity;
-    if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
-    if (Error e = mainFileHashFor(entity, body_shape, hash)) return fail(e);
+    if (ApiFailure f = springbones::mainFileHashFor(entity_text, body_shape, hash)) return fail(std::move(f));
     return 1;
   });
   return ok ? hash : std::string();
 }
 
 /// The content hash (CIDv1) of `size` bytes at `data`.
-std::string hashBytes(std::uintptr_t data, std::size_t size) {
+std::string contentHash(std::uintptr_t data, std::size_t size) {
   std::string hash;
   guarded([&] {
-    hash = contentHash(reinterpret_cast<const std::uint8_t*>(data), size);
+    hash = springbones::contentHash(reinterpret_cast<const std::uint8_t*>(data), size);
     return 1;
   });
   return hash;
 }
 
-/// The rig description as JSON text (describeRig, rig_description.h), or "" with the error pending.
-std::string rigDescription(int rig) {
+/// The rig description as JSON text (springbones/boundary.h), or "" with the error pending.
+std::string describeRig(int rig) {
   std::string text;
   guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
-    text = describeRig(*it->second.rig, it->second.hash, it->second.format);
+    text = springbones::describeRig(*it->second.rig, it->second.hash, it->second.format);
     return 1;
   });
   return text;
@@ -310,17 +299,17 @@ bool disposeScene(int scene) { return g_scenes.erase(scene) == 1; }
 // Motion: jumps (Instance::jump), kept in one block
 
 /// NaN leaves a threshold as it is.
-bool instanceSetJumpThresholds(int instance, float distance, float angle) {
+bool setJumpThresholds(int instance, float distance, float angle) {
   Instance* i = findInstance(instance);
   if (i != nullptr) i->setJumpThresholds(distance, angle);
   return i != nullptr;
 }
-bool instanceJump(int instance) {
+bool jump(int instance) {
   Instance* i = findInstance(instance);
   if (i != nullptr) i->jump();
   return i != nullptr;
 }
-int instanceJumps(int instance) {
+int jumps(int instance) {
   Instance* i = findInstance(instance);
   return i ? i->jumps() : -1;
 }
@@ -336,7 +325,7 @@ Wind windOf(float dx, float dy, float dz, float strength, float gust_frequency, 
   wind.seed = seed >= 0.0 && seed <= 4294967295.0 ? static_cast<std::uint32_t>(seed) : 0u;
   return wind;
 }
-bool instanceSetWind(int instance, float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
+bool setWind(int instance, float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
   Instance* i = findInstance(instance);
   if (i != nullptr) i->setWind(windOf(dx, dy, dz, strength, gust_frequency, seed));
   return i != nullptr;
@@ -354,17 +343,17 @@ std::string stats() {
 }
 
 }  // namespace
-}  // namespace springbones
+}  // namespace springbones::bindings
 
 EMSCRIPTEN_BINDINGS(springbones) {
-  using namespace springbones;
+  using namespace springbones::bindings;
   emscripten::function("takeError", &takeError);
-  emscripten::function("limits", &limits);
+  emscripten::function("limitsJson", &springbones::limitsJson);
   emscripten::function("loadRig", &loadRig);
   emscripten::function("loadVrm", &loadVrm);
-  emscripten::function("mainFileHash", &mainFileHash);
-  emscripten::function("hashBytes", &hashBytes);
-  emscripten::function("rigDescription", &rigDescription);
+  emscripten::function("mainFileHashFor", &mainFileHashFor);
+  emscripten::function("contentHash", &contentHash);
+  emscripten::function("describeRig", &describeRig);
   emscripten::function("createInstance", &createInstance);
   emscripten::function("driverMatricesPtr", &driverMatricesPtr);
   emscripten::function("driverCount", &driverCount);
@@ -384,13 +373,13 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("sceneSetBudget", &sceneSetBudget);
   emscripten::function("sceneStep", &sceneStep);
   emscripten::function("sceneIsActive", &sceneIsActive);
-  emscripten::function("instanceSetWind", &instanceSetWind);
+  emscripten::function("setWind", &setWind);
   emscripten::function("sceneSetWind", &sceneSetWind);
   emscripten::function("sceneActivePtr", &sceneActivePtr);
   emscripten::function("disposeScene", &disposeScene);
   emscripten::function("stats", &stats);
   // Motion
-  emscripten::function("instanceSetJumpThresholds", &instanceSetJumpThresholds);
-  emscripten::function("instanceJump", &instanceJump);
-  emscripten::function("instanceJumps", &instanceJumps);
+  emscripten::function("setJumpThresholds", &setJumpThresholds);
+  emscripten::function("jump", &jump);
+  emscripten::function("jumps", &jumps);
 }

@@ -11,33 +11,19 @@
 #include <vector>
 
 #include <emscripten/bind.h>
-#include <nlohmann/json.hpp>
 
-#include "api_json.h"
 #include "binding_errors.h"
-#include "builder_edits.h"
-#include "content_hash.h"
-#include "rig_description.h"
-#include "springbones.h"
-#include "validation.h"
+#include "springbones/boundary.h"
+#include "springbones/creator_tools.h"
 
-namespace springbones {
+namespace springbones::bindings {
 namespace {
 
-using bindings::fail;
-using bindings::guarded;
-using nlohmann::json;
-
 /// The catalyst's errors for the entity as JSON [{path, message}], or "" with the error pending.
-std::string validateEntity(const std::string& entity_text, const std::string& marker) {
+std::string validateSpringBones(const std::string& entity_text, const std::string& marker) {
   std::string text;
   guarded([&] {
-    json entity;
-    if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
-    restoreNonFinite(entity, marker);
-    std::vector<ValidationError> errors;
-    if (Error e = validateSpringBones(entity, errors)) return fail(e);
-    text = validationErrorsJson(errors);
+    if (ApiFailure f = springbones::validateSpringBones(entity_text, marker, text)) return fail(std::move(f));
     return 1;
   });
   return text;
@@ -47,18 +33,12 @@ std::string validateEntity(const std::string& entity_text, const std::string& ma
 /// candidates: [...], warnings: [...]}, or "" with the error pending. The same inputs as the
 /// runtime's loadRig; the models key comes resolved (the runtime module reads the entity), or
 /// empty for the GLB's own content hash.
-std::string detectCandidates(std::uintptr_t data, std::size_t size, const std::string& metadata,
-                             const std::string& hash) {
+std::string detectSpringBones(std::uintptr_t data, std::size_t size, const std::string& metadata,
+                              const std::string& hash) {
   std::string text;
   guarded([&] {
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
-    Skeleton skeleton;
-    if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
-    const std::string key = hash.empty() ? contentHash(bytes, size) : hash;
-    ModelEntry model;
-    std::vector<Warning> warnings;
-    if (Error e = parseSpringBonesText(metadata, key, model, warnings)) return fail(e);
-    text = candidatesJson(key, detectSpringBones(skeleton, model), warnings);
+    if (ApiFailure f = springbones::detectSpringBones(bytes, size, metadata, hash, text)) return fail(std::move(f));
     return 1;
   });
   return text;
@@ -66,17 +46,15 @@ std::string detectCandidates(std::uintptr_t data, std::size_t size, const std::s
 
 /// springBones with node_name's entry under the body shape's GLB hash set to params (JSON text;
 /// "null" removes it), as JSON text, or "" with the error pending.
-std::string setParams(const std::string& springbones_text, const std::string& entity_text,
-                      const std::string& body_shape, const std::string& node_name,
-                      const std::string& params_text) {
+std::string setSpringBoneParams(const std::string& springbones_text, const std::string& entity_text,
+                                const std::string& body_shape, const std::string& node_name,
+                                const std::string& params_text) {
   std::string text;
   guarded([&] {
-    json springBones, entity, params, out;
-    if (ApiFailure f = parseArgument(springbones_text, "metadata", springBones)) return fail(std::move(f));
-    if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return fail(std::move(f));
-    if (ApiFailure f = parseArgument(params_text, "params", params)) return fail(std::move(f));
-    if (Error e = setSpringBoneParams(springBones, entity, body_shape, node_name, params, out)) return fail(e);
-    text = dumpReplacingInvalidUtf8(out);  // at most 64 levels deep
+    if (ApiFailure f = springbones::setSpringBoneParams(springbones_text, entity_text, body_shape, node_name,
+                                                         params_text, text)) {
+      return fail(std::move(f));
+    }
     return 1;
   });
   return text;
@@ -89,13 +67,13 @@ std::string stats() {
 }
 
 }  // namespace
-}  // namespace springbones
+}  // namespace springbones::bindings
 
 EMSCRIPTEN_BINDINGS(springbones_creator_tools) {
-  using namespace springbones;
-  emscripten::function("takeError", &bindings::takeError);
-  emscripten::function("validateEntity", &validateEntity);
-  emscripten::function("detectCandidates", &detectCandidates);
-  emscripten::function("setParams", &setParams);
+  using namespace springbones::bindings;
+  emscripten::function("takeError", &takeError);
+  emscripten::function("validateSpringBones", &validateSpringBones);
+  emscripten::function("detectSpringBones", &detectSpringBones);
+  emscripten::function("setSpringBoneParams", &setSpringBoneParams);
   emscripten::function("stats", &stats);
 }

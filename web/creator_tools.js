@@ -62,7 +62,7 @@ class CreatorTools {
       throw new TypeError('validateSpringBones: entity must be an object or JSON text');
     }
     const m = this.#m;
-    const result = call(() => withRoomForStrings(m, [text, marker], () => m.validateEntity(text, marker)));
+    const result = call(() => withRoomForStrings(m, [text, marker], () => m.validateSpringBones(text, marker)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }
@@ -79,7 +79,7 @@ class CreatorTools {
     const m = this.#m;
     const hash = this.#resolveHash('detectSpringBones', opts);
     const result = withBytes(m, bytes, (ptr, size) =>
-      withRoomForStrings(m, [metadataText, hash], () => m.detectCandidates(ptr, size, metadataText, hash)));
+      withRoomForStrings(m, [metadataText, hash], () => m.detectSpringBones(ptr, size, metadataText, hash)));
     if (result === '') throw takeError(m);
     return JSON.parse(result).candidates.map((c) => {
       const { stiffness, gravityPower, gravityDir, drag } = c.params;
@@ -112,7 +112,7 @@ class CreatorTools {
     const paramsText = stringifyArgument('setSpringBoneParams: params', params);
     const m = this.#m;
     const strings = [metadataText, entityText, bodyShape, nodeName, paramsText];
-    const result = call(() => withRoomForStrings(m, strings, () => m.setParams(...strings)));
+    const result = call(() => withRoomForStrings(m, strings, () => m.setSpringBoneParams(...strings)));
     if (result === '') throw takeError(m);
     return JSON.parse(result);
   }

@@ -39,9 +39,9 @@ export async function createSpringBones(options = {}) {
   });
   let limits;
   try {
-    // The core's limits and defaults (api_json.h limitsJson), read once: the argument checks below
+    // The core's limits and defaults (limitsJson, springbones/boundary.h), read once: the argument checks below
     // use them, so the JS API never types a limit of its own.
-    limits = deepFreeze(JSON.parse(module.limits()));
+    limits = deepFreeze(JSON.parse(module.limitsJson()));
   } catch (cause) {
     throw loadFailed(kModuleUrl.href, cause);
   }
@@ -105,7 +105,7 @@ class SpringBones {
   contentHash(bytes) {
     const view = toBytes('contentHash: bytes', bytes);
     const m = this.#m;
-    const hash = withBytes(m, view, (ptr, size) => m.hashBytes(ptr, size));
+    const hash = withBytes(m, view, (ptr, size) => m.contentHash(ptr, size));
     if (hash === '') throw takeError(m);
     return hash;
   }
@@ -151,7 +151,7 @@ class SpringBones {
   #rig(handle, jumps = {}) {
     const m = this.#m;
     // Copied out as text: the description outlives the handle.
-    const text = call(() => m.rigDescription(handle));
+    const text = call(() => m.describeRig(handle));
     if (text === '') {
       m.disposeRig(handle);
       throw takeError(m);
@@ -160,7 +160,7 @@ class SpringBones {
   }
 }
 
-// The rig description: the core's JSON text (describeRig, src/rig_description.h), parsed and
+// The rig description: the core's JSON text (describeRig, springbones/boundary.h), parsed and
 // deep-frozen on its first read, which the per-frame path never needs.
 class RigDescription {
   #text;
@@ -301,7 +301,7 @@ class Rig {
     if (handle === 0) throw takeError(m);
     if (jumps.jumpDistance !== undefined || jumps.jumpAngle !== undefined) {
       // NaN keeps the core's default for the one not given.
-      m.instanceSetJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
+      m.setJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
     }
     return new Instance(m, handle, this.#limits);
   }
@@ -419,7 +419,7 @@ class Instance {
    */
   jump() {
     if (this.#handle === 0) throw disposedError('instance');
-    this.#m.instanceJump(this.#handle);
+    this.#m.jump(this.#handle);
   }
 
   /**
@@ -431,13 +431,13 @@ class Instance {
   setWind(wind) {
     if (this.#handle === 0) throw disposedError('instance');
     const args = windArguments('setWind', wind, this.#limits);
-    this.#m.instanceSetWind(this.#handle, ...args);
+    this.#m.setWind(this.#handle, ...args);
   }
 
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   get jumps() {
     if (this.#handle === 0) throw disposedError('instance');
-    return this.#m.instanceJumps(this.#handle);
+    return this.#m.jumps(this.#handle);
   }
 
   /**
@@ -657,7 +657,7 @@ function resolveHash(m, where, options) {
   const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
   if (contentHash !== undefined) return contentHash;
   if (entityText === undefined) return '';
-  const hash = call(() => withRoomForStrings(m, [entityText, bodyShape], () => m.mainFileHash(entityText, bodyShape)));
+  const hash = call(() => withRoomForStrings(m, [entityText, bodyShape], () => m.mainFileHashFor(entityText, bodyShape)));
   if (hash === '') throw takeError(m);
   return hash;
 }

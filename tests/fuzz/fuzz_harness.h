@@ -23,21 +23,22 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
-#include "content_hash.h"
-#include "entity.h"
-#include "rig_description.h"
-#include "springbones.h"
-#if __has_include("xpbd_solver.h")
-#include "xpbd_solver.h"
+#include "boundary/rig_description.h"
+#include "creator_tools/builder_edits.h"
+#include "loading/entity.h"
+#include "loading/metadata.h"
+#include "springbones/content_hash.h"
+#include "springbones/springbones.h"
+#if __has_include("simulation/xpbd_solver.h")
+#include "simulation/xpbd_solver.h"
 #define SPRINGBONES_FUZZ_HAS_XPBD 1
 #endif
-#if __has_include("vrm_loader.h")
-#include "vrm_loader.h"
+#if __has_include("springbones/vrm.h")
+#include "springbones/vrm.h"
 #define SPRINGBONES_FUZZ_HAS_VRM 1
 #endif
-#if __has_include("validation.h")
-#include "validation.h"
+#if __has_include("creator_tools/validation.h")
+#include "creator_tools/validation.h"
 #define SPRINGBONES_FUZZ_HAS_VALIDATION 1
 #endif
 
@@ -215,10 +216,10 @@ inline std::string runGlbAndMetadata(const std::uint8_t* data, std::size_t size)
 inline std::string runVrm(const std::uint8_t* data, std::size_t size) {
   std::shared_ptr<const Rig> rig;
   VrmSpringFormat format = VrmSpringFormat::kNone;
-  const Error e = loadVrmRig(data, size, rig, &format);
-  if (std::string f = checkError(e, "loadVrmRig"); !f.empty()) return f;
+  const Error e = loadVrm(data, size, rig, &format);
+  if (std::string f = checkError(e, "loadVrm"); !f.empty()) return f;
   if (e) return {};
-  if (!rig) return "loadVrmRig succeeded without a rig";
+  if (!rig) return "loadVrm succeeded without a rig";
   if (std::string f = checkRig(*rig); !f.empty()) return f;
   if (std::string f = checkDescription(*rig, "", "vrm0"); !f.empty()) return f;
   Instance instance(rig);

@@ -1,5 +1,5 @@
 // libFuzzer entry point for .vrm avatars (VRMC_springBone 1.0 and VRM 0.x secondaryAnimation): any
-// bytes through loadVrmRig, then an Instance stepped at rest. The body is runVrm in
+// bytes through loadVrm, then an Instance stepped at rest. The body is runVrm in
 // fuzz_harness.h, shared with tests/native/fuzz_regressions_test.cpp.
 #include "fuzz_harness.h"
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "springbones.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

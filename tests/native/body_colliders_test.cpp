@@ -1,4 +1,4 @@
-// The 'dcl-body' collider preset (src/body_colliders.cpp): shapes measured from the armature of
+// The 'dcl-body' collider preset (src/loading/body_colliders.cpp): shapes measured from the armature of
 // tests/fixtures/avatar_hair.glb (neck 10.05 cm, Spine2 -> Neck 16.03 cm, Spine1 -> Spine2 12 cm,
 // Shoulder -> Arm 12 cm, Arm -> ForeArm 27 cm; the Armature's scale 0.01 makes bone space
 // centimetres), how they scale with the avatar, and what happens when bones are missing.
@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "body_colliders.h"
-#include "springbones.h"
+#include "loading/body_colliders.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "transform_math.h"
+#include "common/transform_math.h"
 
 namespace springbones {
 namespace {

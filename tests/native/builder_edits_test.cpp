@@ -4,7 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
+#include "creator_tools/builder_edits.h"
+#include "loading/metadata.h"
 
 namespace springbones {
 namespace {

@@ -10,7 +10,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

@@ -4,7 +4,8 @@
 // of npm @dcl/hashing 3.0.4 (and, for the small-layout table, the ipfs-unixfs-importer bundled in
 // it). The two worked examples of docs/content-hash.md are among them.
 // To regenerate: npm install && node scripts/content_hash_reference.mjs
-#include "content_hash.h"
+#include "content_hash/cid.h"
+#include "springbones/content_hash.h"
 
 #include <gtest/gtest.h>
 

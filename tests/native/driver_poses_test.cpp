@@ -8,7 +8,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "driver_poses.h"
+#include "simulation/driver_poses.h"
 #include "test_helpers.h"
 
 namespace springbones {

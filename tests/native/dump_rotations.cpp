@@ -12,7 +12,7 @@
 // of scripts/lib/sway.mjs, written out below with the same operations in the same order (keep the
 // two in step); --drive rest (the default) leaves the drivers at their rest world matrices.
 // Floats are printed with 9 significant digits, which reads back as the same float.
-// --vrm reads the file as a VRM avatar (loadVrmRig; the metadata and hash arguments are ignored).
+// --vrm reads the file as a VRM avatar (loadVrm; the metadata and hash arguments are ignored).
 // --hash prints one line instead, {"frames", "joints", "hash"}: FNV-1a 64 over the bytes
 // (little-endian) of every frame's rotations, as tests/scenarios/frame_hash.mjs computes it in
 // Node and in Chromium.
@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
-#include "content_hash.h"
-#include "springbones.h"
-#include "vrm_loader.h"
+#include "springbones/content_hash.h"
+#include "springbones/springbones.h"
+#include "springbones/vrm.h"
 
 namespace {
 
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
   const auto* bytes = reinterpret_cast<const std::uint8_t*>(glb.data());
   std::shared_ptr<const Rig> rig;
   if (vrm) {
-    if (Error e = loadVrmRig(bytes, glb.size(), rig)) {
+    if (Error e = loadVrm(bytes, glb.size(), rig)) {
       std::fprintf(stderr, "dump_rotations: %s: %s\n", errorCodeName(e.code), e.message.c_str());
       return 1;
     }

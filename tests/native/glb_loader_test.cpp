@@ -1,4 +1,4 @@
-// GLB / glTF loader tests (src/glb_loader.cpp): what loads, the rest pose it yields, and one test
+// GLB / glTF loader tests (src/loading/glb_loader.cpp): what loads, the rest pose it yields, and one test
 // per class of malformed input with the ErrorCode it must produce.
 #include <gtest/gtest.h>
 
@@ -12,9 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "common/transform_math.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "transform_math.h"
 
 namespace springbones {
 namespace {

@@ -20,10 +20,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder_edits.h"
-#include "springbones.h"
+#include "creator_tools/builder_edits.h"
+#include "creator_tools/validation.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "validation.h"
 
 namespace springbones {
 namespace {

@@ -10,10 +10,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 #include "xpbd_runner.h"
-#include "xpbd_solver.h"
 
 namespace springbones {
 namespace {

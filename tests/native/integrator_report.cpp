@@ -38,9 +38,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
 #include "xpbd_runner.h"
-#include "xpbd_solver.h"
 
 namespace {
 

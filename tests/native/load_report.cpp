@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "springbones.h"
+#include "springbones/springbones.h"
 
 namespace {
 

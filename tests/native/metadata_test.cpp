@@ -1,4 +1,4 @@
-// data.springBones reader tests (src/metadata.cpp): the runtime's forgiving rules — defaults,
+// data.springBones reader tests (src/loading/metadata.cpp): the runtime's forgiving rules — defaults,
 // clamping, normalization, each with a warning at a JSON pointer — and the few shapes that are
 // errors. Expected values come from the ADR's parameter table (defaults 2.0 / 0 / [0,-1,0] / 0.5,
 // ranges [0,4], [0,2], [0,1]).
@@ -12,7 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

@@ -1,4 +1,4 @@
-// Chain building tests (src/rig_builder.cpp): the ADR's naming table and Full Example, the chain
+// Chain building tests (src/loading/rig_builder.cpp): the ADR's naming table and Full Example, the chain
 // rules of docs/semantics.md, and the avatar fixture (tests/fixtures/avatar_hair.glb, laid out in
 // scripts/make_fixtures.mjs, whose comments give every offset used below).
 #include <gtest/gtest.h>
@@ -11,7 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

@@ -7,7 +7,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace {

@@ -1,5 +1,5 @@
 // SHA-256 against the FIPS 180-4 examples (NIST CSRC "SHA256.pdf" and the long-message test).
-#include "sha256.h"
+#include "content_hash/sha256.h"
 
 #include <gtest/gtest.h>
 

@@ -13,7 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

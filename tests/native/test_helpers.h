@@ -17,7 +17,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "springbones.h"
+#include "loading/metadata.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace test {

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "validation.h"
+#include "creator_tools/validation.h"
 
 namespace springbones {
 namespace {

@@ -1,4 +1,4 @@
-// VRM spring bones (src/vrm_loader.cpp): the mapping of VRMC_springBone 1.0 and VRM 0.x
+// VRM spring bones (src/loading/vrm_loader.cpp): the mapping of VRMC_springBone 1.0 and VRM 0.x
 // secondaryAnimation onto a Rig, checked on the fixtures of scripts/make_vrm_fixtures.mjs and on
 // small documents built here; agreement of the simulation with @pixiv/three-vrm-springbone 3.5.5
 // (tests/fixtures/vrm_trajectories.json, scripts/make_vrm_trajectories.mjs); and bad input.
@@ -15,10 +15,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "gltf_json.h"
-#include "springbones.h"
+#include "loading/gltf_json.h"
+#include "springbones/springbones.h"
+#include "springbones/vrm.h"
 #include "test_helpers.h"
-#include "vrm_loader.h"
 
 namespace springbones {
 namespace {
@@ -34,18 +34,18 @@ constexpr double kThreeVrmTolerance = 1e-5;
 std::shared_ptr<const Rig> loadFixtureRig(const std::string& name, VrmSpringFormat* format = nullptr) {
   const std::vector<std::uint8_t> bytes = test::readFixture(name);
   std::shared_ptr<const Rig> rig;
-  const Error e = loadVrmRig(bytes.data(), bytes.size(), rig, format);
+  const Error e = loadVrm(bytes.data(), bytes.size(), rig, format);
   EXPECT_FALSE(e) << name << ": " << e.message;
   return rig;
 }
 
-// Loads glTF JSON text (a document with the given nodes and extensions) through loadVrmRig.
+// Loads glTF JSON text (a document with the given nodes and extensions) through loadVrm.
 Error loadDoc(const json& nodes, const json& extensions, std::shared_ptr<const Rig>& rig,
               VrmSpringFormat* format = nullptr) {
   json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", nodes}};
   if (!extensions.is_null()) doc["extensions"] = extensions;
   const std::string text = doc.dump();
-  return loadVrmRig(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), rig, format);
+  return loadVrm(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), rig, format);
 }
 
 std::shared_ptr<const Rig> mustLoad(const json& nodes, const json& extensions) {
@@ -793,14 +793,14 @@ TEST(VrmLoader, Vrm0CollidersCentersAndVectors) {
 TEST(VrmLoader, ContainerAndJsonErrorsComeFromTheLoader) {
   std::shared_ptr<const Rig> rig = std::make_shared<const Rig>();
   const std::uint8_t byte = 0;
-  EXPECT_EQ(loadVrmRig(nullptr, 10, rig).code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(loadVrm(nullptr, 10, rig).code, ErrorCode::kInvalidArgument);
   EXPECT_FALSE(rig);
-  EXPECT_EQ(loadVrmRig(&byte, 0, rig).code, ErrorCode::kGlbTruncated);
+  EXPECT_EQ(loadVrm(&byte, 0, rig).code, ErrorCode::kGlbTruncated);
   const std::string garbage = "not a model at all";
-  EXPECT_EQ(loadVrmRig(reinterpret_cast<const std::uint8_t*>(garbage.data()), garbage.size(), rig).code,
+  EXPECT_EQ(loadVrm(reinterpret_cast<const std::uint8_t*>(garbage.data()), garbage.size(), rig).code,
             ErrorCode::kGlbBadMagic);
   const std::string broken = R"({"asset": {"version": "2.0"}, "extensions": {)";
-  EXPECT_EQ(loadVrmRig(reinterpret_cast<const std::uint8_t*>(broken.data()), broken.size(), rig).code,
+  EXPECT_EQ(loadVrm(reinterpret_cast<const std::uint8_t*>(broken.data()), broken.size(), rig).code,
             ErrorCode::kGltfBadJson);
   EXPECT_FALSE(rig);
 }
@@ -864,7 +864,7 @@ TEST(VrmLoader, TruncatedAndCorruptedFixturesNeverCrash) {
     ASSERT_FALSE(bytes.empty());
     for (std::size_t n = 0; n < bytes.size(); n += 7) {
       std::shared_ptr<const Rig> rig;
-      const Error e = loadVrmRig(bytes.data(), n, rig);
+      const Error e = loadVrm(bytes.data(), n, rig);
       EXPECT_TRUE(e) << name << " truncated to " << n;
       EXPECT_FALSE(rig);
     }
@@ -875,7 +875,7 @@ TEST(VrmLoader, TruncatedAndCorruptedFixturesNeverCrash) {
       for (std::uint8_t replacement : {std::uint8_t('9'), std::uint8_t('-'), std::uint8_t('"'), std::uint8_t('[')}) {
         copy[at] = replacement;
         std::shared_ptr<const Rig> rig;
-        if (!loadVrmRig(copy.data(), copy.size(), rig)) {
+        if (!loadVrm(copy.data(), copy.size(), rig)) {
           ASSERT_TRUE(rig);
           expectRigInvariants(*rig);
           Instance instance(rig);
@@ -996,7 +996,7 @@ std::string repeated(const std::string& item, std::size_t n) {
 }
 
 Error loadText(const std::string& text, std::shared_ptr<const Rig>& rig) {
-  return loadVrmRig(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), rig);
+  return loadVrm(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), rig);
 }
 
 // The JSON was parsed with nlohmann's callback parser, which scans a container's elements each

@@ -10,7 +10,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "springbones.h"
+#include "simulation/wind.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 
 namespace springbones {

@@ -1,5 +1,5 @@
 // A minimal fixed-step owner for XpbdSolver, used by the XPBD tests and the integrator report
-// until Instance takes `integrator: 'xpbd'`. It follows Instance::step's rules (src/solver.cpp):
+// until Instance takes `integrator: 'xpbd'`. It follows Instance::step's rules (src/simulation/solver.cpp):
 // an accumulator, at most max_substeps substeps per frame with the surplus dropped, driver
 // matrices interpolated across the substeps of a frame (decomposed, slerped, as the general path
 // does), a non-finite driver matrix ignored, the first step seeding at rest. Only the substep
@@ -16,9 +16,9 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "springbones.h"
-#include "transform_math.h"
-#include "xpbd_solver.h"
+#include "common/transform_math.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 namespace test {

@@ -1,4 +1,4 @@
-// XPBD integrator tests (src/xpbd_solver.*): exact bone lengths, stability under the most
+// XPBD integrator tests (src/simulation/xpbd_solver.*): exact bone lengths, stability under the most
 // aggressive parameters with frame-time spikes, the default's equilibrium, damping from drag,
 // colliders as constraints, center space, determinism. Stepped by the fixed-step runner in
 // xpbd_runner.h (Instance's rules at 120 Hz) until Instance takes `integrator: 'xpbd'`.
@@ -13,11 +13,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "spring_lanes.h"
-#include "springbones.h"
+#include "simulation/spring_lanes.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
 #include "test_helpers.h"
 #include "xpbd_runner.h"
-#include "xpbd_solver.h"
 
 namespace springbones {
 namespace {

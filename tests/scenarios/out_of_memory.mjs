@@ -128,7 +128,7 @@ export async function outOfMemoryScenario({ createSpringBones, wearable, vrm, he
 
     for (const inst of instances) inst.dispose();
     for (const rig of rigs) rig.dispose();
-    // The failed allocations handed the core's reserve back (src/memory_reserve.cpp); the first
+    // The failed allocations handed the core's reserve back (src/common/memory_reserve.cpp); the first
     // allocation since, stats()'s own answer, takes it again: the second call sees the heap as
     // every later call will.
     sb.stats();

@@ -1,0 +1,379 @@
+// springbones: spring-bone physics for avatar wearables (Decentraland ADR-316, VRM family).
+//
+// The runtime's public C++ API (the VRM reader, the content hash, the JSON texts of the JavaScript
+// boundary and the creator tools have their own headers beside this one). A wearable is loaded
+// once into an immutable Rig (GLB hierarchy + data.springBones metadata -> flat list of simulated
+// joints); every avatar wearing it gets its own Instance (simulation state). Per frame the caller
+// writes driver world matrices, calls step(dt) and reads one local rotation per joint. Nothing
+// here throws: failures come back as an Error, questionable input as Warnings.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace springbones {
+
+// ---------------------------------------------------------------------------------------------
+// Errors and warnings
+
+enum class ErrorCode : int {
+  kOk = 0,
+  kInvalidArgument = 1,           ///< null buffer, bad option value
+  kGlbTruncated = 2,              ///< header or chunk extends past the end of the buffer
+  kGlbBadMagic = 3,               ///< neither a GLB ("glTF" magic) nor glTF JSON text
+  kGlbBadChunk = 4,               ///< GLB version or chunk layout we cannot read
+  kGltfBadJson = 5,               ///< the glTF JSON does not parse
+  kGltfInvalid = 6,               ///< JSON parses but is not a usable glTF (bad node fields...)
+  kHierarchyMultipleParents = 7,  ///< a node listed as child of two parents
+  kHierarchyCycle = 8,            ///< a node is its own ancestor
+  kMetadataBadJson = 9,           ///< springBones JSON text does not parse
+  kMetadataInvalid = 10,          ///< springBones has a shape we cannot use (models not an object)
+  kLimitExceeded = 11,            ///< more nodes / bytes than the documented limits
+};
+
+/// Stable lower-case identifier of a code ("glb-truncated", ...), used by the JS error codes.
+const char* errorCodeName(ErrorCode code);
+
+struct Error {
+  ErrorCode code = ErrorCode::kOk;
+  std::string message;
+  std::string path;  ///< JSON path for metadata errors ("/models/<hash>/<bone>"), else empty
+  explicit operator bool() const { return code != ErrorCode::kOk; }
+};
+
+struct Warning {
+  std::string code;     ///< stable identifier, e.g. "center-not-found"
+  std::string message;  ///< human readable, names the node or field
+  std::string path;     ///< JSON path into springBones when the warning is about metadata
+};
+
+// ---------------------------------------------------------------------------------------------
+// Limits we impose on untrusted input (documented in the README; exceeding one is an Error).
+
+inline constexpr std::size_t kMaxNodes = 262144;
+inline constexpr std::size_t kMaxGltfJsonBytes = 64u << 20;
+inline constexpr std::size_t kMaxMetadataBytes = 16u << 20;
+
+// ---------------------------------------------------------------------------------------------
+// The GLB node hierarchy
+
+struct Transform {
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  ///< glm order: w, x, y, z
+  glm::vec3 scale{1.0f};
+};
+
+struct SkeletonNode {
+  std::string name;
+  int parent = -1;  ///< index into Skeleton::nodes, -1 for a scene root
+  std::vector<int> children;
+  Transform rest_local;    ///< from TRS, or decomposed from `matrix`
+  glm::mat4 rest_world{1.0f};  ///< product of the rest locals from the root down
+};
+
+struct Skeleton {
+  std::vector<SkeletonNode> nodes;  ///< glTF order
+  std::vector<int> parents_first;   ///< every node index, each after its parent
+};
+
+/// Reads the node hierarchy of a GLB or of glTF JSON text (embedded data allowed) held in memory.
+/// Buffers, images, meshes and accessors are never decoded. On failure returns an Error and leaves
+/// `out` empty.
+Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out);
+
+// ---------------------------------------------------------------------------------------------
+// data.springBones parameters (ADR-316 table). Ranges are inclusive.
+
+struct BoneParams {
+  float stiffness = 2.0f;                   ///< [0, 4], pull back to the rest direction, m/s
+  float gravity_power = 0.0f;               ///< [0, 2], gravity impulse, m/s
+  glm::vec3 gravity_dir{0.0f, -1.0f, 0.0f};  ///< world direction, normalized at parse time
+  float drag = 0.5f;                        ///< [0, 1], fraction of velocity lost per step
+};
+
+struct BoneEntry {
+  std::string name;  ///< glTF node name, case-sensitive
+  BoneParams params;
+  bool is_root = false;
+  bool has_center = false;  ///< the entry has a "center" key (a null center means world space)
+  std::string center;       ///< node name; empty with has_center means explicitly world space
+};
+
+struct ModelEntry {
+  bool enabled = false;  ///< false: no entry for the hash, bad version, or no springBones at all
+  std::string path;      ///< JSON path of models[hash] ("/models/<hash>"), when enabled
+  std::vector<BoneEntry> bones;  ///< in key order (the JSON reader sorts object keys)
+
+  /// The JSON path of one of its entries, for warnings: path + the name as a pointer token. Built
+  /// when a warning needs it: one string per entry was a tenth of reading 5,000 entries.
+  std::string entryPath(const BoneEntry& bone) const;
+};
+
+/// Picks data.springBones.models[hash] from the JSON text of data.springBones (at most
+/// kMaxMetadataBytes; "null": no spring bones) and reads it with the runtime's forgiving rules:
+/// defaults for missing fields, clamping of out-of-range values and replacement of non-finite
+/// ones, each with a warning. Errors only for text that does not parse and shapes that cannot be
+/// read at all (not an object, models not an object).
+Error parseSpringBonesText(std::string_view text, const std::string& hash, ModelEntry& out,
+                           std::vector<Warning>& warnings);
+
+/// True when a node name contains "springbone", ASCII case-insensitive (the ADR's discovery rule).
+bool isSpringBoneName(const std::string& name);
+
+// ---------------------------------------------------------------------------------------------
+// The rig: immutable, shared by every avatar wearing the same item
+
+struct Joint {
+  int node = -1;           ///< the bone this joint rotates
+  int tail_node = -1;      ///< its first child: where the bone ends; -1 when the tail is no node
+                           ///< (a VRM 0.x leaf's virtual tail): tail_local is authoritative
+  int parent_joint = -1;   ///< joint of the glTF parent, -1 for a chain root
+  int parent_driver = -1;  ///< for a chain root: driver holding its parent's world matrix
+                           ///< (-1: the root is a scene root, its parent is the identity)
+  int center_driver = -1;  ///< driver whose space holds the inertia, -1 for world space
+  int chain = -1;          ///< index of the chain root joint
+  BoneParams params;
+  Transform rest_local;     ///< the node's rest local transform
+  glm::vec3 tail_local{0};  ///< tail position in the joint's local space (child translation)
+  float rest_length = 0;    ///< world distance head->tail in the rest pose
+  float hit_radius = 0;     ///< radius of the tail against colliders, world units
+  std::vector<int> colliders;  ///< indices into Rig::colliders this joint's tail collides with
+};
+
+struct Driver {
+  int node = -1;  ///< -1: a node the GLB does not have (a collider on an avatar bone); the caller
+                  ///< still writes its world matrix, found by name
+  std::string name;
+};
+
+/// A collision shape carried by a driver's world matrix (VRMC_springBone colliders, and the
+/// plane and inside shapes of VRMC_springBone_extended_collider).
+struct Collider {
+  enum class Shape { kSphere, kCapsule, kPlane };
+  Shape shape = Shape::kSphere;
+  /// Sphere and capsule only: the tail is kept inside the shape rather than pushed out of it.
+  bool inside = false;
+  int driver = -1;
+  glm::vec3 offset{0.0f};  ///< sphere center / capsule start / a point of the plane, driver space
+  glm::vec3 tail{0.0f};    ///< capsule end, in the driver node's space
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  ///< plane only: the side tails are kept on, driver space
+  float radius = 0.0f;     ///< in the driver node's space (world radius = radius x its scale); 0 for a plane
+};
+
+/// A collider to attach by node name, for avatars whose GLB says nothing about colliders.
+struct ColliderSpec {
+  std::string node;
+  Collider::Shape shape = Collider::Shape::kSphere;
+  bool inside = false;
+  glm::vec3 offset{0.0f};
+  glm::vec3 tail{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};
+  float radius = 0.0f;
+};
+
+/// Ready-made collider sets a rig can ask for by name (RigOptions::preset).
+enum class ColliderPreset {
+  kNone,
+  /// Decentraland's body: head sphere, neck capsule, two chest capsules, shoulder and upper-arm
+  /// capsules, sized from the rest lengths of the 62-bone armature's bones in the GLB
+  /// (body_colliders.h; docs/semantics.md, "Body colliders").
+  kDclBody,
+};
+
+struct RigOptions {
+  std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
+  ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
+  float hit_radius = 0.0f;              ///< joint radius against them, world units, >= 0
+};
+
+class SpringLanes;  // the simulation's lane pool (src/simulation/spring_lanes.h)
+
+struct Rig {
+  Skeleton skeleton;
+  std::vector<Joint> joints;    ///< parents before children
+  std::vector<Driver> drivers;  ///< chain-root parents and center nodes, in first-use order
+  std::vector<int> chain_roots;  ///< joint indices of the roots
+  std::vector<Collider> colliders;
+  std::vector<Warning> warnings;
+  /// The lane pool the rig's instances share (the fast path): made by the first instance that
+  /// takes it, freed with the last. Written by the instances, so a rig and its instances belong
+  /// to one thread at a time (docs/design.md, "Threads").
+  mutable std::weak_ptr<SpringLanes> lane_pool;
+};
+
+/// Builds the chains of a skeleton from the chosen metadata entry (the rules: docs/semantics.md).
+/// Never fails: problems become warnings and the affected joints are left out or fall back.
+/// Collider nodes (found by name in the GLB, or else external drivers the caller supplies) join
+/// the driver list.
+std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
+                                    std::vector<Warning> warnings = {}, const RigOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------
+// The simulation: one Instance per avatar
+
+/// Which update moves the joints. kVrm is the VRM spring-bone update (docs/semantics.md, The step);
+/// kXpbd the XPBD integrator of xpbd_solver.h (exact bone lengths, compliant constraints, meant
+/// for 120 Hz substeps), driven by the same parameters.
+enum class Integrator { kVrm, kXpbd };
+
+// Limits and defaults of InstanceOptions, defined here only (the JS API reads them from the
+// module, see boundary.h limitsJson).
+inline constexpr double kMinStepHz = 1.0;
+inline constexpr double kMaxStepHz = 1000.0;
+inline constexpr int kMaxSubsteps = 64;
+inline constexpr int kMaxXpbdIterations = 64;
+inline constexpr int kDefaultXpbdIterations = 4;
+
+/// Jump detection (InstanceOptions::jump_distance / jump_angle): a driver that moves farther than
+/// this in one frame, per fixed step of the frame, is a discontinuity (a teleport, a cut) rather
+/// than motion. 0.5 m per step is 30 m/s at 60 Hz, 0.5 rad per step about 1,700 degrees per
+/// second: far beyond a run, an emote or a turn (docs/semantics.md, Jumps).
+inline constexpr float kDefaultJumpDistance = 0.5f;
+inline constexpr float kDefaultJumpAngle = 0.5f;
+
+/// The step rate and substep cap an integrator runs at unless told otherwise.
+struct IntegratorDefaults {
+  double step_hz;
+  int max_substeps;
+};
+/// kVrm: 60 Hz, 4 substeps (the rate the VRM parameters are defined at). kXpbd: 120 Hz substeps
+/// (what its compliant constraints are meant for), 8 of them to cover a 15 fps frame.
+constexpr IntegratorDefaults integratorDefaults(Integrator integrator) {
+  return integrator == Integrator::kXpbd ? IntegratorDefaults{120.0, 8} : IntegratorDefaults{60.0, 4};
+}
+
+struct InstanceOptions {
+  /// fixed simulation rate, [kMinStepHz, kMaxStepHz]; 0 (or any value not above 0): the
+  /// integrator's default
+  double step_hz = 0.0;
+  /// steps per frame at most, [1, kMaxSubsteps], surplus time is dropped; 0 (or less): the
+  /// integrator's default
+  int max_substeps = 0;
+  Integrator integrator = Integrator::kVrm;
+  int xpbd_iterations = kDefaultXpbdIterations;  ///< kXpbd only: constraint passes per substep, [1, 64]
+  /// A driver translating farther than this (world units) per step of a frame is a jump, whose
+  /// chains are carried across it (Instance::jump). Not a finite number above 0: detection off.
+  float jump_distance = kDefaultJumpDistance;
+  /// The same for a driver's rotation, radians per step. Not a finite number above 0: off.
+  float jump_angle = kDefaultJumpAngle;
+};
+
+/// A wind blowing on every joint of an instance: a pull on each tail like gravityPower's, world
+/// space, with gusts that are a seeded function of the instance's simulated time (windAt), so the
+/// same seed gives the same motion, natively and in WebAssembly (docs/semantics.md, "Wind").
+struct Wind {
+  glm::vec3 direction{1.0f, 0.0f, 0.0f};  ///< world direction; zero or non-finite: no wind
+  float strength = 0.0f;                  ///< [0, kMaxWindStrength], world units per second
+  float gust_frequency = 0.0f;            ///< [0, kMaxGustFrequency], gusts per second; 0: steady
+  std::uint32_t seed = 0;                 ///< picks the gust sequence
+};
+inline constexpr float kMaxWindStrength = 10.0f;
+inline constexpr float kMaxGustFrequency = 10.0f;
+
+class Instance {
+ public:
+  /// The rig must outlive nothing: the instance keeps it alive. Options out of range are clamped,
+  /// options left at 0 take the integrator's defaults; options() has the values in use.
+  explicit Instance(std::shared_ptr<const Rig> rig, InstanceOptions options = {});
+  ~Instance();
+  Instance(const Instance&) = delete;
+  Instance& operator=(const Instance&) = delete;
+
+  /// Column-major 4x4 world matrices, 16 floats per driver, written by the caller before step().
+  float* driverMatrices();
+  std::size_t driverCount() const;
+  /// Local rotations (x, y, z, w), 4 floats per joint, valid after construction (rest pose).
+  const float* rotations() const;
+  /// Column-major world matrices of the joints after the last step, 16 floats per joint (for
+  /// drawing the chains or writing bone.matrixWorld directly).
+  const float* worldMatrices() const;
+  std::size_t jointCount() const;
+
+  /// Advances by a frame of dt seconds. dt <= 0 or non-finite: nothing happens.
+  void step(double dt);
+  /// step(dt) for each of `count` instances (distinct, not null), with the same results, but the
+  /// instances of one rig on the fast path go through each step together (one kernel run for all
+  /// of them).
+  static void stepAll(Instance* const* instances, std::size_t count, double dt);
+  /// Forgets the motion; the next step re-seeds the tails at rest under the current drivers.
+  void reset();
+  /// Treats the driver change before the next step as a discontinuity (an animation starting, a
+  /// cut): every chain is carried across it with the jump of the driver it hangs from, keeping its
+  /// shape and its motion relative to the avatar and adding no velocity. Drivers moving beyond
+  /// jump_distance or jump_angle per step do the same on their own.
+  void jump();
+  /// Discontinuities carried so far (jump() calls that reached a step and detected jumps).
+  int jumps() const;
+  /// Changes the thresholds of jump detection (the options' rules); a NaN keeps that one as it is.
+  void setJumpThresholds(float distance, float angle);
+  /// Sets the wind on this instance, from its next step on (a Scene's setWind sets it on every
+  /// member). Out-of-range values are clamped: strength and gust_frequency to their ranges (NaN:
+  /// 0), the direction normalized (zero or non-finite: no wind).
+  void setWind(const Wind& wind);
+  /// The wind in use, as clamped by setWind.
+  const Wind& wind() const;
+  /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
+  /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
+  /// max_substeps when the frame was longer than that many steps and its excess was dropped.
+  int lastSteps() const;
+
+  const Rig& rig() const;
+  const InstanceOptions& options() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Many avatars: one call per frame for a whole page
+
+/// Steps every added instance in one call. With a budget, only the `max_active` instances nearest
+/// to the viewer are simulated; the others hold their last pose and are re-seeded (reset) when
+/// they come back into the budget, as the in-world renderer does with its nearest avatars.
+/// Instances are not owned: remove one before destroying it.
+class Scene {
+ public:
+  /// Adds an instance (ignored if already present) and returns its slot in positions().
+  std::size_t add(Instance* instance);
+  void remove(Instance* instance);
+  std::size_t size() const { return members_.size(); }
+
+  /// x, y, z per instance in slot order, written by the caller (e.g. each avatar's root position).
+  /// Slots shift down when an instance is removed.
+  float* positions() { return positions_.data(); }
+
+  /// max_active < 0: no budget, every instance steps. Non-finite viewer coordinates are ignored.
+  void setBudget(int max_active, const glm::vec3& viewer);
+
+  /// Sets the wind of every instance in the scene, and of every one added later (an instance's own
+  /// setWind afterwards overrides it for that instance until the scene's wind is set again).
+  void setWind(const Wind& wind);
+
+  /// Steps the active instances by dt (same rules as Instance::step).
+  void step(double dt);
+  /// Whether the instance in `slot` was simulated by the last step.
+  bool isActive(std::size_t slot) const { return slot < active_.size() && active_[slot] != 0; }
+  /// isActive for every slot at once, 1 or 0 per slot in slot order (moves with add and remove).
+  const unsigned char* activeFlags() const { return active_.data(); }
+
+ private:
+  std::vector<Instance*> members_;
+  std::vector<float> positions_;
+  std::vector<unsigned char> active_;
+  std::vector<std::pair<float, std::size_t>> by_distance_;  // scratch, kept to avoid allocation
+  std::vector<Instance*> stepping_;                          // scratch: this step's instances
+  int max_active_ = -1;
+  glm::vec3 viewer_{0.0f};
+  bool has_wind_ = false;
+  Wind wind_;
+};
+
+}  // namespace springbones

@@ -1,0 +1,44 @@
+// VRM spring bones: a .vrm avatar (glTF binary) into the same Rig the Decentraland path builds.
+//
+// Two formats, read from the document's root `extensions`:
+//  - VRMC_springBone 1.0 (VRM 1.0): springs list joints in order; joint k's tail is joint k+1 and
+//    the last listed joint is only a tail; parameters are per joint; colliders (sphere, capsule)
+//    sit on nodes and are grouped; a spring names its collider groups and an optional center.
+//  - VRM 0.x `extensions.VRM.secondaryAnimation`: each boneGroup's `bones` are roots; every node
+//    of each root's subtree is a joint whose tail is its first child, and a leaf gets a virtual
+//    tail 7 cm along its own translation; parameters are per group; colliderGroups hold spheres.
+// When a file has both, VRMC_springBone wins (as in three-vrm). The decisions that differ between
+// reference implementations are listed in vrm_loader.cpp's header comment.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+
+#include "springbones/springbones.h"
+
+namespace springbones {
+
+enum class VrmSpringFormat : int {
+  kNone = 0,             ///< neither extension: an empty rig (and a `vrm-no-springs` warning)
+  kVrmcSpringBone1 = 1,  ///< extensions.VRMC_springBone (VRM 1.0)
+  kVrm0 = 2,             ///< extensions.VRM.secondaryAnimation (VRM 0.x)
+};
+
+/// Length of the virtual tail of a VRM 0.x leaf joint, metres (local units of the leaf).
+inline constexpr float kVrm0LeafTailLength = 0.07f;
+
+/// Limit on untrusted input: joints x colliders each joint tests (the solver's per-step work and
+/// the rig's memory). A file beyond it is an Error (kLimitExceeded); real avatars use a few hundred.
+inline constexpr std::size_t kMaxVrmColliderReferences = std::size_t(1) << 22;
+
+/// Loads the hierarchy (loadSkeleton) and the spring bones of a .vrm / glTF held in memory.
+/// Errors: everything loadSkeleton reports, kGltfBadJson, kMetadataInvalid (with `path`) when a
+/// spring-bone extension has a shape that cannot be read at all (not an object, `springs` not an
+/// array...), kLimitExceeded beyond kMaxVrmColliderReferences. Everything else that is skipped or
+/// replaced becomes a Warning in Rig::warnings. On failure `out` is reset. `format`, when given, receives which extension was read.
+Error loadVrm(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out,
+            VrmSpringFormat* format = nullptr);
+
+}  // namespace springbones

@@ -1,0 +1,18 @@
+// The 'dcl-body' collider preset: collision shapes for a Decentraland avatar's head, neck, chest,
+// shoulders and upper arms, derived from the 62-bone armature a wearable's GLB carries.
+#pragma once
+
+#include <vector>
+
+#include "springbones/springbones.h"
+
+namespace springbones {
+
+/// The preset's shapes for `skeleton`, each on the bone that carries it, in that bone's own space
+/// (so they follow the bone and scale with the avatar). Sizes are fractions of the rest distances
+/// between the armature's bones (docs/semantics.md, "Body colliders"). A shape whose bones the GLB
+/// lacks, or whose bones sit on each other, is left out, with one `body-collider-skipped` warning
+/// naming every shape left out and the bones missing.
+std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector<Warning>& warnings);
+
+}  // namespace springbones

@@ -1,0 +1,124 @@
+#include "loading/entity.h"
+
+#include <unordered_map>
+#include <unordered_set>
+
+#include <nlohmann/json.hpp>
+
+namespace springbones {
+namespace {
+
+using nlohmann::json;
+
+const json& nullJson() {
+  static const json kNull;
+  return kNull;
+}
+
+const json& field(const json& object, const char* key) {
+  if (!object.is_object()) return nullJson();
+  auto it = object.find(key);
+  return it == object.end() ? nullJson() : *it;
+}
+
+// The item data: entity.metadata.data for a catalyst entity, item.data for a Builder item.
+const json& dataOf(const json& entity) {
+  const json& from_metadata = field(field(entity, "metadata"), "data");
+  return from_metadata.is_object() ? from_metadata : field(entity, "data");
+}
+
+Error invalid(std::string message, std::string path) {
+  return Error{ErrorCode::kInvalidArgument, std::move(message), std::move(path)};
+}
+
+bool bodyShapeMatches(const std::string& listed, const std::string& wanted) {
+  if (listed == wanted) return true;
+  const std::size_t colon = listed.rfind(':');
+  return colon != std::string::npos && listed.compare(colon + 1, std::string::npos, wanted) == 0;
+}
+
+}  // namespace
+
+const json& springBonesOf(const json& entity) { return field(dataOf(entity), "springBones"); }
+
+Error readRepresentations(const json& entity, std::vector<Representation>& out) {
+  out.clear();
+  if (!entity.is_object()) return invalid("the entity is not an object", "");
+  // Content hashes by file name: an array of {file, hash} (catalyst entity) or an object
+  // {file: hash} (Builder item `contents`).
+  // The first entry of a file wins; looked up by name, so many representations over a long content
+  // list stay linear.
+  std::unordered_map<std::string, std::string> files;
+  const json& content = field(entity, "content");
+  const json& contents = field(entity, "contents");
+  if (content.is_array()) {
+    for (std::size_t i = 0; i < content.size(); ++i) {
+      const json& f = field(content[i], "file");
+      const json& h = field(content[i], "hash");
+      if (!f.is_string() || !h.is_string()) {
+        return invalid("content entry is not {file, hash} strings", "/content/" + std::to_string(i));
+      }
+      files.emplace(f.get<std::string>(), h.get<std::string>());
+    }
+  } else if (contents.is_object()) {
+    for (auto it = contents.begin(); it != contents.end(); ++it) {
+      if (!it->is_string()) return invalid("contents value is not a hash string", "/contents/" + it.key());
+      files.emplace(it.key(), it->get<std::string>());
+    }
+  } else if (!content.is_null() || !contents.is_null()) {
+    return invalid("the entity's content list is neither an array nor an object", "/content");
+  }
+
+  const json& representations = field(dataOf(entity), "representations");
+  if (!representations.is_array()) {
+    return invalid("the entity has no data.representations array", "/metadata/data/representations");
+  }
+  for (std::size_t i = 0; i < representations.size(); ++i) {
+    const std::string path = "/metadata/data/representations/" + std::to_string(i);
+    const json& r = representations[i];
+    const json& main_file = field(r, "mainFile");
+    if (!main_file.is_string()) return invalid("representation has no mainFile string", path + "/mainFile");
+    Representation rep;
+    rep.main_file = main_file.get<std::string>();
+    const json& shapes = field(r, "bodyShapes");
+    if (shapes.is_array()) {
+      for (const json& s : shapes) {
+        if (s.is_string()) rep.body_shapes.push_back(s.get<std::string>());
+      }
+    }
+    if (auto it = files.find(rep.main_file); it != files.end()) rep.main_file_hash = it->second;
+    out.push_back(std::move(rep));
+  }
+  return {};
+}
+
+Error mainFileHashFor(const json& entity, const std::string& body_shape, std::string& hash) {
+  hash.clear();
+  std::vector<Representation> representations;
+  if (Error e = readRepresentations(entity, representations)) return e;
+  for (const Representation& r : representations) {
+    for (const std::string& shape : r.body_shapes) {
+      if (!bodyShapeMatches(shape, body_shape)) continue;
+      if (r.main_file_hash.empty()) {
+        return invalid("main file '" + r.main_file + "' of body shape " + body_shape +
+                           " is not in the entity's content list",
+                       "/content");
+      }
+      hash = r.main_file_hash;
+      return {};
+    }
+  }
+  return invalid("the entity has no representation for body shape " + body_shape,
+                 "/metadata/data/representations");
+}
+
+std::vector<std::string> activeModelHashes(const std::vector<Representation>& representations) {
+  std::vector<std::string> hashes;
+  std::unordered_set<std::string> seen;
+  for (const Representation& r : representations) {
+    if (!r.main_file_hash.empty() && seen.insert(r.main_file_hash).second) hashes.push_back(r.main_file_hash);
+  }
+  return hashes;
+}
+
+}  // namespace springbones

@@ -1,0 +1,425 @@
+// Chain reconstruction (ADR-316 "Chain reconstruction"; our reading of it: docs/semantics.md,
+// "Discovery and roots" to "Center").
+//
+// Candidates are nodes whose name contains "springbone" (ASCII case-insensitive); a candidate is a
+// root only when its metadata entry says isRoot: true. A chain is the root and every glTF
+// descendant. Each chain node with children is a simulated joint whose tail is its first child;
+// further children start branches under it; leaves only mark where their parent bone ends.
+// Nothing here fails: every questionable input becomes a warning and a documented fallback.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+
+#include "common/transform_math.h"
+#include "loading/body_colliders.h"
+#include "springbones/springbones.h"
+
+namespace springbones {
+namespace {
+
+constexpr float kMinBoneLength = 1e-6f;  // shorter bones have no direction to simulate
+
+bool containsSpringBoneToken(const std::string& name) {
+  static constexpr char kToken[] = "springbone";
+  constexpr std::size_t kTokenLength = sizeof(kToken) - 1;
+  if (name.size() < kTokenLength) return false;
+  for (std::size_t i = 0; i + kTokenLength <= name.size(); ++i) {
+    std::size_t k = 0;
+    while (k < kTokenLength) {
+      char c = name[i + k];
+      if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+      if (c != kToken[k]) break;
+      ++k;
+    }
+    if (k == kTokenLength) return true;
+  }
+  return false;
+}
+
+
+// Name -> first index with that name, over views of strings that outlive it. Open addressing in
+// one flat array: std::unordered_map allocated a node per name (7,000 for a large wearable) and
+// was a third of the build.
+class NameIndex {
+ public:
+  void reserve(std::size_t count) {
+    std::size_t size = 16;
+    while (size < 2 * count) size *= 2;
+    slots_.assign(size, Slot{});
+    mask_ = size - 1;
+  }
+
+  /// Adds name -> value unless the name is there already (the first one is kept).
+  void insertFirst(std::string_view name, int value) {
+    const std::uint32_t h = hash(name);
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      Slot& s = slots_[i];
+      if (s.value < 0) {
+        s = Slot{name.data(), static_cast<std::uint32_t>(name.size()), h, value};
+        return;
+      }
+      if (s.hash == h && equal(s, name)) return;
+    }
+  }
+
+  /// The value of `name`, or -1.
+  int find(std::string_view name) const {
+    if (slots_.empty()) return -1;
+    const std::uint32_t h = hash(name);
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      const Slot& s = slots_[i];
+      if (s.value < 0) return -1;
+      if (s.hash == h && equal(s, name)) return s.value;
+    }
+  }
+
+ private:
+  struct Slot {
+    const char* data = nullptr;
+    std::uint32_t size = 0;
+    std::uint32_t hash = 0;
+    int value = -1;  ///< -1: empty
+  };
+
+  static bool equal(const Slot& s, std::string_view name) {
+    return s.size == name.size() && std::memcmp(s.data, name.data(), name.size()) == 0;
+  }
+
+  // FNV-1a, then a final mix so that names differing only in their last bytes spread out.
+  static std::uint32_t hash(std::string_view name) {
+    std::uint32_t h = 2166136261u;
+    for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    return h;
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
+};
+
+class RigBuilder {
+ public:
+  RigBuilder(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings, const RigOptions& options)
+      : model_(model), options_(options) {
+    rig_ = std::make_shared<Rig>();
+    rig_->skeleton = std::move(skeleton);
+    rig_->warnings = std::move(warnings);
+  }
+
+  std::shared_ptr<const Rig> build() {
+    if (!model_.enabled) return rig_;
+    indexNodes();
+    matchEntries();
+    assignChains();
+    buildJoints();
+    addColliders();
+    return rig_;
+  }
+
+ private:
+  const std::vector<SkeletonNode>& nodes() const { return rig_->skeleton.nodes; }
+
+  void warn(const char* code, std::string message, std::string path = {}) {
+    rig_->warnings.push_back(Warning{code, std::move(message), std::move(path)});
+  }
+
+  void indexNodes() {
+    const auto& all = nodes();
+    is_candidate_.resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) is_candidate_[i] = containsSpringBoneToken(all[i].name);
+  }
+
+  // The first node named `name`, or -1. Only centers and colliders look nodes up by name, and most
+  // wearables have neither: the index is built on the first lookup (for 7,000 nodes it was a
+  // tenth of the build).
+  int nodeNamed(std::string_view name) {
+    if (!nodes_indexed_) {
+      const auto& all = nodes();
+      first_node_by_name_.reserve(all.size());
+      for (std::size_t i = 0; i < all.size(); ++i) first_node_by_name_.insertFirst(all[i].name, static_cast<int>(i));
+      nodes_indexed_ = true;
+    }
+    return first_node_by_name_.find(name);
+  }
+
+  // Entry per node, by exact (case-sensitive) name. Entries that cannot apply are reported.
+  void matchEntries() {
+    matchNodes();
+    for (std::size_t e = 0; e < model_.bones.size(); ++e) {
+      if (matches_[e] != 1 || !entry_is_spring_[e]) warnEntry(e);
+    }
+  }
+
+  void matchNodes() {
+    const auto& all = nodes();
+    entry_of_node_.assign(all.size(), -1);
+    entry_by_name_.reserve(model_.bones.size());
+    entry_is_spring_.resize(model_.bones.size());
+    bool every_entry_spring = true;
+    for (std::size_t e = 0; e < model_.bones.size(); ++e) {
+      entry_by_name_.insertFirst(model_.bones[e].name, static_cast<int>(e));
+      entry_is_spring_[e] = containsSpringBoneToken(model_.bones[e].name);
+      every_entry_spring = every_entry_spring && entry_is_spring_[e];
+    }
+    matches_.assign(model_.bones.size(), 0);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      // A node named without the token can only match an entry named without it.
+      if (every_entry_spring && !is_candidate_[i]) continue;
+      const int entry = entry_by_name_.find(all[i].name);
+      if (entry < 0) continue;
+      ++matches_[entry];
+      if (is_candidate_[i]) entry_of_node_[i] = entry;
+    }
+  }
+
+  void warnEntry(std::size_t e) {
+    const BoneEntry& entry = model_.bones[e];
+    const int matches = matches_[e];
+    if (matches == 0) {
+      warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node",
+           model_.entryPath(entry));
+    } else if (!entry_is_spring_[e]) {
+      warn("bone-not-spring",
+           "metadata names '" + entry.name + "', whose name lacks the 'springbone' token; the entry is ignored",
+           model_.entryPath(entry));
+    } else if (matches > 1) {
+      warn("duplicate-node-name",
+           "the GLB has " + std::to_string(matches) + " nodes named '" + entry.name + "'; the entry applies to each",
+           model_.entryPath(entry));
+    }
+  }
+
+  // chain_of_node_[n] = index of the root joint's node for nodes inside a chain, else -1.
+  void assignChains() {
+    const auto& all = nodes();
+    chain_of_node_.assign(all.size(), -1);
+    for (int n : rig_->skeleton.parents_first) {
+      const int parent = all[n].parent;
+      const int parent_chain = parent >= 0 ? chain_of_node_[parent] : -1;
+      const int entry = entry_of_node_[n];
+      const bool is_root = entry >= 0 && model_.bones[entry].is_root;
+      if (parent_chain >= 0) {
+        chain_of_node_[n] = parent_chain;
+        if (is_root) warnNestedRoot(n, parent_chain, entry);
+      } else if (is_root) {
+        chain_of_node_[n] = n;
+        root_nodes_.push_back(n);
+      }
+    }
+  }
+
+  void warnNestedRoot(int n, int parent_chain, int entry) {
+    const auto& all = nodes();
+    warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
+                            all[parent_chain].name +
+                            "'; it is simulated as a member of that chain with its own parameters",
+         model_.entryPath(model_.bones[entry]));
+  }
+
+  int driverFor(int node) {
+    if (driver_of_node_.empty()) driver_of_node_.assign(nodes().size(), -1);
+    int& driver = driver_of_node_[node];
+    if (driver < 0) {
+      driver = static_cast<int>(rig_->drivers.size());
+      rig_->drivers.emplace_back();
+      rig_->drivers.back().node = node;
+      rig_->drivers.back().name = nodes()[node].name;
+    }
+    return driver;
+  }
+
+  // The driver of an entry's center, or -1 (world space) with a warning when it cannot be used.
+  // Resolved once per entry so a chain sharing an entry warns once.
+  int resolveCenter(int entry_index) {
+    auto cached = center_of_entry_.find(entry_index);
+    if (cached != center_of_entry_.end()) return cached->second;
+    const BoneEntry& entry = model_.bones[entry_index];
+    int driver = -1;
+    if (!entry.center.empty()) {
+      const int node = nodeNamed(entry.center);
+      if (node < 0) {
+        warn("center-not-found", "center '" + entry.center + "' of '" + entry.name +
+                                     "' is not a node of the GLB; using world space",
+             model_.entryPath(entry) + "/center");
+      } else if (is_candidate_[node] || chain_of_node_[node] >= 0) {
+        warn("center-is-spring-bone", "center '" + entry.center + "' of '" + entry.name +
+                                          "' is a spring bone itself; using world space",
+             model_.entryPath(entry) + "/center");
+      } else {
+        driver = driverFor(node);
+      }
+    }
+    center_of_entry_.emplace(entry_index, driver);
+    return driver;
+  }
+
+  void buildJoints() {
+    const auto& all = nodes();
+    auto& joint_of_node = joint_of_node_;
+    joint_of_node.assign(all.size(), -1);
+    // Every chain node with children becomes a joint: reserved exactly, as a Joint is large and
+    // growing the vector would move each one several times.
+    std::size_t joints = 0;
+    for (std::size_t n = 0; n < all.size(); ++n) joints += chain_of_node_[n] >= 0 && !all[n].children.empty();
+    rig_->joints.reserve(joints);
+    auto& queue = queue_;
+    for (int root : root_nodes_) {
+      const int chain_joint = static_cast<int>(rig_->joints.size());
+      bool chain_has_joint = false;
+      queue.assign(1, root);
+      // Breadth-first inside the chain: parents before children, no recursion.
+      for (std::size_t head = 0; head < queue.size(); ++head) {
+        const int n = queue[head];
+        const SkeletonNode& node = all[n];
+        for (int c : node.children) queue.push_back(c);
+        const int entry = entry_of_node_[n];
+        if (node.children.empty()) {
+          if (entry >= 0 && n != root) warnTipEntry(n, entry);
+          continue;
+        }
+        const int joint_index = static_cast<int>(rig_->joints.size());
+        const int parent_joint = node.parent >= 0 ? joint_of_node[node.parent] : -1;
+        rig_->joints.emplace_back();
+        Joint& joint = rig_->joints.back();
+        joint.node = n;
+        joint.tail_node = node.children.front();
+        joint.chain = chain_joint;
+        joint.rest_local = node.rest_local;
+        joint.tail_local = all[joint.tail_node].rest_local.translation;
+        joint.rest_length = glm::length(glm::vec3(all[joint.tail_node].rest_world[3]) -
+                                        glm::vec3(node.rest_world[3]));
+        joint.parent_joint = parent_joint;
+        if (parent_joint >= 0) {
+          const Joint& parent = rig_->joints[parent_joint];
+          joint.params = parent.params;
+          joint.center_driver = parent.center_driver;
+        } else if (node.parent >= 0) {
+          joint.parent_driver = driverFor(node.parent);
+        }
+        if (entry >= 0) {
+          joint.params = model_.bones[entry].params;
+          if (model_.bones[entry].has_center) joint.center_driver = resolveCenter(entry);
+        }
+        if (!(joint.rest_length > kMinBoneLength)) warnZeroLength(n, joint.tail_node);
+        joint_of_node[n] = joint_index;
+        chain_has_joint = true;
+      }
+      if (chain_has_joint) {
+        rig_->chain_roots.push_back(chain_joint);
+      } else {
+        warnRootWithoutTail(root);
+      }
+    }
+  }
+
+  void warnTipEntry(int n, int entry) {
+    warn("tip-entry-ignored", "'" + nodes()[n].name +
+                                  "' is a chain tip (no children): it only marks where its parent bone ends, so "
+                                  "its parameters are ignored",
+         model_.entryPath(model_.bones[entry]));
+  }
+
+  void warnZeroLength(int n, int tail) {
+    warn("zero-length-bone", "'" + nodes()[n].name + "' and its tail '" + nodes()[tail].name +
+                                 "' are at the same place; the bone keeps its rest rotation");
+  }
+
+  void warnRootWithoutTail(int root) {
+    warn("root-without-tail",
+         "spring root '" + nodes()[root].name + "' has no child bone, so there is nothing to simulate");
+  }
+
+  // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
+  // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
+  void addColliders() {
+    if ((options_.colliders.empty() && options_.preset == ColliderPreset::kNone) || rig_->joints.empty()) return;
+    const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
+    // A preset's shapes first, then the caller's.
+    const std::vector<ColliderSpec>* specs = &options_.colliders;
+    std::vector<ColliderSpec> with_preset;
+    if (options_.preset == ColliderPreset::kDclBody) {
+      with_preset = dclBodyColliders(rig_->skeleton, rig_->warnings);
+      for (const ColliderSpec& spec : options_.colliders) with_preset.push_back(spec);
+      specs = &with_preset;
+    }
+    std::unordered_map<std::string, int> external;
+    for (const ColliderSpec& spec : *specs) {
+      const bool plane = spec.shape == Collider::Shape::kPlane;
+      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && (!plane || isFinite(spec.normal)) &&
+                          std::isfinite(spec.radius);
+      if (!finite || spec.radius < 0.0f) {
+        warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
+        continue;
+      }
+      glm::vec3 normal = spec.normal;
+      if (plane && !toUnitLength(normal)) {
+        warn("collider-invalid", "plane collider on '" + spec.node + "' has a zero normal; ignored");
+        continue;
+      }
+      int driver = -1;
+      const int node = nodeNamed(spec.node);
+      if (node >= 0) {
+        if (is_candidate_[node] || chain_of_node_[node] >= 0) {
+          warn("collider-on-spring-bone", "collider node '" + spec.node + "' is a spring bone; ignored");
+          continue;
+        }
+        driver = driverFor(node);
+      } else {
+        auto [e, added] = external.emplace(spec.node, static_cast<int>(rig_->drivers.size()));
+        if (added) rig_->drivers.push_back(Driver{-1, spec.node});
+        driver = e->second;
+      }
+      Collider collider;
+      collider.shape = spec.shape;
+      collider.inside = spec.inside && !plane;
+      collider.driver = driver;
+      collider.offset = spec.offset;
+      collider.tail = spec.shape == Collider::Shape::kCapsule ? spec.tail : spec.offset;
+      collider.normal = plane ? normal : glm::vec3(0.0f, 0.0f, 1.0f);
+      collider.radius = plane ? 0.0f : spec.radius;
+      rig_->colliders.push_back(collider);
+    }
+    for (Joint& joint : rig_->joints) {
+      joint.hit_radius = hit_radius;
+      for (std::size_t c = 0; c < rig_->colliders.size(); ++c) joint.colliders.push_back(static_cast<int>(c));
+    }
+  }
+
+  const ModelEntry& model_;
+  const RigOptions& options_;
+  std::shared_ptr<Rig> rig_;
+  std::vector<bool> is_candidate_;
+  std::vector<int> entry_of_node_;
+  std::vector<int> chain_of_node_;
+  std::vector<int> root_nodes_;
+  // Views of the skeleton's names (the rig owns the skeleton and never changes it), so indexing
+  // 7,000 nodes copies no strings.
+  NameIndex first_node_by_name_;  ///< filled by nodeNamed
+  bool nodes_indexed_ = false;
+  std::unordered_map<int, int> center_of_entry_;
+  // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
+  NameIndex entry_by_name_;
+  std::vector<int> matches_;
+  std::vector<bool> entry_is_spring_;  ///< the entry's name has the token
+  std::vector<int> joint_of_node_;
+  std::vector<int> queue_;
+  std::vector<int> driver_of_node_;  ///< node -> driver, -1 (sized on first use)
+};
+
+}  // namespace
+
+bool isSpringBoneName(const std::string& name) { return containsSpringBoneToken(name); }
+
+std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
+                                    std::vector<Warning> warnings, const RigOptions& options) {
+  return RigBuilder(std::move(skeleton), model, std::move(warnings), options).build();
+}
+
+}  // namespace springbones

@@ -1,0 +1,71 @@
+#include "simulation/jump_carry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/transform_math.h"
+
+namespace springbones {
+namespace {
+
+// cos x for x in [0, pi/2] by its Taylor series (the last term is below 1e-16 there): std::cos
+// would bring libm's argument reduction and its tables into the module, about 7 KB gzip.
+double cosine(double x) {
+  double term = 1.0, sum = 1.0;
+  for (int k = 1; k <= 12; ++k) {
+    term *= -x * x / ((2 * k - 1) * (2 * k));
+    sum += term;
+  }
+  return sum;
+}
+
+}  // namespace
+
+bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle) {
+  const float per = static_cast<float>(std::max(1, steps));
+  const float moved_limit = distance * per;
+  const float half_angle = 0.5f * angle * per;
+  const bool check_distance = moved_limit > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
+  // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is below
+  // the cosine of half of it.
+  const float min_dot = check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
+  for (std::size_t d = 0; d < to.size(); ++d) {
+    const Transform a = from.transform(d), b = to.transform(d);
+    const glm::vec3 moved = b.translation - a.translation;
+    if (check_distance && glm::dot(moved, moved) > moved_limit * moved_limit) return true;
+    if (check_angle && std::abs(glm::dot(a.rotation, b.rotation)) < min_dot) return true;
+  }
+  return false;
+}
+
+void JumpCarry::resize(std::size_t drivers) {
+  delta_.resize(drivers);
+  from_.resize(drivers);
+  carried_to_.resize(drivers);
+  valid_.assign(drivers, 0);
+  carried_.resize(16 * drivers);
+}
+
+void JumpCarry::prepare(const DriverPoses& older, const DriverPoses& from, const DriverPoses& to) {
+  for (std::size_t d = 0; d < to.size(); ++d) {
+    const glm::mat4 m_from = from.matrix(d);
+    glm::mat4 inverse_older, inverse_expected, inverse_from;
+    const glm::mat4 expected = affineInverse(older.matrix(d), inverse_older) ? m_from * inverse_older * m_from : m_from;
+    delta_[d] = affineInverse(expected, inverse_expected) ? to.matrix(d) * inverse_expected : glm::mat4(1.0f);
+    const glm::mat4 carried = delta_[d] * m_from;
+    valid_[d] = affineInverse(carried, carried_to_[d]) && affineInverse(m_from, inverse_from) ? 1 : 0;
+    from_[d] = m_from;
+    std::memcpy(carried_.data() + 16 * d, &carried[0][0], sizeof(float) * 16);
+  }
+}
+
+glm::vec3 JumpCarry::carry(const glm::vec3& stored, int carrier, int center) const {
+  const bool in_center = center >= 0 && valid_[center];
+  glm::vec3 world = in_center ? glm::vec3(from_[center] * glm::vec4(stored, 1.0f)) : stored;
+  if (carrier >= 0) world = glm::vec3(delta_[carrier] * glm::vec4(world, 1.0f));
+  const glm::vec3 out = in_center ? glm::vec3(carried_to_[center] * glm::vec4(world, 1.0f)) : world;
+  return isFinite(out) ? out : stored;
+}
+
+}  // namespace springbones

@@ -1,0 +1,584 @@
+// The spring-bone step.
+//
+// Where the update comes from: it is the VRM family's per-joint update (UniVRM's VRMSpringBone,
+// credited there to @ricopin416; the VRMC_springBone 1.0 specification; @pixiv/three-vrm): Verlet
+// inertia reduced by drag, an impulse toward the rest direction scaled by stiffness, a gravity
+// impulse, then the tail is put back at the bone's length and the joint is turned to point at it.
+// docs/semantics.md, "The step and the fixed-step rule", states it. Our own choices on top of it:
+//  - Fixed steps. In that update inertia and drag act once per update while stiffness and gravity
+//    scale with dt, so the motion depends on the update rate. We therefore always step at a fixed
+//    rate (stepHz) with an accumulator, run at most maxSubsteps steps per frame and drop the rest
+//    (a hitch or a hidden tab must not explode), and interpolate the driver matrices across the
+//    substeps of a frame. The same motion then comes out at 30, 60 or 144 fps.
+//  - Bone lengths are measured under the current parent transform (the rest tail offset carried
+//    by the parent's world matrix), never from the previous frame's child position, and all
+//    positions are world-space: a 0.01-scaled armature behaves like an unscaled one.
+//  - Two ways to carry transforms down a chain. Avatars are almost always rotations, translations
+//    and uniform scales (similarities), which compose with a quaternion, a vector and a float: the
+//    fast path. A driver with shear or non-uniform scale, or a rig with non-uniform bone scales,
+//    takes the general path on full matrices, so such hierarchies do not skew the bones. Both
+//    compute the same update; which one runs is decided from the inputs alone, so native and
+//    WebAssembly builds choose alike.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <vector>
+
+#include "common/transform_math.h"
+#include "simulation/driver_poses.h"
+#include "simulation/jump_carry.h"
+#include "simulation/spring_lanes.h"
+#include "simulation/wind.h"
+#include "simulation/xpbd_solver.h"
+#include "springbones/springbones.h"
+
+namespace springbones {
+namespace {
+
+constexpr float kMinLength = 1e-6f;
+// The parent of a chain root that hangs from no driver.
+const glm::mat4 kIdentity(1.0f);
+
+// A jump threshold as used: a finite number above 0, else 0 (detection off).
+float jumpThreshold(float value) { return value > 0.0f && std::isfinite(value) ? value : 0.0f; }
+
+// A rotation, translation and uniform scale.
+struct Similarity {
+  glm::vec3 position{0.0f};
+  float scale = 1.0f;
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+
+  glm::vec3 apply(const glm::vec3& p) const { return position + scale * (rotation * p); }
+  glm::mat4 matrix() const {
+    glm::mat4 m = glm::mat4_cast(rotation);
+    m[0] *= scale;
+    m[1] *= scale;
+    m[2] *= scale;
+    m[3] = glm::vec4(position, 1.0f);
+    return m;
+  }
+};
+
+// Interpolated rotation between two drivers' poses, as the lane path interpolates them.
+glm::quat interpolateRotation(const glm::quat& a, const glm::quat& b, float t) {
+  glm::quat out;
+  nlerpRotation(a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w, t, out.x, out.y, out.z, out.w);
+  return out;
+}
+
+// The spring update shared by both paths: Verlet inertia (center space) reduced by drag, the
+// stiffness and gravity impulses (world space), then back onto the sphere of the bone length.
+// Returns the new tail offset from the head, in world space.
+struct SpringInput {
+  glm::vec3 head;
+  glm::vec3 rest_dir;     // world
+  glm::vec3 rest_offset;  // world, rest_dir * length
+  float length;
+};
+
+}  // namespace
+
+struct Instance::State {
+  explicit State(std::shared_ptr<const Rig> r) : rig(std::move(r)) {}
+  ~State() {
+    if (lanes) lanes->releaseCopy(lane_copy);
+  }
+
+  std::shared_ptr<const Rig> rig;
+  InstanceOptions options;
+  double step_seconds = 1.0 / 60.0;
+  double accumulator = 0.0;
+  bool seeded = false;
+  bool fast_path = true;       // what the current frame's steps use
+  std::unique_ptr<XpbdSolver> xpbd;  // set when options.integrator is kXpbd
+
+  // Rig-derived constants, per joint.
+  std::vector<glm::mat4> rest_local_matrix;
+  std::vector<glm::vec3> tail_axis;  // unit tail direction in the joint's local space
+  std::vector<float> tail_distance;  // |tail_local|
+
+  // Inputs, per driver.
+  std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
+  // This frame's driver poses, the last frame's and the one before (the drivers' last motion, for
+  // jumps); they take turns every frame (an index, as swapping objects of ~20 vectors each cost
+  // more than reading them).
+  DriverPoses poses[3];
+  int current = 0;
+  DriverPoses& currentPoses() { return poses[current]; }
+  const DriverPoses& currentPoses() const { return poses[current]; }
+  const DriverPoses& previousPoses() const { return poses[(current + 2) % 3]; }
+  DriverPoses& previousPoses() { return poses[(current + 2) % 3]; }
+  const DriverPoses& olderPoses() const { return poses[(current + 1) % 3]; }
+  void holdPoses() {  // no motion so far: every pose is this frame's
+    poses[(current + 1) % 3] = poses[(current + 2) % 3] = currentPoses();
+  }
+  std::vector<glm::mat4> step_drivers, step_driver_inverses;  // general path, per step
+  ColliderTable collider_table;  // world-space colliders of the current step, general paths
+  std::vector<bool> step_inverse_valid;
+
+  // Simulation state, per joint.
+  std::vector<glm::vec3> current_tail, previous_tail;  // in the joint's center space
+  std::shared_ptr<SpringLanes> lanes;  // the rig's lane pool (fast path); null: the rig or XPBD cannot use it
+  std::size_t lane_copy = 0;           // this instance's copy in it
+  bool batched = false;                // stepAll: this frame's steps go through the pool with others
+  std::vector<glm::mat4> joint_world;                  // general path world transforms
+  bool world_from_similarity = false;                  // which of the two is current
+  mutable std::vector<float> world_output;             // worldMatrices(), filled on request
+  std::vector<float> rotations;                        // output, x y z w per joint
+
+  // Wind (springbones.h): what setWind left, the steps taken so far (the wind's clock: simulated
+  // time, not wall time) and this step's pull times h, as the general path adds it.
+  Wind wind;
+  std::uint64_t wind_steps = 0;
+  glm::vec3 step_wind{0.0f};
+
+  // Jumps (see carryAcrossJump).
+  bool jump_requested = false;
+  int jump_count = 0;
+  JumpCarry jump_carry;
+
+  // Carries every chain across a jump of the drivers (jump_carry.h): the tails (current and
+  // previous, so the velocity too) move with the jump of the driver their chain hangs from, and
+  // every driver's last pose with its own, so the frame's steps interpolate only the motion. The
+  // chain keeps its shape and its motion relative to that driver, and the jump adds no velocity.
+  void carryAcrossJump() {
+    jump_carry.prepare(olderPoses(), previousPoses(), currentPoses());
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const int carrier = joints[joints[j].chain].parent_driver, center = joints[j].center_driver;
+      glm::vec3 now, before;
+      if (xpbd) {
+        xpbd->tailState(j, now, before);
+        xpbd->setTailState(j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
+        continue;
+      }
+      current_tail[j] = jump_carry.carry(current_tail[j], carrier, center);
+      previous_tail[j] = jump_carry.carry(previous_tail[j], carrier, center);
+      if (lanes) {
+        lanes->tailState(lane_copy, j, now, before);
+        lanes->setTailState(lane_copy, j, jump_carry.carry(now, carrier, center), jump_carry.carry(before, carrier, center));
+      }
+    }
+    previousPoses().read(jump_carry.carriedPoses(), olderPoses());
+    ++jump_count;
+  }
+
+  bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
+
+  void prepareDrivers(float t) {
+    if (fast_path) {
+      DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverIndex(lane_copy, 0),
+                         lanes->driverStride());
+      prepareColliders();
+      return;
+    }
+    for (std::size_t d = 0; d < currentPoses().size(); ++d) {
+      if (t >= 1.0f) {
+        step_drivers[d] = currentPoses().matrix(d);
+      } else {
+        const Transform ta = previousPoses().transform(d), tb = currentPoses().transform(d);
+        Transform r;
+        r.translation = glm::mix(ta.translation, tb.translation, t);
+        r.rotation = interpolateRotation(ta.rotation, tb.rotation, t);
+        r.scale = glm::mix(ta.scale, tb.scale, t);
+        step_drivers[d] = composeTransform(r);
+      }
+      glm::mat4 inverse;
+      step_inverse_valid[d] = affineInverse(step_drivers[d], inverse);
+      if (step_inverse_valid[d]) step_driver_inverses[d] = inverse;
+    }
+    prepareColliders();
+  }
+
+  // Colliders in world space for this step. The radius scales with the driver: uniformly on the
+  // fast path, by the largest axis scale of a general matrix. A plane's normal turns with the
+  // driver's inverse transpose (perpendicular to the plane under any scale), then is made unit; a
+  // singular driver leaves it NaN, and a NaN normal moves no tail.
+  void prepareColliders() {
+    const auto& all = rig->colliders;
+    for (std::size_t c = 0; c < all.size(); ++c) {
+      const Collider& collider = all[c];
+      const bool plane = collider.shape == Collider::Shape::kPlane;
+      glm::vec3 start, end;
+      float scale;
+      if (fast_path) {
+        const DriverTable& table = lanes->drivers();
+        const std::size_t slot = lanes->driverIndex(lane_copy, collider.driver);
+        Similarity m;
+        m.position = glm::vec3(table.px[slot], table.py[slot], table.pz[slot]);
+        m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);
+        m.scale = table.s[slot];
+        start = m.apply(collider.offset);
+        end = plane ? glm::normalize(m.rotation * collider.normal) : m.apply(collider.tail);
+        scale = m.scale;
+      } else {
+        const glm::mat4& m = step_drivers[collider.driver];
+        start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
+        end = plane ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * collider.normal)
+                    : glm::vec3(m * glm::vec4(collider.tail, 1.0f));
+        scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+      }
+      const float radius = plane ? 0.0f : collider.radius * scale;
+      if (fast_path) {
+        lanes->colliders().set(lanes->colliderIndex(lane_copy, c), start, end, radius);
+      } else {
+        collider_table.set(c, start, end, radius);
+      }
+    }
+  }
+
+  // Moves a tail out of (or into, or onto the side of) the joint's colliders, each followed by
+  // the length constraint again (VRMC_springBone order).
+  glm::vec3 collide(const Joint& joint, const glm::vec3& head, glm::vec3 tail, float length) const {
+    for (int c : joint.colliders) {
+      const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
+      const glm::vec3 end(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]);
+      if (!moveTailByCollider(colliderKind(rig->colliders[c]), start, end, collider_table.radius[c], joint.hit_radius,
+                              tail)) {
+        continue;
+      }
+      const glm::vec3 offset = tail - head;
+      const float offset_length = glm::length(offset);
+      if (offset_length > kMinLength && std::isfinite(offset_length)) tail = head + offset * (length / offset_length);
+    }
+    return tail;
+  }
+
+  // Center space. A general-path center without an inverse this step counts as world space.
+  glm::vec3 toCenter(const Joint& joint, const glm::vec3& world) const {
+    const int c = joint.center_driver;
+    if (c < 0 || !step_inverse_valid[c]) return world;
+    return glm::vec3(step_driver_inverses[c] * glm::vec4(world, 1.0f));
+  }
+
+  glm::vec3 fromCenter(const Joint& joint, const glm::vec3& local) const {
+    const int c = joint.center_driver;
+    if (c < 0 || !step_inverse_valid[c]) return local;
+    return glm::vec3(step_drivers[c] * glm::vec4(local, 1.0f));
+  }
+
+  void writeRotation(std::size_t j, const glm::quat& q) {
+    float* out = rotations.data() + 4 * j;
+    out[0] = q.x;
+    out[1] = q.y;
+    out[2] = q.z;
+    out[3] = q.w;
+  }
+
+  // Returns the new world tail offset from the head and advances the joint's tail state.
+  glm::vec3 integrate(std::size_t j, const Joint& joint, const SpringInput& in, float h) {
+    const BoneParams& p = joint.params;
+    const glm::vec3 current = current_tail[j];
+    const glm::vec3 inertia = (current - previous_tail[j]) * (1.0f - p.drag);
+    glm::vec3 next = fromCenter(joint, current + inertia);
+    next += in.rest_dir * (p.stiffness * h);
+    next += p.gravity_dir * (p.gravity_power * h);
+    next += step_wind;
+    glm::vec3 offset = next - in.head;
+    const float offset_length = glm::length(offset);
+    offset = offset_length > kMinLength && std::isfinite(offset_length)
+                 ? offset * (in.length / offset_length)
+                 : in.rest_offset;  // tail on the head (or lost): restart from rest
+    const glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
+    previous_tail[j] = current;
+    current_tail[j] = toCenter(joint, tail);
+    return tail - in.head;
+  }
+
+  // The joint's local rotation that turns its rest axis toward `local_dir` (unit or not).
+  glm::quat aimedRotation(std::size_t j, const Joint& joint, glm::vec3 local_dir) const {
+    const float len = glm::length(local_dir);
+    local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis[j];
+    return glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis[j], local_dir));
+  }
+
+  const glm::mat4& parentMatrix(const Joint& joint) const {
+    if (joint.parent_joint >= 0) return joint_world[joint.parent_joint];
+    if (joint.parent_driver >= 0) return step_drivers[joint.parent_driver];
+    return kIdentity;
+  }
+
+  void stepGeneral(float h, bool seed_only) {
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const Joint& joint = joints[j];
+      const glm::mat4& parent = parentMatrix(joint);
+      const glm::mat4 rest_world = parent * rest_local_matrix[j];
+      const glm::mat3 rest_linear(rest_world);
+      SpringInput in;
+      in.head = glm::vec3(rest_world[3]);
+      in.rest_offset = rest_linear * joint.tail_local;
+      in.length = glm::length(in.rest_offset);
+      if (seed_only || !(in.length > kMinLength) || !(tail_distance[j] > kMinLength)) {
+        if (seed_only) current_tail[j] = previous_tail[j] = toCenter(joint, in.head + in.rest_offset);
+        joint_world[j] = rest_world;
+        writeRotation(j, joint.rest_local.rotation);
+        continue;
+      }
+      in.rest_dir = in.rest_offset / in.length;
+      const glm::vec3 offset = integrate(j, joint, in, h);
+      const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
+      Transform local = joint.rest_local;
+      local.rotation = rotation;
+      joint_world[j] = parent * composeTransform(local);
+      writeRotation(j, rotation);
+    }
+  }
+
+  void run(float h, bool seed_only) {
+    if (xpbd) {
+      // The XPBD integrator reads the general path's driver matrices and the shared collider
+      // table, and writes the general path's outputs.
+      world_from_similarity = false;
+      if (seed_only) {
+        xpbd->seed(step_drivers.data(), rotations.data(), joint_world.data());
+      } else {
+        xpbd->step(step_drivers.data(), collider_table, h, rotations.data(), joint_world.data());
+      }
+      return;
+    }
+    world_from_similarity = fast_path;
+    if (fast_path) {
+      const CopyRange own{lane_copy, lane_copy + 1};
+      lanes->run(&own, 1, h, seed_only);
+    } else {
+      stepGeneral(h, seed_only);
+    }
+  }
+
+  // A frame in three phases, so that a scene can interleave the steps of many instances:
+  // beginFrame reads the drivers, seeds if needed and counts the steps; prepareStep(i) sets the
+  // drivers and colliders of step i; endFrame keeps the time left over and this frame's poses.
+  int frame_steps = 0;
+  bool frame_dropped = false;
+  double frame_start = 0.0, frame_dt = 0.0;
+
+  bool beginFrame(double dt) {
+    frame_steps = 0;
+    if (!(dt > 0.0) || !std::isfinite(dt)) return false;
+    currentPoses().read(driver_input.data(), previousPoses());
+    const bool was_seeded = seeded;
+    if (!seeded) {
+      holdPoses();
+      fast_path = lanes && driversAreSimilarities();
+      prepareDrivers(1.0f);
+      run(0.0f, /*seed_only=*/true);
+      seeded = true;
+    }
+    // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
+    // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
+    const double h = step_seconds;
+    const double tolerance = h * 1e-6;
+    frame_start = accumulator;
+    frame_dt = dt;
+    accumulator += dt;
+    // Counted in double: a frame of 1e9 s crosses more steps than an int holds.
+    const double crossed = std::floor((accumulator + tolerance) / h);
+    frame_dropped = crossed > options.max_substeps;
+    frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
+    if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps, options.jump_distance, options.jump_angle))) carryAcrossJump();
+    jump_requested = false;
+    fast_path = lanes && driversAreSimilarities();
+    return true;
+  }
+
+  void prepareStep(int i) {
+    // Where this step falls inside the frame, for driver interpolation.
+    const double h = step_seconds;
+    const double at = frame_dropped ? double(i + 1) / frame_steps : ((i + 1) * h - frame_start) / frame_dt;
+    prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
+    prepareWind();
+  }
+
+  // The wind of the coming step, at the simulated time of its start, for whichever path runs it.
+  void prepareWind() {
+    const glm::vec3 pull = windAt(wind, static_cast<double>(wind_steps) * step_seconds);
+    ++wind_steps;
+    if (xpbd) {
+      xpbd->setWind(pull);
+      return;
+    }
+    step_wind = pull * static_cast<float>(step_seconds);
+    if (fast_path) lanes->setWind(lane_copy, step_wind);
+  }
+
+  void endFrame() {
+    accumulator = frame_dropped ? 0.0 : std::max(0.0, accumulator - frame_steps * step_seconds);
+    // This frame's poses become the previous ones; the next read overwrites the older.
+    current = (current + 1) % 3;
+  }
+};
+
+Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
+  if (!rig) rig = std::make_shared<const Rig>();
+  state_ = std::make_unique<State>(std::move(rig));
+  State& s = *state_;
+  if (options.integrator != Integrator::kXpbd) options.integrator = Integrator::kVrm;
+  const IntegratorDefaults defaults = integratorDefaults(options.integrator);
+  if (!(options.step_hz > 0)) options.step_hz = defaults.step_hz;
+  options.step_hz = std::clamp(options.step_hz, kMinStepHz, kMaxStepHz);
+  if (options.max_substeps <= 0) options.max_substeps = defaults.max_substeps;
+  options.max_substeps = std::min(options.max_substeps, kMaxSubsteps);
+  options.xpbd_iterations = std::clamp(options.xpbd_iterations, 1, kMaxXpbdIterations);
+  s.options = options;
+  s.options.jump_distance = jumpThreshold(options.jump_distance);
+  s.options.jump_angle = jumpThreshold(options.jump_angle);
+  if (options.integrator == Integrator::kXpbd) {
+    XpbdOptions xpbd_options;
+    xpbd_options.iterations = options.xpbd_iterations;
+    s.xpbd = std::make_unique<XpbdSolver>(*s.rig, xpbd_options);
+  }
+  s.step_seconds = 1.0 / options.step_hz;
+
+  const std::size_t joints = s.rig->joints.size();
+  const std::size_t drivers = s.rig->drivers.size();
+  s.rest_local_matrix.resize(joints);
+  s.tail_axis.resize(joints);
+  s.tail_distance.resize(joints);
+  // The lane path takes every rest scale a positive uniform one and at most kMaxLaneColliders.
+  bool lanes_usable = true;
+  for (std::size_t j = 0; j < joints; ++j) {
+    const Joint& joint = s.rig->joints[j];
+    s.rest_local_matrix[j] = composeTransform(joint.rest_local);
+    const float len = glm::length(joint.tail_local);
+    s.tail_distance[j] = len;
+    s.tail_axis[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
+    const glm::vec3 scale = joint.rest_local.scale;
+    if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) lanes_usable = false;
+  }
+  s.driver_input.resize(16 * drivers);
+  for (DriverPoses& poses : s.poses) poses.resize(drivers);
+  s.step_drivers.resize(drivers);
+  s.step_driver_inverses.resize(drivers);
+  s.step_inverse_valid.assign(drivers, false);
+  s.jump_carry.resize(drivers);
+  s.collider_table.resize(s.rig->colliders.size());
+  if (s.rig->colliders.size() > kMaxLaneColliders) lanes_usable = false;
+  // Until the caller writes them, drivers sit at their rest world matrices.
+  for (std::size_t d = 0; d < drivers; ++d) {
+    const int node = s.rig->drivers[d].node;  // -1: an avatar bone outside the GLB
+    const glm::mat4 rest = node >= 0 ? s.rig->skeleton.nodes[node].rest_world : glm::mat4(1.0f);
+    std::memcpy(s.driver_input.data() + 16 * d, &rest[0][0], sizeof(float) * 16);
+  }
+  s.current_tail.resize(joints);
+  s.previous_tail.resize(joints);
+  s.joint_world.resize(joints);
+  s.world_output.resize(16 * joints);
+  s.rotations.resize(4 * joints);
+  for (std::size_t j = 0; j < joints; ++j) {
+    s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
+    s.joint_world[j] = s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world;
+  }
+  // The lane path needs a copy in the rig's pool; the XPBD integrator never takes it.
+  if (lanes_usable && !s.xpbd) {
+    s.lanes = SpringLanes::acquire(s.rig);
+    s.lane_copy = s.lanes->addCopy(s.rotations.data());
+  }
+}
+
+Instance::~Instance() = default;
+
+float* Instance::driverMatrices() { return state_->driver_input.data(); }
+std::size_t Instance::driverCount() const { return state_->rig->drivers.size(); }
+const float* Instance::rotations() const { return state_->rotations.data(); }
+std::size_t Instance::jointCount() const { return state_->rig->joints.size(); }
+const Rig& Instance::rig() const { return *state_->rig; }
+const InstanceOptions& Instance::options() const { return state_->options; }
+
+const float* Instance::worldMatrices() const {
+  const State& s = *state_;
+  for (std::size_t j = 0; j < s.joint_world.size(); ++j) {
+    glm::mat4 m = s.joint_world[j];
+    if (s.world_from_similarity) {
+      Similarity world;
+      s.lanes->jointWorld(s.lane_copy, j, world.position, world.rotation, world.scale);
+      m = world.matrix();
+    }
+    std::memcpy(s.world_output.data() + 16 * j, &m[0][0], sizeof(float) * 16);
+  }
+  return s.world_output.data();
+}
+
+int Instance::lastSteps() const { return state_->frame_steps; }
+
+void Instance::setWind(const Wind& wind) {
+  Wind& w = state_->wind;
+  w = wind;
+  w.strength = std::isnan(wind.strength) ? 0.0f : std::clamp(wind.strength, 0.0f, kMaxWindStrength);
+  w.gust_frequency = std::isnan(wind.gust_frequency) ? 0.0f : std::clamp(wind.gust_frequency, 0.0f, kMaxGustFrequency);
+  const float length = glm::length(wind.direction);
+  if (length > 0.0f && std::isfinite(length)) {
+    w.direction = wind.direction / length;
+  } else {
+    w.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+    w.strength = 0.0f;
+  }
+}
+
+const Wind& Instance::wind() const { return state_->wind; }
+
+void Instance::reset() {
+  state_->seeded = false;
+  state_->accumulator = 0.0;
+  state_->jump_requested = false;
+}
+
+void Instance::jump() { state_->jump_requested = true; }
+int Instance::jumps() const { return state_->jump_count; }
+
+void Instance::setJumpThresholds(float distance, float angle) {
+  if (!std::isnan(distance)) state_->options.jump_distance = jumpThreshold(distance);
+  if (!std::isnan(angle)) state_->options.jump_angle = jumpThreshold(angle);
+}
+
+void Instance::step(double dt) {
+  State& s = *state_;
+  if (!s.beginFrame(dt)) return;
+  for (int i = 0; i < s.frame_steps; ++i) {
+    s.prepareStep(i);
+    s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+  }
+  s.endFrame();
+}
+
+void Instance::stepAll(Instance* const* instances, std::size_t count, double dt) {
+  int most_steps = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    State& s = *instances[n]->state_;
+    s.batched = false;
+    if (!s.beginFrame(dt)) continue;
+    if (s.fast_path && !s.xpbd) {
+      s.batched = true;
+      most_steps = std::max(most_steps, s.frame_steps);
+      continue;
+    }
+    for (int i = 0; i < s.frame_steps; ++i) {  // the general path and XPBD: one by one
+      s.prepareStep(i);
+      s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+    }
+    s.endFrame();
+  }
+  // Step i of every lane-path instance that has one: each queues its copy in its rig's pool, then
+  // each pool runs its queue in as few runs as the copies allow.
+  for (int i = 0; i < most_steps; ++i) {
+    for (std::size_t n = 0; n < count; ++n) {
+      State& s = *instances[n]->state_;
+      if (!s.batched || i >= s.frame_steps) continue;
+      s.prepareStep(i);
+      s.world_from_similarity = true;
+      s.lanes->queueStep(s.lane_copy, static_cast<float>(s.step_seconds));
+    }
+    for (std::size_t n = 0; n < count; ++n) {
+      State& s = *instances[n]->state_;
+      if (s.batched) s.lanes->runQueued();  // the first instance of a pool runs it, the others find it empty
+    }
+  }
+  for (std::size_t n = 0; n < count; ++n) {
+    State& s = *instances[n]->state_;
+    if (s.batched) s.endFrame();
+  }
+}
+
+}  // namespace springbones
