@@ -274,6 +274,10 @@ void SpringLanes::growTo(std::size_t copies) {
   const std::size_t capacity = (wanted + kBlockLanes - 1) / kBlockLanes * kBlockLanes;
   const std::size_t old_capacity = copy_capacity_, old_blocks = blocks_per_row_;
   const std::size_t blocks = lanes_per_copy_ * capacity / kBlockLanes;
+  // Every wider array is built aside and swapped in only once all of them exist, so an allocation
+  // that fails (out of memory) leaves the pool as it was, every array in the old layout.
+  std::vector<std::pair<std::vector<float>*, std::vector<float>>> staged;
+  staged.reserve(32);
   // Every value keeps its (row, rig lane, copy); lane l * capacity + k moves with the capacity.
   const auto widen = [&](std::vector<float>& v, std::size_t rows, std::size_t fields, float (*fill)(std::size_t)) {
     const std::size_t block_floats = fields * kBlockLanes;
@@ -292,7 +296,7 @@ void SpringLanes::growTo(std::size_t copies) {
         }
       }
     }
-    v.swap(wider);
+    staged.emplace_back(&v, std::move(wider));
   };
   widen(slots_, depth_count_, kSlotFields, restSlot);
   widen(world_, depth_count_ + 1, kTransformFields, identityTransform);
@@ -303,7 +307,7 @@ void SpringLanes::growTo(std::size_t copies) {
     for (std::size_t row = 0; row < rows; ++row) {
       for (std::size_t k = 0; k < old_capacity; ++k) wider[row * capacity + k] = v[row * old_capacity + k];
     }
-    v.swap(wider);
+    staged.emplace_back(&v, std::move(wider));
   };
   const std::size_t driver_rows = rig_->drivers.size() + 1;
   for (auto* v : {&drivers_.px, &drivers_.py, &drivers_.pz, &drivers_.qx, &drivers_.qy, &drivers_.qz}) {
@@ -314,8 +318,12 @@ void SpringLanes::growTo(std::size_t copies) {
                   &colliders_.radius}) {
     widen_rows(*v, collider_count_, 0.0f);
   }
-  colliders_.count = collider_count_ * capacity;
   for (auto* v : {&wind_x_, &wind_y_, &wind_z_}) widen_rows(*v, 1, 0.0f);
+  copy_rotations_.reserve(capacity);
+  free_copies_.reserve(free_copies_.size() + (capacity - old_capacity));
+  // Nothing below allocates.
+  for (auto& [target, wider] : staged) target->swap(wider);
+  colliders_.count = collider_count_ * capacity;
   copy_rotations_.resize(capacity, nullptr);
   for (std::size_t k = capacity; k-- > old_capacity;) free_copies_.push_back(k);  // lowest last, taken first
   copy_capacity_ = capacity;
@@ -325,12 +333,14 @@ void SpringLanes::growTo(std::size_t copies) {
 
 std::size_t SpringLanes::addCopy(float* rotations) {
   if (free_copies_.empty()) growTo(copy_capacity_ + 1);
+  // Reserved before the copy is taken: a failed allocation must not leave a copy in use whose
+  // instance was never made.
+  queued_.reserve(copy_capacity_);
+  queued_runs_.reserve(copy_capacity_);
   const std::size_t copy = free_copies_.back();
   free_copies_.pop_back();
   copy_rotations_[copy] = rotations;
   setWind(copy, glm::vec3(0.0f));
-  queued_.reserve(copy_capacity_);
-  queued_runs_.reserve(copy_capacity_);
   return copy;
 }
 
