@@ -370,7 +370,13 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     const int parent = i == 0 ? -1 : static_cast<int>(in.byte() % (i + 1)) - 1;
     if (parent >= 0) children[parent].push_back(i);
     switch (in.byte() % 8) {
-      case 0: names[i] = "Avatar_Hips_" + std::to_string(i); break;
+      case 0: {  // the armature bones the 'dcl-body' preset measures, or a bone it does not know
+        static const char* const kBodyBones[] = {"Avatar_Spine1", "Avatar_Spine2", "Avatar_Neck", "Avatar_Head",
+                                                 "Avatar_LeftShoulder", "Avatar_LeftArm", "Avatar_LeftForeArm",
+                                                 "Avatar_RightShoulder", "Avatar_RightArm", "Avatar_RightForeArm"};
+        names[i] = i % 2 == 0 ? std::string(kBodyBones[(i / 2) % 10]) : "Avatar_Hips_" + std::to_string(i);
+        break;
+      }
       case 1: names[i] = i > 0 ? names[in.byte() % i] : "dup"; break;  // duplicate names
       case 2: names[i] = "SpringBone_" + std::to_string(i); break;
       default: names[i] = "springbone_" + std::to_string(i); break;
@@ -455,6 +461,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     rig_options.colliders.push_back(spec);
   }
   rig_options.hit_radius = toFloat(in.number(0.05, ByteReader::kAny));
+  if (in.byte() % 4 == 0) rig_options.preset = ColliderPreset::kDclBody;
   const std::shared_ptr<const Rig> rig =
       buildRig(std::move(skeleton), model, std::move(warnings), rig_options);
   if (std::string f = checkRig(*rig); !f.empty()) return f;
@@ -467,9 +474,21 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   options.max_substeps = static_cast<int>(static_cast<std::int8_t>(in.byte()));
   Instance instance(rig, options);
   if (std::string f = checkRotations(instance, "after construction"); !f.empty()) return f;
+  // Wind with any numbers at all, on the instance or through the scene below.
+  const std::uint8_t wind_mode = in.byte() % 4;
+  Wind wind;
+  if (wind_mode != 0) {
+    for (int k = 0; k < 3; ++k) wind.direction[k] = toFloat(in.number(1, ByteReader::kAny));
+    wind.strength = toFloat(in.number(20, ByteReader::kAny));
+    wind.gust_frequency = toFloat(in.number(20, ByteReader::kAny));
+    wind.seed = in.u16() | (std::uint32_t(in.u16()) << 16);
+  }
+  if (wind_mode == 1) instance.setWind(wind);
 
   Scene scene;
+  if (wind_mode == 2) scene.setWind(wind);
   scene.add(&instance);
+  if (wind_mode == 3) scene.setWind(wind);
   float* drivers = instance.driverMatrices();
   const std::size_t driver_count = instance.driverCount();
   std::vector<float> rest(drivers, drivers + 16 * driver_count);
