@@ -91,6 +91,14 @@ namespace {
 // The parent of a chain root that hangs from no driver.
 const glm::mat4 kIdentity(1.0f);
 
+// A joint's parent in the world: the joint before it in its chain (already stepped this
+// substep), the driver its chain hangs from, or the identity for a scene root.
+const glm::mat4& parentWorld(const Joint& joint, const glm::mat4* driver_world, const glm::mat4* joint_world) {
+  return joint.parent_joint >= 0    ? joint_world[joint.parent_joint]
+         : joint.parent_driver >= 0 ? driver_world[joint.parent_driver]
+                                    : kIdentity;
+}
+
 constexpr float kMinLength = 1e-6f;
 
 // The hard bone-length constraint with a kinematic head: exact projection onto the sphere. A tail
@@ -182,10 +190,7 @@ void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::
   const auto& joints = rig_.joints;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    const glm::mat4& parent = joint.parent_joint >= 0    ? joint_world_out[joint.parent_joint]
-                              : joint.parent_driver >= 0 ? driver_world[joint.parent_driver]
-                                                         : kIdentity;
-    const glm::mat4 rest_world = parent * rest_local_matrix_[j];
+    const glm::mat4 rest_world = parentWorld(joint, driver_world, joint_world_out) * rest_local_matrix_[j];
     const glm::vec3 tail = glm::vec3(rest_world[3]) + glm::mat3(rest_world) * joint.tail_local;
     current_tail_[j] = previous_tail_[j] = toCenter(joint.center_driver, tail);
     tail_world_[j] = tail;
@@ -215,9 +220,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
   const auto& joints = rig_.joints;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    const glm::mat4& parent = joint.parent_joint >= 0    ? joint_world_out[joint.parent_joint]
-                              : joint.parent_driver >= 0 ? driver_world[joint.parent_driver]
-                                                         : kIdentity;
+    const glm::mat4& parent = parentWorld(joint, driver_world, joint_world_out);
     const glm::mat4 rest_world = parent * rest_local_matrix_[j];
     const glm::mat3 rest_linear(rest_world);
     const glm::vec3 head(rest_world[3]);
