@@ -13,9 +13,8 @@
 // 0.5 s frame every 2 s; steady 60 fps), 120 s of rapid head shaking (the extreme
 // motion XPBD designs are tuned with), each under
 //   vrm:  springbones::Instance as shipped (60 Hz fixed steps, at most 4 per frame);
-//   xpbd: XpbdSolver at 120 Hz, 4 iterations, at most 8 substeps per frame (the same 1/15 s
-//         simulated per frame at most), driven by the fixed-step loop of xpbd_runner.h until
-//         Instance takes `integrator: 'xpbd'`.
+//   xpbd: Instance with integrator kXpbd at its defaults: 120 Hz, 4 iterations, at most 8
+//         substeps per frame (the same 1/15 s simulated per frame at most).
 // Stability columns:
 //   length err max / final: worst |tail - head| / rest - 1 over every joint and frame, and on the
 //     last frame, measured through the output world matrices (bone length drift);
@@ -38,10 +37,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "loading/metadata.h"
-#include "simulation/xpbd_solver.h"
 #include "springbones/springbones.h"
-#include "xpbd_runner.h"
 
 namespace {
 
@@ -82,7 +78,7 @@ std::shared_ptr<const Rig> buildFromJson(const json& nodes, const json& bones, c
   }
   ModelEntry model;
   std::vector<Warning> warnings;
-  parseSpringBones(json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
+  parseSpringBonesText(json{{"version", 1}, {"models", {{"h", bones}}}}.dump(), "h", model, warnings);
   return buildRig(std::move(skeleton), model, warnings, options);
 }
 
@@ -134,60 +130,35 @@ glm::mat4 shaking(double t) {
   return glm::rotate(m, float(0.5 * std::sin(2 * M_PI * 2.0 * t)), glm::vec3(1, 0, 0));
 }
 
-// One integrator behind a common face: drivers in, step, rotations and world matrices out.
+// One integrator behind a common face: springbones::Instance with the integrator and the XPBD
+// passes the row names ("xpbd-it2": 2 passes), at each integrator's default rate and substep cap.
 class Runner {
  public:
-  virtual ~Runner() = default;
-  virtual void setDriver(std::size_t d, const glm::mat4& m) = 0;
-  virtual void step(double dt) = 0;
-  virtual const float* rotations() const = 0;
-  virtual glm::mat4 world(std::size_t joint) const = 0;
-  virtual long long substeps() const = 0;
-};
-
-class VrmRunner : public Runner {
- public:
-  explicit VrmRunner(std::shared_ptr<const Rig> rig) : instance_(std::move(rig)) {}
-  void setDriver(std::size_t d, const glm::mat4& m) override {
+  Runner(std::shared_ptr<const Rig> rig, const std::string& integrator) : instance_(std::move(rig), options(integrator)) {}
+  void setDriver(std::size_t d, const glm::mat4& m) {
     std::memcpy(instance_.driverMatrices() + 16 * d, &m[0][0], sizeof(float) * 16);
   }
-  void step(double dt) override {
+  void step(double dt) {
     instance_.step(dt);
-    // Instance does not expose its step count: the same accumulator arithmetic as its step().
-    const double h = 1.0 / instance_.options().step_hz;
-    accumulator_ += dt;
-    const double crossed = std::floor((accumulator_ + h * 1e-6) / h);
-    const bool dropped = crossed > instance_.options().max_substeps;
-    const int steps = dropped ? instance_.options().max_substeps : static_cast<int>(crossed);
-    accumulator_ = dropped ? 0.0 : std::max(0.0, accumulator_ - steps * h);
-    substeps_ += steps;
+    substeps_ += instance_.lastSteps();
   }
-  const float* rotations() const override { return instance_.rotations(); }
-  glm::mat4 world(std::size_t joint) const override {
+  const float* rotations() const { return instance_.rotations(); }
+  glm::mat4 world(std::size_t joint) const {
     glm::mat4 m;
     std::memcpy(&m[0][0], instance_.worldMatrices() + 16 * joint, sizeof(float) * 16);
     return m;
   }
-  long long substeps() const override { return substeps_; }
+  long long substeps() const { return substeps_; }
 
  private:
+  static InstanceOptions options(const std::string& integrator) {
+    InstanceOptions o;
+    if (integrator != "vrm") o.integrator = Integrator::kXpbd;
+    if (integrator == "xpbd-it2") o.xpbd_iterations = 2;
+    return o;
+  }
   Instance instance_;
-  double accumulator_ = 0.0;
   long long substeps_ = 0;
-};
-
-class XpbdReportRunner : public Runner {
- public:
-  explicit XpbdReportRunner(std::shared_ptr<const Rig> rig, int iterations = XpbdOptions{}.iterations)
-      : runner_(std::move(rig), kXpbdDefaultStepHz, 8, XpbdOptions{60.0, iterations}) {}
-  void setDriver(std::size_t d, const glm::mat4& m) override { runner_.drivers()[d] = m; }
-  void step(double dt) override { runner_.step(dt); }
-  const float* rotations() const override { return runner_.rotations(); }
-  glm::mat4 world(std::size_t joint) const override { return runner_.worldMatrices()[joint]; }
-  long long substeps() const override { return runner_.substepsRun(); }
-
- private:
-  test::XpbdRunner runner_;
 };
 
 glm::quat rotationAt(const float* rotations, std::size_t j) {
@@ -205,9 +176,7 @@ glm::mat4 walking(double t) {
 }
 
 std::unique_ptr<Runner> makeRunner(const std::string& integrator, std::shared_ptr<const Rig> rig) {
-  if (integrator == "vrm") return std::make_unique<VrmRunner>(std::move(rig));
-  if (integrator == "xpbd-it2") return std::make_unique<XpbdReportRunner>(std::move(rig), 2);
-  return std::make_unique<XpbdReportRunner>(std::move(rig));
+  return std::make_unique<Runner>(std::move(rig), integrator);
 }
 
 std::shared_ptr<const Rig> makeRigNamed(const std::string& name, const ParamSet& p) {
@@ -391,8 +360,11 @@ int main(int argc, char** argv) {
   const FramePattern patterns[] = {{"30fps+0.5s spikes", 1.0 / 30, 0.5, 2.0}, {"60fps", 1.0 / 60, 0, 0}};
   const char* rigs[] = {"hair100", "tail10"};
   json report = {{"build", build},
-                 {"vrm", {{"stepHz", 60}, {"maxSubsteps", 4}}},
-                 {"xpbd", {{"stepHz", kXpbdDefaultStepHz}, {"maxSubsteps", 8}, {"iterations", XpbdOptions{}.iterations}}},
+                 {"vrm", {{"stepHz", integratorDefaults(Integrator::kVrm).step_hz},
+                          {"maxSubsteps", integratorDefaults(Integrator::kVrm).max_substeps}}},
+                 {"xpbd", {{"stepHz", integratorDefaults(Integrator::kXpbd).step_hz},
+                           {"maxSubsteps", integratorDefaults(Integrator::kXpbd).max_substeps},
+                           {"iterations", kDefaultXpbdIterations}}},
                  {"stability", {{"secondsPerRow", kSeconds},
                                 {"motion", "rapid head shaking: +-1.2 rad yaw at 3 Hz, +-0.5 rad nod at 2 Hz, +-0.3 m sway at 1.1 Hz"},
                                 {"rows", json::array()}}},
@@ -402,7 +374,7 @@ int main(int argc, char** argv) {
                                 {"rows", json::array()}}}};
 
   std::printf("springbones integrator report (%s build)\n", build);
-  std::printf("vrm = Instance (60 Hz, <= 4 steps/frame); xpbd = XpbdSolver (120 Hz, 4 iterations, <= 8 substeps/frame)\n");
+  std::printf("vrm = Instance (60 Hz, <= 4 steps/frame); xpbd = Instance, integrator xpbd (120 Hz, 4 iterations, <= 8 substeps/frame)\n");
   std::printf("\nStability: %g s of rapid head shaking per row (explosion: non-finite or non-unit rotation, or length error > 1%%)\n",
               kSeconds);
   std::printf("%-5s %-8s %-11s %-18s %7s %8s %12s %12s %6s %12s %16s\n", "integ", "rig", "params", "frames", "frames",
