@@ -27,7 +27,6 @@ namespace {
 
 using nlohmann::json;
 
-constexpr char kSpringBoneToken[] = "springbone";
 // formatErrorField in the content validator shortens fields longer than this many UTF-16 units.
 constexpr std::size_t kCatalystFieldLimit = 100;
 
@@ -328,17 +327,6 @@ std::string catalystField(const std::string& field) {
   return toUtf8(quoted.substr(1, units.size()));
 }
 
-// Builder and catalyst both lower-case the name and look for the token. ASCII folding gives the
-// same answer as JavaScript's toLowerCase here: no non-ASCII character lower-cases to one of the
-// token's letters on its own (U+0130 becomes "i" plus a combining dot).
-bool isSpringBoneName(const std::string& name) {
-  std::string lower = name;
-  for (char& c : lower) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return lower.find(kSpringBoneToken) != std::string::npos;
-}
-
 // ---------------------------------------------------------------------------------------------
 // The entity
 
@@ -470,6 +458,9 @@ std::vector<ValidationError> validateSubject(const json& subject_json, const Sub
                                         " does not match any current representation hash"});
     }
     for (const auto& bone : keysInJavaScriptOrder(*model)) {
+      // The Builder and the catalyst lower-case the name with JavaScript's toLowerCase and look for
+      // the token; isSpringBoneName's ASCII folding answers the same, as no other character
+      // lower-cases to one of the token's letters on its own (U+0130 becomes "i" and a combining dot).
       if (!isSpringBoneName(bone.key())) {
         errors.push_back({model_path + pointerToken(bone.key()),
                           "Bone name " + catalystField(bone.key()) + " in model " +

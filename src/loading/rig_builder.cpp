@@ -24,22 +24,6 @@ namespace {
 
 constexpr float kMinBoneLength = 1e-6f;  // shorter bones have no direction to simulate
 
-bool containsSpringBoneToken(const std::string& name) {
-  static constexpr char kToken[] = "springbone";
-  constexpr std::size_t kTokenLength = sizeof(kToken) - 1;
-  if (name.size() < kTokenLength) return false;
-  for (std::size_t i = 0; i + kTokenLength <= name.size(); ++i) {
-    std::size_t k = 0;
-    while (k < kTokenLength) {
-      char c = name[i + k];
-      if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-      if (c != kToken[k]) break;
-      ++k;
-    }
-    if (k == kTokenLength) return true;
-  }
-  return false;
-}
 
 
 // Name -> first index with that name, over views of strings that outlive it. Open addressing in
@@ -133,7 +117,7 @@ class RigBuilder {
   void indexNodes() {
     const auto& all = nodes();
     is_candidate_.resize(all.size());
-    for (std::size_t i = 0; i < all.size(); ++i) is_candidate_[i] = containsSpringBoneToken(all[i].name);
+    for (std::size_t i = 0; i < all.size(); ++i) is_candidate_[i] = isSpringBoneName(all[i].name);
   }
 
   // The first node named `name`, or -1. Only centers and colliders look nodes up by name, and most
@@ -165,7 +149,7 @@ class RigBuilder {
     bool every_entry_spring = true;
     for (std::size_t e = 0; e < model_.bones.size(); ++e) {
       entry_by_name_.insertFirst(model_.bones[e].name, static_cast<int>(e));
-      entry_is_spring_[e] = containsSpringBoneToken(model_.bones[e].name);
+      entry_is_spring_[e] = isSpringBoneName(model_.bones[e].name);
       every_entry_spring = every_entry_spring && entry_is_spring_[e];
     }
     matches_.assign(model_.bones.size(), 0);
@@ -415,7 +399,22 @@ class RigBuilder {
 
 }  // namespace
 
-bool isSpringBoneName(const std::string& name) { return containsSpringBoneToken(name); }
+bool isSpringBoneName(const std::string& name) {
+  static constexpr char kToken[] = "springbone";
+  constexpr std::size_t kTokenLength = sizeof(kToken) - 1;
+  if (name.size() < kTokenLength) return false;
+  for (std::size_t i = 0; i + kTokenLength <= name.size(); ++i) {
+    std::size_t k = 0;
+    while (k < kTokenLength) {
+      char c = name[i + k];
+      if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+      if (c != kToken[k]) break;
+      ++k;
+    }
+    if (k == kTokenLength) return true;
+  }
+  return false;
+}
 
 std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
                                     std::vector<Warning> warnings, const RigOptions& options) {
