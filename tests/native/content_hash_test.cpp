@@ -6,6 +6,7 @@
 // To regenerate: npm install && node scripts/content_hash_reference.mjs
 #include "content_hash/cid.h"
 #include "springbones/content_hash.h"
+#include "test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -41,16 +42,7 @@ std::string hashOfText(const std::string& text) {
   return contentHash(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
 }
 
-template <typename Bytes>
-std::string toHex(const Bytes& bytes) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string hex;
-  for (std::uint8_t byte : bytes) {
-    hex.push_back(kDigits[byte >> 4]);
-    hex.push_back(kDigits[byte & 15]);
-  }
-  return hex;
-}
+using test::toHex;
 
 TEST(ContentHash, HelloworldIsItsRawLeafCid) {
   EXPECT_EQ(hashOfText("helloworld"), "bafkreietnimfzkvcm25zzpuyd2pals3yzvzswczsqdvzirasxnxy7dyhv4");

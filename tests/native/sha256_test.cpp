@@ -1,5 +1,6 @@
 // SHA-256 against the FIPS 180-4 examples (NIST CSRC "SHA256.pdf" and the long-message test).
 #include "content_hash/sha256.h"
+#include "test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -11,15 +12,7 @@
 namespace springbones {
 namespace {
 
-std::string toHex(const Sha256Digest& digest) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string hex;
-  for (std::uint8_t byte : digest) {
-    hex.push_back(kDigits[byte >> 4]);
-    hex.push_back(kDigits[byte & 15]);
-  }
-  return hex;
-}
+using test::toHex;
 
 std::string sha256Hex(const std::string& text) {
   return toHex(sha256(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));

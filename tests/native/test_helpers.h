@@ -191,6 +191,12 @@ inline int countWarnings(const std::vector<Warning>& warnings, const std::string
 }
 
 /// The single warning with this code and path; fails the test when there is not exactly one.
+inline std::string describeWarnings(const std::vector<Warning>& warnings) {
+  std::string all;
+  for (const Warning& w : warnings) all += "\n  " + w.code + " " + w.path + ": " + w.message;
+  return all;
+}
+
 inline const Warning* findWarning(const std::vector<Warning>& warnings, const std::string& code,
                                   const std::string& path) {
   const Warning* found = nullptr;
@@ -202,9 +208,7 @@ inline const Warning* findWarning(const std::vector<Warning>& warnings, const st
     }
   }
   if (n != 1) {
-    std::string all;
-    for (const Warning& w : warnings) all += "\n  " + w.code + " " + w.path + ": " + w.message;
-    ADD_FAILURE() << n << " warnings '" << code << "' at '" << path << "'; warnings:" << all;
+    ADD_FAILURE() << n << " warnings '" << code << "' at '" << path << "'; warnings:" << describeWarnings(warnings);
   }
   return n == 1 ? found : nullptr;
 }
@@ -217,10 +221,16 @@ inline bool hasWarning(const std::vector<Warning>& warnings, const std::string& 
   return false;
 }
 
-inline std::string describeWarnings(const std::vector<Warning>& warnings) {
-  std::string all;
-  for (const Warning& w : warnings) all += "\n  " + w.code + " " + w.path + ": " + w.message;
-  return all;
+/// Lower-case hexadecimal of a sequence of bytes (a digest, a CID).
+template <typename Bytes>
+std::string toHex(const Bytes& bytes) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string hex;
+  for (std::uint8_t byte : bytes) {
+    hex.push_back(kDigits[byte >> 4]);
+    hex.push_back(kDigits[byte & 15]);
+  }
+  return hex;
 }
 
 }  // namespace test
