@@ -2,7 +2,7 @@
 // and in @pixiv/three-vrm-springbone 3.5.5 (extended colliders on, its default), with the same
 // animated drivers, one step per frame at 60 fps for 240 frames, and prints per file the largest
 // difference of a local rotation's quaternion components, and how often each collider shape of
-// three-vrm touched a tail. Two of the README's documented differences are made equal first
+// three-vrm touched a tail. Two of the differences docs/semantics.md documents are made equal first
 // (lib/three_vrm_equalized.mjs): bone lengths at the current pose, collider radii scaled with the
 // collider node. For files made elsewhere (e.g. the team's shared real VRM files), which must not
 // be copied into the repository: this reads them where they are.

@@ -55,7 +55,7 @@ struct Warning {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Limits we impose on untrusted input (documented in the README; exceeding one is an Error).
+// Limits we impose on untrusted input (docs/input.md; exceeding one is an Error).
 
 inline constexpr std::size_t kMaxNodes = 262144;
 inline constexpr std::size_t kMaxGltfJsonBytes = 64u << 20;
