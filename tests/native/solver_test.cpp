@@ -38,6 +38,13 @@ json params(double stiffness, double gravity, double drag, glm::vec3 dir = {0, -
           {"gravityDir", {dir.x, dir.y, dir.z}}};
 }
 
+// params() of a chain root.
+json rootParams(double stiffness, double gravity, double drag) {
+  json p = params(stiffness, gravity, drag);
+  p["isRoot"] = true;
+  return p;
+}
+
 // Driver "Avatar_Hips" at the origin holding one joint whose tail lies `tail` away.
 std::shared_ptr<const Rig> singleJointRig(glm::vec3 tail, const json& p) {
   json root = p;
@@ -213,11 +220,7 @@ TEST(Solver, ExtremeParametersStayFiniteFor100000Steps) {
   auto rig = makeRig(json::array({node("Avatar_Hips", {0, 0, 0}, {1}), node("springbone_a", {0, 0, 0}, {2}),
                                   node("springbone_b", {0.1f, 0, 0}, {3}), node("springbone_c", {0.1f, 0, 0}, {4}),
                                   node("springbone_tip", {0.1f, 0, 0})}),
-                     json{{"springbone_a", [] {
-                             json p = params(4, 2, 0);
-                             p["isRoot"] = true;
-                             return p;
-                           }()}});
+                     json{{"springbone_a", rootParams(4, 2, 0)}});
   Instance instance(rig);
   for (int i = 0; i < 100000; ++i) {
     const float t = static_cast<float>(i * kH);
@@ -235,11 +238,7 @@ TEST(Solver, BoneLengthsAreUnchangedAfter10000Steps) {
   auto rig = makeRig(json::array({node("Avatar_Hips", {0, 0, 0}, {1}), node("springbone_a", {0, 0, 0}, {2}),
                                   node("springbone_b", {0.1f, 0, 0}, {3}), node("springbone_c", {0, -0.15f, 0}, {4}),
                                   node("springbone_tip", {0.05f, 0, 0.05f})}),
-                     json{{"springbone_a", [] {
-                             json p = params(0.5, 1, 0.1);
-                             p["isRoot"] = true;
-                             return p;
-                           }()}});
+                     json{{"springbone_a", rootParams(0.5, 1, 0.1)}});
   Instance instance(rig);
   for (int i = 0; i < 10000; ++i) {
     const float t = static_cast<float>(i * kH);
@@ -306,11 +305,7 @@ TEST(Solver, SameMotionAt30And60And144Fps) {
   // the same driver path, so after 1 s all three must be in the same state.
   auto rig = makeRig(json::array({node("Avatar_Hips", {0, 0, 0}, {1}), node("springbone_a", {0.1f, 0, 0}, {2}),
                                   node("springbone_b", {0.1f, 0, 0}, {3}), node("springbone_tip", {0.1f, 0, 0})}),
-                     json{{"springbone_a", [] {
-                             json p = params(0.8, 0.6, 0.3);
-                             p["isRoot"] = true;
-                             return p;
-                           }()}});
+                     json{{"springbone_a", rootParams(0.8, 0.6, 0.3)}});
   auto run = [&](int fps) {
     Instance instance(rig);
     for (int f = 1; f <= fps; ++f) {
