@@ -18,6 +18,15 @@ export function optionsObject(where, options, allowed) {
   return options;
 }
 
+// The options that say which models entry applies (loadRig, detectSpringBones).
+export const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+
+export function checkNonEmptyString(what, value, described = 'a string') {
+  if (typeof value !== 'string') throw new TypeError(`${what} must be ${described}`);
+  if (value.length === 0) throw new RangeError(`${what} must not be empty`);
+  return value;
+}
+
 export function toBytes(what, value) {
   if (value instanceof Uint8Array) return value;
   if (value instanceof ArrayBuffer) return new Uint8Array(value);
