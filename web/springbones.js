@@ -156,26 +156,7 @@ class SpringBones {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    return new Rig(m, handle, new RigDescription(text), this.#limits, jumps);
-  }
-}
-
-// The rig description: the core's JSON text (describeRig, springbones/boundary.h), parsed and
-// deep-frozen on its first read, which the per-frame path never needs.
-class RigDescription {
-  #text;
-  #value;
-
-  constructor(text) {
-    this.#text = text;
-  }
-
-  get value() {
-    if (this.#value === undefined) {
-      this.#value = deepFreeze(JSON.parse(this.#text));
-      this.#text = undefined;
-    }
-    return this.#value;
+    return new Rig(m, handle, text, this.#limits, jumps);
   }
 }
 
@@ -199,25 +180,35 @@ let sceneInternals;
 class Rig {
   #m;
   #handle;
+  #descriptionText;  // the core's JSON text (describeRig, springbones/boundary.h) until its first read
   #description;
   #limits;
   #jumps;  // loadRig's jumpDistance / jumpAngle, the default of its instances
 
-  constructor(m, handle, description, limits, jumps = {}) {
+  constructor(m, handle, descriptionText, limits, jumps = {}) {
     this.#m = m;
     this.#handle = handle;
-    this.#description = description;
+    this.#descriptionText = descriptionText;
     this.#limits = limits;
     this.#jumps = jumps;
     Object.freeze(this);
   }
 
   // The description's fields (springbones.d.ts documents each): frozen plain data, parsed on the
-  // first read and the same objects on every read after; readable after dispose().
+  // first read of any (the per-frame path never needs them) and the same objects on every read
+  // after; readable after dispose().
   static {
     for (const key of ['contentHash', 'format', 'nodeCount', 'joints', 'chains', 'drivers', 'colliders', 'warnings']) {
-      Object.defineProperty(Rig.prototype, key, { get() { return this.#description.value[key]; }, configurable: true });
+      Object.defineProperty(Rig.prototype, key, { get() { return this.#parsedDescription()[key]; }, configurable: true });
     }
+  }
+
+  #parsedDescription() {
+    if (this.#description === undefined) {
+      this.#description = deepFreeze(JSON.parse(this.#descriptionText));
+      this.#descriptionText = undefined;
+    }
+    return this.#description;
   }
 
   get disposed() {
