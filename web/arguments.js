@@ -1,5 +1,6 @@
-// Argument checks and serialization shared by the runtime API (springbones.js) and the creator
-// tools (creator_tools.js): everything here runs before a call crosses into WebAssembly.
+// Argument checks and serialization shared by the runtime API (springbones.js), the creator tools
+// (creator_tools.js) and the module loader: everything here runs before a call crosses into
+// WebAssembly.
 
 import { SpringBonesError, withCause } from './errors.js';
 
