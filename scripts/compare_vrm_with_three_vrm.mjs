@@ -22,6 +22,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
 import { createSpringBones } from '../web/springbones.js';
+import { countCollisions } from './lib/three_vrm_collisions.mjs';
 import { scaleColliderRadii, useExactBoneLength } from './lib/three_vrm_equalized.mjs';
 
 const fps = 60;
@@ -57,18 +58,7 @@ async function compare(sb, file) {
   gltf.scene.updateMatrixWorld(true);
   manager.setInitState();  // after the world matrices exist (see make_vrm_trajectories.mjs)
   if (!stock) scaleColliderRadii(manager);
-  const collisions = {};
-  for (const collider of manager.colliders) {
-    const shape = collider.shape;
-    const key = `${shape.type}${shape.inside ? ' inside' : ''}`;
-    collisions[key] ??= 0;
-    const inner = shape.calculateCollision.bind(shape);
-    shape.calculateCollision = (...args) => {
-      const d = inner(...args);
-      if (d < 0) collisions[key]++;
-      return d;
-    };
-  }
+  const collisions = countCollisions(manager, ({ shape }) => `${shape.type}${shape.inside ? ' inside' : ''}`);
   const nodes = await gltf.parser.getDependencies('node');
   const jointNodes = new Set(rig.joints.map((j) => j.node));
   const swaying = gltf.parser.json.scenes[gltf.parser.json.scene ?? 0].nodes.filter((n) => !jointNodes.has(n)).map((n) => nodes[n]);

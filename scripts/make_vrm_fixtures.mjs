@@ -51,6 +51,18 @@ function buildNodes(list) {
   return { nodes, index, roots };
 }
 
+// The glTF document of one model: one scene over `roots`, the extensions at the top level.
+function vrmDoc(nodes, roots, extensionsUsed, extensions) {
+  return {
+    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
+    extensionsUsed,
+    extensions,
+    scene: 0,
+    scenes: [{ nodes: roots }],
+    nodes,
+  };
+}
+
 // Shared body: +Y up, the avatar faces +Z (VRM 1.0 convention), metres.
 const body = [
   ['Root', null, null],
@@ -121,14 +133,7 @@ function vrm10() {
       },
     ],
   };
-  return {
-    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
-    extensionsUsed: ['VRMC_springBone'],
-    extensions: { VRMC_springBone: ext },
-    scene: 0,
-    scenes: [{ nodes: roots }],
-    nodes,
-  };
+  return vrmDoc(nodes, roots, ['VRMC_springBone'], { VRMC_springBone: ext });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -208,14 +213,7 @@ function vrm10Extended() {
       },
     ],
   };
-  return {
-    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
-    extensionsUsed: ['VRMC_springBone', 'VRMC_springBone_extended_collider'],
-    extensions: { VRMC_springBone: ext },
-    scene: 0,
-    scenes: [{ nodes: roots }],
-    nodes,
-  };
+  return vrmDoc(nodes, roots, ['VRMC_springBone', 'VRMC_springBone_extended_collider'], { VRMC_springBone: ext });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -272,14 +270,7 @@ function vrm0() {
       { node: n('J_Hips'), colliders: [{ offset: { x: 0, y: -0.16, z: 0.14 }, radius: 0.09 }] },
     ],
   };
-  return {
-    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
-    extensionsUsed: ['VRM'],
-    extensions: { VRM: { specVersion: '0.0', secondaryAnimation } },
-    scene: 0,
-    scenes: [{ nodes: roots }],
-    nodes,
-  };
+  return vrmDoc(nodes, roots, ['VRM'], { VRM: { specVersion: '0.0', secondaryAnimation } });
 }
 
 mkdirSync(outDir, { recursive: true });

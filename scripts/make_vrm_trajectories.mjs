@@ -31,6 +31,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
 import { gltfOf } from './lib/fixtures/glb.mjs';
+import { countCollisions } from './lib/three_vrm_collisions.mjs';
 import { useExactBoneLength } from './lib/three_vrm_equalized.mjs';
 
 const fps = 60;
@@ -97,18 +98,7 @@ async function run(name, exactLength) {
   const drivers = driverNodes(doc);
 
   // Count collisions so the fixture is known to exercise the colliders.
-  const collisions = {};
-  for (const collider of manager.colliders) {
-    const shape = collider.shape;
-    const key = `${collider.parent.name} ${shape.type}`;
-    collisions[key] ??= 0;
-    const original = shape.calculateCollision.bind(shape);
-    shape.calculateCollision = (...args) => {
-      const d = original(...args);
-      if (d < 0) collisions[key]++;
-      return d;
-    };
-  }
+  const collisions = countCollisions(manager, (collider) => `${collider.parent.name} ${collider.shape.type}`);
 
   const out = {
     drivers: Object.fromEntries(drivers.map((d) => [d, []])),

@@ -1,5 +1,6 @@
-// Argument checks and serialization shared by the runtime API (springbones.js) and the creator
-// tools (creator_tools.js): everything here runs before a call crosses into WebAssembly.
+// Argument checks and serialization shared by the runtime API (springbones.js), the creator tools
+// (creator_tools.js) and the module loader: everything here runs before a call crosses into
+// WebAssembly.
 
 import { SpringBonesError, withCause } from './errors.js';
 
@@ -16,6 +17,15 @@ export function optionsObject(where, options, allowed) {
   if (typeof options !== 'object' || Array.isArray(options)) throw new TypeError(`${where}: options must be an object`);
   checkKeys(where, options, allowed);
   return options;
+}
+
+// The options that say which models entry applies (loadRig, detectSpringBones).
+export const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
+
+export function checkNonEmptyString(what, value, described = 'a string') {
+  if (typeof value !== 'string') throw new TypeError(`${what} must be ${described}`);
+  if (value.length === 0) throw new RangeError(`${what} must not be empty`);
+  return value;
 }
 
 export function toBytes(what, value) {

@@ -7,13 +7,12 @@
 // beside the runtime module's. The tools hold no handles: every call is a pure function of its
 // arguments, and the same argument checks and errors as the runtime API's.
 
-import { optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
+import { checkNonEmptyString, kHashOptions, optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
 import { call, takeError } from './errors.js';
 import { instantiateModule } from './module_loader.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
 
 const kModuleUrl = new URL('./dist/springbones_creator_tools.wasm', import.meta.url);
-const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 
 /**
  * The creator tools over a new instance of their module.
@@ -101,10 +100,8 @@ class CreatorTools {
   setSpringBoneParams(springBones, entity, bodyShape, nodeName, params) {
     const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true);
     const entityText = toJsonText('setSpringBoneParams: entity', entity, false);
-    if (typeof bodyShape !== 'string') throw new TypeError('setSpringBoneParams: bodyShape must be a string');
-    if (bodyShape.length === 0) throw new RangeError('setSpringBoneParams: bodyShape must not be empty');
-    if (typeof nodeName !== 'string') throw new TypeError('setSpringBoneParams: nodeName must be a string');
-    if (nodeName.length === 0) throw new RangeError('setSpringBoneParams: nodeName must not be empty');
+    checkNonEmptyString('setSpringBoneParams: bodyShape', bodyShape);
+    checkNonEmptyString('setSpringBoneParams: nodeName', nodeName);
     if (params !== null && (typeof params !== 'object' || Array.isArray(params))) {
       throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
     }

@@ -6,6 +6,7 @@
 // the web only, see wasm/CMakeLists.txt); in browsers the glue fetches it with streaming
 // compilation, unless the page started that fetch itself and hands over the Response.
 
+import { checkKeys } from './arguments.js';
 import { SpringBonesError, withCause } from './errors.js';
 
 const kIsNode =
@@ -24,11 +25,7 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
   if (options === null || typeof options !== 'object') {
     throw new TypeError(`${where}: options must be an object`);
   }
-  for (const key of Object.keys(options)) {
-    if (!['wasm', 'wasmBinary', 'wasmUrl'].includes(key)) {
-      throw new TypeError(`${where}: unknown option '${key}' (known: wasm, wasmBinary, wasmUrl)`);
-    }
-  }
+  checkKeys(where, options, ['wasm', 'wasmBinary', 'wasmUrl']);
   const { wasm, wasmBinary, wasmUrl } = options;
   const given = [wasm, wasmBinary, wasmUrl].filter((x) => x !== undefined).length;
   if (given > 1) throw new TypeError(`${where}: give one of wasm, wasmBinary and wasmUrl`);

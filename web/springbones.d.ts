@@ -157,13 +157,7 @@ export interface SpringBoneCandidate {
 }
 
 /** What setSpringBoneParams writes for one node; other keys are kept as given. */
-export interface SpringBoneParamsInput {
-  stiffness?: number;
-  gravityPower?: number;
-  gravityDir?: [number, number, number];
-  drag?: number;
-  center?: string | null;
-  isRoot?: boolean | null;
+export interface SpringBoneParamsInput extends SpringBoneEntry {
   [key: string]: unknown;
 }
 

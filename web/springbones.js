@@ -14,7 +14,7 @@
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
-import { checkKeys, optionsObject, toBytes, toJsonText } from './arguments.js';
+import { checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes, toJsonText } from './arguments.js';
 import { SpringBonesError, call, takeError } from './errors.js';
 import { instantiateModule, loadFailed } from './module_loader.js';
 import { version } from './version.js';
@@ -156,30 +156,10 @@ class SpringBones {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    return new Rig(m, handle, new RigDescription(text), this.#limits, jumps);
+    return new Rig(m, handle, text, this.#limits, jumps);
   }
 }
 
-// The rig description: the core's JSON text (describeRig, springbones/boundary.h), parsed and
-// deep-frozen on its first read, which the per-frame path never needs.
-class RigDescription {
-  #text;
-  #value;
-
-  constructor(text) {
-    this.#text = text;
-  }
-
-  get value() {
-    if (this.#value === undefined) {
-      this.#value = deepFreeze(JSON.parse(this.#text));
-      this.#text = undefined;
-    }
-    return this.#value;
-  }
-}
-
-const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 const kIntegrators = ['vrm', 'xpbd'];
 const kJumpOptions = ['jumpDistance', 'jumpAngle'];
 
@@ -200,60 +180,35 @@ let sceneInternals;
 class Rig {
   #m;
   #handle;
+  #descriptionText;  // the core's JSON text (describeRig, springbones/boundary.h) until its first read
   #description;
   #limits;
   #jumps;  // loadRig's jumpDistance / jumpAngle, the default of its instances
 
-  constructor(m, handle, description, limits, jumps = {}) {
+  constructor(m, handle, descriptionText, limits, jumps = {}) {
     this.#m = m;
     this.#handle = handle;
-    this.#description = description;
+    this.#descriptionText = descriptionText;
     this.#limits = limits;
     this.#jumps = jumps;
     Object.freeze(this);
   }
 
-  // Everything below is frozen plain data from the description, parsed on the first read and the
-  // same objects on every read after; it stays readable after dispose().
-
-  /** The models key the rig was built from ('' for a VRM). */
-  get contentHash() {
-    return this.#description.value.contentHash;
+  // The description's fields (springbones.d.ts documents each): frozen plain data, parsed on the
+  // first read of any (the per-frame path never needs them) and the same objects on every read
+  // after; readable after dispose().
+  static {
+    for (const key of ['contentHash', 'format', 'nodeCount', 'joints', 'chains', 'drivers', 'colliders', 'warnings']) {
+      Object.defineProperty(Rig.prototype, key, { get() { return this.#parsedDescription()[key]; }, configurable: true });
+    }
   }
 
-  /** Where the springs came from: 'dcl' (data.springBones), 'vrmc-springbone', 'vrm0' or 'none'. */
-  get format() {
-    return this.#description.value.format;
-  }
-
-  /** Nodes in the GLB. */
-  get nodeCount() {
-    return this.#description.value.nodeCount;
-  }
-
-  /** Simulated joints, parents before children; rotations[4*i..4*i+3] belongs to joints[i]. */
-  get joints() {
-    return this.#description.value.joints;
-  }
-
-  /** Indices into joints of the chain roots. */
-  get chains() {
-    return this.#description.value.chains;
-  }
-
-  /** Nodes whose world matrices the caller writes each frame; driverMatrices[16*i..] is drivers[i]. */
-  get drivers() {
-    return this.#description.value.drivers;
-  }
-
-  /** Collision shapes, each carried by a driver's world matrix. */
-  get colliders() {
-    return this.#description.value.colliders;
-  }
-
-  /** Everything the loader clamped, replaced or ignored: {code, message, path}. */
-  get warnings() {
-    return this.#description.value.warnings;
+  #parsedDescription() {
+    if (this.#description === undefined) {
+      this.#description = deepFreeze(JSON.parse(this.#descriptionText));
+      this.#descriptionText = undefined;
+    }
+    return this.#description;
   }
 
   get disposed() {
@@ -266,29 +221,13 @@ class Rig {
     const opts = optionsObject('createInstance', options,
                                ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations', ...kJumpOptions]);
     const jumps = jumpOptions('createInstance', opts, this.#jumps);
-    let integrator = 'vrm';
-    if (opts.integrator !== undefined) {
-      integrator = opts.integrator;
-      if (typeof integrator !== 'string') throw new TypeError('createInstance: integrator must be a string');
-      if (!kIntegrators.includes(integrator)) {
-        throw new RangeError(`createInstance: integrator must be one of ${kIntegrators.join(', ')}, got '${integrator}'`);
-      }
-    }
+    const integrator = opts.integrator === undefined ? 'vrm' : checkOneOf('createInstance: integrator', opts.integrator, kIntegrators);
     // 0 leaves a value to the core's default for the integrator.
     const { maxStepHz, maxSubsteps: maxSubstepsLimit, maxXpbdIterations, integrators } = this.#limits;
-    let stepHz = 0;
-    let maxSubsteps = 0;
+    const stepHz = opts.stepHz === undefined ? 0 : checkRange('createInstance: stepHz', opts.stepHz, 1, maxStepHz);
+    const maxSubsteps = opts.maxSubsteps === undefined
+      ? 0 : checkInteger('createInstance: maxSubsteps', opts.maxSubsteps, 1, maxSubstepsLimit);
     let xpbdIterations = integrators.xpbd.xpbdIterations;
-    if (opts.stepHz !== undefined) {
-      stepHz = opts.stepHz;
-      if (typeof stepHz !== 'number') throw new TypeError('createInstance: stepHz must be a number');
-      if (!(stepHz >= 1 && stepHz <= maxStepHz)) {
-        throw new RangeError(`createInstance: stepHz must be in [1, ${maxStepHz}], got ${stepHz}`);
-      }
-    }
-    if (opts.maxSubsteps !== undefined) {
-      maxSubsteps = checkInteger('createInstance: maxSubsteps', opts.maxSubsteps, 1, maxSubstepsLimit);
-    }
     if (opts.xpbdIterations !== undefined) {
       xpbdIterations = checkInteger('createInstance: xpbdIterations', opts.xpbdIterations, 1, maxXpbdIterations);
       if (integrator !== 'xpbd') {
@@ -360,19 +299,15 @@ class Instance {
 
   /** Driver world matrices (column-major 4x4, 16 floats per rig.drivers entry), written before step(). */
   get driverMatrices() {
-    if (this.#handle === 0) throw disposedError('instance');
-    if (isStale(this.#m, this.#drivers, this.#driverFloats)) {
-      this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
-    }
+    this.#live();
+    if (isStale(this.#m, this.#drivers, this.#driverFloats)) this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
     return this.#drivers;
   }
 
   /** Local rotations (x, y, z, w), 4 floats per rig.joints entry, current after step(). */
   get rotations() {
-    if (this.#handle === 0) throw disposedError('instance');
-    if (isStale(this.#m, this.#rotations, this.#rotationFloats)) {
-      this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
-    }
+    this.#live();
+    if (isStale(this.#m, this.#rotations, this.#rotationFloats)) this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
     return this.#rotations;
   }
 
@@ -381,19 +316,14 @@ class Instance {
    * The core writes them on request, so each read of this property is one call into WebAssembly.
    */
   get worldMatrices() {
-    if (this.#handle === 0) throw disposedError('instance');
-    this.#m.worldMatricesPtr(this.#handle);  // fills the buffer; its address never changes
-    if (isStale(this.#m, this.#world, 4 * this.#rotationFloats)) {
-      this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
-    }
+    this.#m.worldMatricesPtr(this.#live());  // fills the buffer; its address never changes
+    if (isStale(this.#m, this.#world, 4 * this.#rotationFloats)) this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
     return this.#world;
   }
 
   /** Advances by a frame of dt seconds (fixed substeps inside). dt <= 0 does nothing. */
   step(dt) {
-    if (this.#handle === 0) throw disposedError('instance');
-    checkDt(dt);
-    this.#m.step(this.#handle, dt);
+    this.#m.step(this.#live(), checkDt(dt));
   }
 
   /**
@@ -401,14 +331,12 @@ class Instance {
    * step or a scene's budget held the instance; maxSubsteps when the frame was longer.
    */
   get lastSteps() {
-    if (this.#handle === 0) throw disposedError('instance');
-    return this.#m.lastSteps(this.#handle);
+    return this.#m.lastSteps(this.#live());
   }
 
   /** Forgets the motion (avatar swaps): the next step starts at rest. */
   reset() {
-    if (this.#handle === 0) throw disposedError('instance');
-    this.#m.reset(this.#handle);
+    this.#m.reset(this.#live());
   }
 
   /**
@@ -418,8 +346,7 @@ class Instance {
    * noticed without it.
    */
   jump() {
-    if (this.#handle === 0) throw disposedError('instance');
-    this.#m.jump(this.#handle);
+    this.#m.jump(this.#live());
   }
 
   /**
@@ -429,15 +356,12 @@ class Instance {
    * scenes' wind until a scene's is set again.
    */
   setWind(wind) {
-    if (this.#handle === 0) throw disposedError('instance');
-    const args = windArguments('setWind', wind, this.#limits);
-    this.#m.setWind(this.#handle, ...args);
+    this.#m.setWind(this.#live(), ...windArguments('setWind', wind, this.#limits));
   }
 
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   get jumps() {
-    if (this.#handle === 0) throw disposedError('instance');
-    return this.#m.jumps(this.#handle);
+    return this.#m.jumps(this.#live());
   }
 
   /**
@@ -452,6 +376,12 @@ class Instance {
     this.#handle = 0;
   }
 
+  // The handle, checked: every method but dispose() throws once the instance is disposed of.
+  #live() {
+    if (this.#handle === 0) throw disposedError('instance');
+    return this.#handle;
+  }
+
   #view(ptr, length) {
     return new Float32Array(this.#m.HEAPF32.buffer, ptr, length);
   }
@@ -462,9 +392,7 @@ class Scene {
   #handle;
   #limits;
   #members = [];  // instances in slot order, as the core holds them
-  #positionsPtr = 0;
   #positions;
-  #activePtr = 0;
   #active;
 
   static {
@@ -496,10 +424,8 @@ class Scene {
    * instance.driverMatrices, and the view is also replaced by add() and remove().
    */
   get positions() {
-    if (this.#handle === 0) throw disposedError('scene');
-    if (isStale(this.#m, this.#positions, 3 * this.#members.length)) {
-      this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
-    }
+    this.#live();
+    if (isStale(this.#m, this.#positions, 3 * this.#members.length)) this.#refresh();
     return this.#positions;
   }
 
@@ -509,10 +435,8 @@ class Scene {
    * writes only the active ones' bones). Read-only; same view rules as positions.
    */
   get active() {
-    if (this.#handle === 0) throw disposedError('scene');
-    if (isStale(this.#m, this.#active, this.#members.length)) {
-      this.#active = new Uint8Array(this.#m.HEAPU8.buffer, this.#activePtr, this.#members.length);
-    }
+    this.#live();
+    if (isStale(this.#m, this.#active, this.#members.length)) this.#refresh();
     return this.#active;
   }
 
@@ -541,7 +465,7 @@ class Scene {
 
   /** The slot of an instance in positions, or -1 when it is not in the scene. */
   slotOf(instance) {
-    if (this.#handle === 0) throw disposedError('scene');
+    this.#live();
     return this.#members.indexOf(instance);
   }
 
@@ -550,16 +474,16 @@ class Scene {
    * and restart from rest when they come back). maxActive null or Infinity: no budget.
    */
   setBudget(maxActive, viewerX = 0, viewerY = 0, viewerZ = 0) {
-    if (this.#handle === 0) throw disposedError('scene');
+    const handle = this.#live();
     let max = -1;
     if (maxActive !== null && maxActive !== Infinity) {
       max = checkInteger('setBudget: maxActive', maxActive, 0, 0x7fffffff);
     }
     // Checked one by one, not through an array of pairs: pages call this every frame.
-    checkCoordinate('viewerX', viewerX);
-    checkCoordinate('viewerY', viewerY);
-    checkCoordinate('viewerZ', viewerZ);
-    this.#m.sceneSetBudget(this.#handle, max, viewerX, viewerY, viewerZ);
+    checkFinite('setBudget: viewerX', viewerX);
+    checkFinite('setBudget: viewerY', viewerY);
+    checkFinite('setBudget: viewerZ', viewerZ);
+    this.#m.sceneSetBudget(handle, max, viewerX, viewerY, viewerZ);
   }
 
   /**
@@ -567,21 +491,17 @@ class Scene {
    * argument; null for none). An instance's own setWind afterwards overrides it for that one.
    */
   setWind(wind) {
-    if (this.#handle === 0) throw disposedError('scene');
-    const args = windArguments('setWind', wind, this.#limits);
-    this.#m.sceneSetWind(this.#handle, ...args);
+    this.#m.sceneSetWind(this.#live(), ...windArguments('setWind', wind, this.#limits));
   }
 
   /** Steps every instance (or the budget's nearest) by dt seconds, in one call into WebAssembly. */
   step(dt) {
-    if (this.#handle === 0) throw disposedError('scene');
-    checkDt(dt);
-    this.#m.sceneStep(this.#handle, dt);
+    this.#m.sceneStep(this.#live(), checkDt(dt));
   }
 
   /** Whether the instance was simulated by the last step (false when it is not in the scene). */
   isActive(instance) {
-    if (this.#handle === 0) throw disposedError('scene');
+    this.#live();
     const slot = this.#members.indexOf(instance);
     return slot >= 0 && this.#m.sceneIsActive(this.#handle, slot);
   }
@@ -595,8 +515,14 @@ class Scene {
     this.#handle = 0;
   }
 
-  #instanceHandle(where, instance) {
+  // The handle, checked: every method but dispose() throws once the scene is disposed of.
+  #live() {
     if (this.#handle === 0) throw disposedError('scene');
+    return this.#handle;
+  }
+
+  #instanceHandle(where, instance) {
+    this.#live();
     if (!(instance instanceof Instance)) throw new TypeError(`${where}: expected an instance from rig.createInstance()`);
     if (instanceInternals.module(instance) !== this.#m) {
       throw new TypeError(`${where}: the instance belongs to another springbones module`);
@@ -613,11 +539,11 @@ class Scene {
     this.#refresh();
   }
 
+  // The views, made again: after add() and remove(), and when memory growth detached them.
   #refresh() {
-    this.#positionsPtr = this.#m.scenePositionsPtr(this.#handle);
-    this.#positions = new Float32Array(this.#m.HEAPF32.buffer, this.#positionsPtr, 3 * this.#members.length);
-    this.#activePtr = this.#m.sceneActivePtr(this.#handle);
-    this.#active = new Uint8Array(this.#m.HEAPU8.buffer, this.#activePtr, this.#members.length);
+    const m = this.#m;
+    this.#positions = new Float32Array(m.HEAPF32.buffer, m.scenePositionsPtr(this.#handle), 3 * this.#members.length);
+    this.#active = new Uint8Array(m.HEAPU8.buffer, m.sceneActivePtr(this.#handle), this.#members.length);
   }
 }
 
@@ -634,25 +560,17 @@ function isStale(m, view, length) {
   return view.length !== length || (length === 0 && view.buffer !== m.HEAPU8.buffer);
 }
 
-function checkCoordinate(name, v) {
-  if (typeof v !== 'number') throw new TypeError(`setBudget: ${name} must be a number`);
-  if (!Number.isFinite(v)) throw new RangeError(`setBudget: ${name} must be finite, got ${v}`);
-}
-
 // Which models key applies (docs/semantics.md, "Which models entry"): the caller's hash, then the entity's; '' lets
 // the core hash the GLB itself.
 function resolveHash(m, where, options) {
   const { contentHash, entity, bodyShape } = options;
-  if (contentHash !== undefined) {
-    if (typeof contentHash !== 'string') throw new TypeError(`${where}: contentHash must be a string`);
-    if (contentHash.length === 0) throw new RangeError(`${where}: contentHash must not be empty`);
-  }
+  if (contentHash !== undefined) checkNonEmptyString(`${where}: contentHash`, contentHash);
   if (entity !== undefined || bodyShape !== undefined) {
     if (entity === undefined) throw new TypeError(`${where}: bodyShape needs an entity`);
     if (typeof bodyShape !== 'string') {
       throw new TypeError(`${where}: with an entity, bodyShape must be a string (a body shape URN)`);
     }
-    if (bodyShape.length === 0) throw new RangeError(`${where}: bodyShape must not be empty`);
+    checkNonEmptyString(`${where}: bodyShape`, bodyShape);
   }
   const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
   if (contentHash !== undefined) return contentHash;
@@ -688,14 +606,8 @@ const kColliderShapes = ['sphere', 'capsule', 'plane'];
 function colliderJson(where, c) {
   if (c === null || typeof c !== 'object' || Array.isArray(c)) throw new TypeError(`${where} must be an object`);
   checkKeys(where, c, ['node', 'shape', 'offset', 'radius', 'tail', 'normal', 'inside']);
-  if (typeof c.node !== 'string') throw new TypeError(`${where}.node must be a string (a node name)`);
-  if (c.node.length === 0) throw new RangeError(`${where}.node must not be empty`);
-  if (c.shape !== undefined) {
-    if (typeof c.shape !== 'string') throw new TypeError(`${where}.shape must be a string`);
-    if (!kColliderShapes.includes(c.shape)) {
-      throw new RangeError(`${where}.shape must be one of ${kColliderShapes.join(', ')}, got '${c.shape}'`);
-    }
-  }
+  checkNonEmptyString(`${where}.node`, c.node, 'a string (a node name)');
+  if (c.shape !== undefined) checkOneOf(`${where}.shape`, c.shape, kColliderShapes);
   const shape = c.shape ?? (c.tail !== undefined ? 'capsule' : 'sphere');
   const only = (key, shapes) => {
     if (c[key] !== undefined && !shapes.includes(shape)) {
@@ -733,9 +645,9 @@ function windArguments(where, wind, limits) {
   }
   checkKeys(`${where}: wind`, wind, kWindKeys);
   const direction = checkVec3(`${where}: wind.direction`, wind.direction);
-  const strength = checkRange(`${where}: wind.strength`, wind.strength, limits.maxWindStrength);
+  const strength = checkRange(`${where}: wind.strength`, wind.strength, 0, limits.maxWindStrength);
   const gustFrequency = wind.gustFrequency === undefined
-    ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, limits.maxGustFrequency);
+    ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, 0, limits.maxGustFrequency);
   const seed = wind.seed === undefined ? 0 : checkInteger(`${where}: wind.seed`, wind.seed, 0, 0xffffffff);
   if (strength > 0 && direction.every((v) => v === 0)) {
     throw new RangeError(`${where}: wind.direction must not be zero`);
@@ -743,9 +655,21 @@ function windArguments(where, wind, limits) {
   return [...direction, strength, gustFrequency, seed];
 }
 
-function checkRange(what, value, max) {
+function checkRange(what, value, min, max) {
   if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
-  if (!(value >= 0 && value <= max)) throw new RangeError(`${what} must be in [0, ${max}], got ${value}`);
+  if (!(value >= min && value <= max)) throw new RangeError(`${what} must be in [${min}, ${max}], got ${value}`);
+  return value;
+}
+
+function checkFinite(what, value) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!Number.isFinite(value)) throw new RangeError(`${what} must be finite, got ${value}`);
+  return value;
+}
+
+function checkOneOf(what, value, choices) {
+  if (typeof value !== 'string') throw new TypeError(`${what} must be a string`);
+  if (!choices.includes(value)) throw new RangeError(`${what} must be one of ${choices.join(', ')}, got '${value}'`);
   return value;
 }
 
@@ -756,7 +680,7 @@ function checkVec3(what, value) {
   const out = Array.from(value);
   for (const v of out) {
     if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);
-    if (!Number.isFinite(v)) throw new RangeError(`${what} must be finite, got ${v}`);
+    checkFinite(what, v);
   }
   return out;
 }
@@ -777,7 +701,7 @@ function checkInteger(what, value, min, max) {
 
 function checkDt(dt) {
   if (typeof dt !== 'number') throw new TypeError('step: dt must be a number of seconds');
-  if (!Number.isFinite(dt)) throw new RangeError(`step: dt must be finite, got ${dt}`);
+  return checkFinite('step: dt', dt);
 }
 
 function disposedError(what) {

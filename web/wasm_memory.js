@@ -31,10 +31,7 @@ function isWellFormed(text) {
 export function withUtf8(m, text, fn) {
   if (!isWellFormed(text)) return withBytes(m, utf8Bytes(text), fn);
   const capacity = Math.max(1, 3 * text.length);  // UTF-8 takes at most 3 bytes per UTF-16 unit
-  const ptr = m._malloc(capacity);
-  if (ptr === 0) {
-    throw new SpringBonesError('out-of-memory', `could not allocate ${capacity} bytes in WebAssembly memory`);
-  }
+  const ptr = allocate(m, capacity);
   try {
     const { written } = kTextEncoder.encodeInto(text, m.HEAPU8.subarray(ptr, ptr + capacity));
     return call(() => fn(ptr, written));
@@ -43,12 +40,16 @@ export function withUtf8(m, text, fn) {
   }
 }
 
+// malloc, with a full heap as an out-of-memory error rather than a null pointer.
+function allocate(m, size) {
+  const ptr = m._malloc(size);
+  if (ptr === 0) throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
+  return ptr;
+}
+
 // Copies bytes into WASM memory for the duration of fn(ptr, size).
 export function withBytes(m, bytes, fn) {
-  const ptr = m._malloc(Math.max(1, bytes.length));
-  if (ptr === 0) {
-    throw new SpringBonesError('out-of-memory', `could not allocate ${bytes.length} bytes in WebAssembly memory`);
-  }
+  const ptr = allocate(m, Math.max(1, bytes.length));
   try {
     m.HEAPU8.set(bytes, ptr);  // read HEAPU8 after malloc: it may have grown the memory
     return call(() => fn(ptr, bytes.length));
@@ -66,10 +67,7 @@ export function withRoomForStrings(m, texts, fn) {
   const taken = [];
   try {
     for (const text of texts) {
-      const size = utf8Length(text) + 5;
-      const ptr = m._malloc(size);
-      if (ptr === 0) throw new SpringBonesError('out-of-memory', `could not allocate ${size} bytes in WebAssembly memory`);
-      taken.push(ptr);
+      taken.push(allocate(m, utf8Length(text) + 5));
     }
   } finally {
     for (let i = taken.length - 1; i >= 0; i--) m._free(taken[i]);

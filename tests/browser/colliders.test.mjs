@@ -5,7 +5,7 @@
 // can fail. And the wind slider blows the hair.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { skip, useDemoPage } from './demoPage.mjs';
+import { rotationsAfter, skip, useDemoPage } from './demoPage.mjs';
 
 let page;
 let consoleErrors;
@@ -77,14 +77,7 @@ for (const integrator of ['vrm', 'xpbd']) {
 }
 
 test('the wind slider sets a wind on every avatar, which moves the hair', { skip }, async () => {
-  const pose = () => demo(() => {
-    const d = window.springbonesDemo;
-    d.setPaused(true);
-    d.setAnimation('idle');
-    d.reset();
-    d.advance(2);
-    return d.rotations();
-  });
+  const pose = () => rotationsAfter(page, 'idle', 2);
   const calm = await pose();
   await page.locator('#wind').evaluate((input) => {
     input.value = '2';

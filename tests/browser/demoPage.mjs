@@ -112,6 +112,21 @@ export async function openPage(path, ready, { arg = null, beforeOpen = null } = 
 export const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
 
 /**
+ * The demo's joint rotations after `seconds` of `animation` from rest, paused and advanced by the
+ * debug hook, so the same settings give the same frames.
+ */
+export function rotationsAfter(page, animation, seconds) {
+  return page.evaluate(([clip, s]) => {
+    const d = window.springbonesDemo;
+    d.setPaused(true);
+    d.setAnimation(clip);
+    d.reset();
+    d.advance(s);
+    return d.rotations();
+  }, [animation, seconds]);
+}
+
+/**
  * The demo's joint rotations once the running frame loop has moved some joint by more than
  * `threshold` from `before`: waited for frame by frame rather than slept on, since a loaded
  * machine may run few frames in any fixed interval. Fails (the page's default limit for a hung

@@ -7,7 +7,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { maxAbsDiff, root, skip, useDemoPage } from './demoPage.mjs';
+import { maxAbsDiff, root, rotationsAfter, skip, useDemoPage } from './demoPage.mjs';
 
 const sampleHash = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8')).files['hair_wearable.glb'].contentHash;
 
@@ -206,14 +206,7 @@ test('animation, turn and shake move the avatar; pause and reset stop and rewind
 
 test('the integrator switch runs XPBD live, in the page\'s one scene', { skip }, async () => {
   // Same start, same frames: the two integrators move differently.
-  const run = () => demo(() => {
-    const d = window.springbonesDemo;
-    d.setPaused(true);
-    d.setAnimation('walk');
-    d.reset();
-    d.advance(1.5);
-    return d.rotations();
-  });
+  const run = () => rotationsAfter(page, 'walk', 1.5);
   const vrm = await run();
   await page.locator('#integrator').selectOption('xpbd');
   let s = await state();

@@ -6,7 +6,7 @@ import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { gltfOf } from '../../scripts/lib/fixtures/glb.mjs';
-import { contentHashOf, fixture, loadFixtureRig, metadataKeyOf, springRig } from './helpers.mjs';
+import { contentHashOf, fixture, loadFixtureRig, metadataKeyOf, springRig, swayFrames } from './helpers.mjs';
 import { swayDrivers } from '../../scripts/lib/sway.mjs';
 
 let sb;
@@ -277,12 +277,8 @@ describe('instances', () => {
 
   test('moving the drivers moves the chains; dt 0 and negative dt change nothing', () => {
     const inst = loadFixtureRig(sb, 'avatar_hair.glb').createInstance();
-    const rest = Float32Array.from(inst.driverMatrices);
     const atRest = Float32Array.from(inst.rotations);
-    for (let k = 1; k <= 30; ++k) {
-      swayDrivers(rest, inst.driverMatrices, k / 60);
-      inst.step(1 / 60);
-    }
+    swayFrames(inst, 30);
     const moved = Float32Array.from(inst.rotations);
     assert.notDeepEqual(moved, atRest);
     for (const r of moved) assert.ok(Number.isFinite(r));
@@ -294,11 +290,7 @@ describe('instances', () => {
   test('reset() restarts from rest: the next step matches a fresh instance', () => {
     const rig = loadFixtureRig(sb, 'avatar_hair.glb');
     const a = rig.createInstance();
-    const rest = Float32Array.from(a.driverMatrices);
-    for (let k = 1; k <= 40; ++k) {
-      swayDrivers(rest, a.driverMatrices, k / 60);
-      a.step(1 / 60);
-    }
+    swayFrames(a, 40);
     a.reset();
     const b = rig.createInstance();
     b.driverMatrices.set(a.driverMatrices);

@@ -10,15 +10,13 @@ import { readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { describe, test } from 'node:test';
 import { fileURLToPath } from 'node:url';
-import { AnimationMixer, Group, Matrix4, Scene, Vector3 } from 'three';
-import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
+import { Matrix4, Vector3 } from 'three';
 import { loadSampleWearable } from './sample_wearable.mjs';
 import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
 import { metadataKeyOf } from './helpers.mjs';
-import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
 
-const { sb, avatarGltf, wearableGltf, wearableBytes, metadata } = await loadSampleWearable();
+const { sb, wearableBytes, metadata, wear } = await loadSampleWearable();
 const fixtures = join(dirname(fileURLToPath(import.meta.url)), '..', 'fixtures');
 const kHitRadius = 0.01;  // the demo's
 const kDt = 1 / 60;
@@ -104,18 +102,9 @@ describe('the shapes', () => {
 /** The sample on the demo's avatar, in a holder that is shaken and spun as the demo does it. */
 function wornSample(integrator, options) {
   const rig = sb.loadRig(wearableBytes, metadata, options);
-  const scene = new Scene();
-  const holder = new Group();
-  scene.add(holder);
-  const avatarRoot = SkeletonUtils.clone(avatarGltf.scene);
-  holder.add(avatarRoot);
-  const mixer = new AnimationMixer(avatarRoot);
-  const wearable = SkeletonUtils.clone(wearableGltf.scene);
-  const attachment = attachWearable(avatarRoot, wearable, rig, {
-    nodes: wearableNodes(wearableGltf, wearable), instance: { integrator }, mixer,
-  });
-  mixer.clipAction(avatarGltf.animations.find((c) => c.name === 'walk')).play();
-  return { rig, scene, holder, mixer, attachment, avatarRoot };
+  const worn = wear(rig, { instance: { integrator }, watchMixer: true });
+  worn.actions.walk.play();
+  return { rig, ...worn };
 }
 
 // The shapes as the preset builds them for the sample (the rig with colliders reports them).

@@ -6,8 +6,7 @@ import { join } from 'node:path';
 import { test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
-import { fnv1a, loadFixtureRig, root } from './helpers.mjs';
+import { fnv1a, loadFixtureRig, root, swayFrames } from './helpers.mjs';
 
 // The scenario of tests/native/determinism_test.cpp (keep both in step): avatar_hair.glb with its
 // metadata; for frame f = 1..600 every driver gets its rest matrix with the x translation plus
@@ -39,11 +38,7 @@ function runRecordedScenario(sb) {
 function runSway(sb, frames, fps) {
   const rig = loadFixtureRig(sb, 'avatar_hair.glb');
   const inst = rig.createInstance();
-  const rest = Float32Array.from(inst.driverMatrices);
-  for (let k = 1; k <= frames; ++k) {
-    swayDrivers(rest, inst.driverMatrices, k / fps);
-    inst.step(1 / fps);
-  }
+  swayFrames(inst, frames, fps);
   const out = Float32Array.from(inst.rotations);
   inst.dispose();
   rig.dispose();

@@ -1,9 +1,10 @@
 // Shared helpers of the WebAssembly tests: fixture paths and the manifest, a small spring rig built
-// in memory (GLBs are written by scripts/lib/fixtures/glb.mjs), the frame hash.
+// in memory (GLBs are written by scripts/lib/fixtures/glb.mjs), the scripted sway, the frame hash.
 import { existsSync, readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
+import { swayDrivers } from '../../scripts/lib/sway.mjs';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const fixturesDir = join(root, 'tests', 'fixtures');
@@ -59,6 +60,19 @@ export function loadFixtureRig(sb, name) {
   manifest ??= JSON.parse(fixture('manifest.json').toString('utf8'));
   const entry = manifest.files[name];
   return sb.loadRig(fixture(name), fixture(entry.metadata).toString('utf8'), { contentHash: entry.metadataKey });
+}
+
+/**
+ * Sways an instance's drivers about the pose they hold now (scripts/lib/sway.mjs) for `frames`
+ * frames at `fps`, stepping after each; returns that rest pose, to sway on from.
+ */
+export function swayFrames(instance, frames, fps = 60) {
+  const rest = Float32Array.from(instance.driverMatrices);
+  for (let k = 1; k <= frames; ++k) {
+    swayDrivers(rest, instance.driverMatrices, k / fps);
+    instance.step(1 / fps);
+  }
+  return rest;
 }
 
 /** FNV-1a (32-bit) over the bytes of a typed array, as tests/native/determinism_test.cpp hashes. */

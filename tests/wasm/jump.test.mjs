@@ -4,34 +4,15 @@
 // animation starting is one when the adapter watches the mixer, and the options are checked.
 import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
-import { AnimationMixer, Group, Scene } from 'three';
-import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { turnAt } from '../../scripts/lib/fixtures/vec.mjs';
 import { loadSampleWearable } from './sample_wearable.mjs';
-import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';
 
 const kDt = 1 / 60;
-const { sb, avatarGltf, wearableGltf, wearableBytes, metadata, rig } = await loadSampleWearable();
+const { sb, wearableBytes, metadata, rig, wear } = await loadSampleWearable();
 
 /** The sample avatar in a holder (which carries turns, shakes and teleports, as the demo's does). */
-function wornSample({ instance = {}, watchMixer = false, holderScale = [1, 1, 1] } = {}) {
-  const scene = new Scene();
-  const world = new Group();  // carries the jumps: a teleport or a turn moves the walk along
-  const holder = new Group();
-  holder.scale.fromArray(holderScale);
-  world.add(holder);
-  scene.add(world);
-  const avatarRoot = SkeletonUtils.clone(avatarGltf.scene);
-  holder.add(avatarRoot);
-  const mixer = new AnimationMixer(avatarRoot);
-  const wearable = SkeletonUtils.clone(wearableGltf.scene);
-  const attachment = attachWearable(avatarRoot, wearable, rig, {
-    nodes: wearableNodes(wearableGltf, wearable), instance, mixer: watchMixer ? mixer : undefined,
-  });
-  const actions = Object.fromEntries(avatarGltf.animations.map((clip) => [clip.name, mixer.clipAction(clip)]));
-  return { scene, world, holder, mixer, actions, attachment };
-}
+const wornSample = (options) => wear(rig, options);
 
 /**
  * Runs `frames` frames (before(f) moves the holder), returning per chain (rig.joints[].chain) the

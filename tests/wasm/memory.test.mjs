@@ -6,7 +6,7 @@ import { before, test } from 'node:test';
 import { createSpringBones } from '../../web/springbones.js';
 import { swayDrivers } from '../../scripts/lib/sway.mjs';
 import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
-import { loadFixtureRig, springRig } from './helpers.mjs';
+import { loadFixtureRig, springRig, swayFrames } from './helpers.mjs';
 
 let sb;
 before(async () => {
@@ -16,11 +16,7 @@ before(async () => {
 test('views taken before memory growth are rebuilt by the getters, with the same contents', () => {
   const rig = loadFixtureRig(sb, 'avatar_hair.glb');
   const inst = rig.createInstance();
-  const rest = Float32Array.from(inst.driverMatrices);
-  for (let k = 1; k <= 20; ++k) {
-    swayDrivers(rest, inst.driverMatrices, k / 60);
-    inst.step(1 / 60);
-  }
+  const rest = swayFrames(inst, 20);
   const oldRotations = inst.rotations;
   const oldDrivers = inst.driverMatrices;
   const rotations = Float32Array.from(oldRotations);
