@@ -6,11 +6,11 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { artifacts, maxAbsDiff, skip, useDemoPage } from './demoPage.mjs';
+import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, skip, useDemoPage } from './demoPage.mjs';
 
 let page;
-let consoleErrors;
-useDemoPage((demo) => ({ page, consoleErrors } = demo), { page: 'babylon.html', readyHook: 'springbonesBabylonDemo' });
+let consoleErrors, consoleWarnings;
+useDemoPage((demo) => ({ page, consoleErrors, consoleWarnings } = demo), { page: 'babylon.html', readyHook: 'springbonesBabylonDemo' });
 
 const demo = (fn, arg) => page.evaluate(fn, arg);
 
@@ -21,6 +21,11 @@ test('opens on the sample with Babylon 4.2, its five chains and no console error
   assert.equal(new Set(joints.map((j) => j.chain)).size, 5);
   assert.equal(await page.locator('#readout-joints').textContent(), '15');
   assert.deepEqual(consoleErrors, []);
+});
+
+test('every library module is preloaded, and every preload used', { skip }, async () => {
+  assert.deepEqual(await libraryModulesNotPreloaded(page), []);
+  assert.deepEqual(consoleWarnings.filter((w) => /preload/i.test(w)), []);
 });
 
 test('the hair moves while the avatar walks', { skip }, async () => {

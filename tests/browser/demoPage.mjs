@@ -108,6 +108,22 @@ export async function openPage(path, ready, { arg = null, beforeOpen = null } = 
   return { page, consoleErrors, consoleWarnings, requests, close };
 }
 
+/**
+ * The library's modules (web/ outside the demo's own folder, the glue in web/dist/ included) the
+ * page loaded without a <link rel="modulepreload"> for them: each is a request the browser only
+ * starts once the module importing it has arrived, a round trip more on a cold first visit. The
+ * creator tools are left out: they load on first use, after the first render, by design.
+ */
+export function libraryModulesNotPreloaded(page) {
+  return page.evaluate(() => {
+    const preloaded = new Set([...document.querySelectorAll('link[rel=modulepreload]')].map((l) => l.href));
+    return performance.getEntriesByType('resource')
+      .map((entry) => entry.name)
+      .filter((url) => /\/web\/(?!demo\/).*\.js$/.test(new URL(url).pathname) && !/creator_tools/.test(url))
+      .filter((url) => !preloaded.has(url));
+  });
+}
+
 /** Largest absolute difference between two equally long arrays. */
 export const maxAbsDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
 

@@ -9,7 +9,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { artifacts, maxAbsDiff, root, rotationsMovedFrom, skip, useDemoPage } from './demoPage.mjs';
+import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, root, rotationsMovedFrom, skip, useDemoPage } from './demoPage.mjs';
 
 const sampleManifest = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8'));
 const fixtures = JSON.parse(readFileSync(join(root, 'tests/fixtures/manifest.json'), 'utf8')).files;
@@ -45,6 +45,7 @@ test('the module is downloaded once: the preload is the download createSpringBon
   assert.equal(count('/web/dist/springbones_wasm.wasm'), 1, requests.join('\n'));
   assert.equal(count('/web/dist/springbones_wasm.js'), 1, requests.join('\n'));
   assert.deepEqual(consoleWarnings.filter((w) => /preload/i.test(w)), [], 'no preload went unused');
+  assert.deepEqual(await libraryModulesNotPreloaded(page), [], 'every library module preloaded');
 });
 
 test('the joints move while the avatar walks and settle when it stops', { skip }, async () => {
