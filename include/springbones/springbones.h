@@ -18,23 +18,14 @@
 namespace springbones {
 
 // ---------------------------------------------------------------------------------------------
-// Value types of this API: plain floats in glTF's conventions, so that a caller needs no maths
-// library, and this header none. The core does its maths in GLM; it converts at the edges
-// (src/common/glm_interop.h), bit for bit.
+// Value types: plain floats in glTF's conventions, so that neither this header nor its callers
+// need a maths library. The core computes in GLM and converts at its edges, bit for bit.
 
-struct Vec3 {
-  float x = 0.0f, y = 0.0f, z = 0.0f;
-};
-
-/// A rotation as a unit quaternion, in glTF's order: x, y, z, then w.
-struct Quat {
-  float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f;
-};
-
-/// A 4x4 matrix as 16 floats, column-major as glTF stores them (m[12..14] the translation).
-struct Mat4 {
-  float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-};
+struct Vec3 { float x = 0.0f, y = 0.0f, z = 0.0f; };
+/// A unit quaternion in glTF's order: x, y, z, then w.
+struct Quat { float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f; };
+/// A 4x4 matrix, column-major as glTF stores it (m[12..14]: the translation); identity by default.
+struct Mat4 { float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; };
 
 // ---------------------------------------------------------------------------------------------
 // Errors and warnings

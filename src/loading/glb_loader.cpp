@@ -172,31 +172,18 @@ Error linkHierarchy(Skeleton& skeleton) {
 // The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in glTF.
 Transform restTransform(const double* matrix, const double* translation, const double* rotation,
                         const double* scale) {
+  if (matrix != nullptr) return decomposeTransform(glm::mat4(glm::make_mat4(matrix)));
+  const auto vec3 = [](const double* v) { return Vec3{float(v[0]), float(v[1]), float(v[2])}; };
   Transform t;
-  if (matrix != nullptr) {
-    glm::mat4 m;
-    for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m[c][r] = static_cast<float>(matrix[c * 4 + r]);
-    }
-    return decomposeTransform(m);
-  }
-  if (translation != nullptr) {
-    t.translation = Vec3{static_cast<float>(translation[0]), static_cast<float>(translation[1]),
-                         static_cast<float>(translation[2])};
-  }
+  if (translation != nullptr) t.translation = vec3(translation);
   if (rotation != nullptr) {
     const double* r = rotation;
     // In double: the squares of float-range components overflow a float.
     const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
     // glTF demands unit quaternions; renormalize small errors, treat a zero one as identity.
-    if (len > 1e-6) {
-      t.rotation = Quat{static_cast<float>(r[0] / len), static_cast<float>(r[1] / len), static_cast<float>(r[2] / len),
-                        static_cast<float>(r[3] / len)};
-    }
+    if (len > 1e-6) t.rotation = Quat{float(r[0] / len), float(r[1] / len), float(r[2] / len), float(r[3] / len)};
   }
-  if (scale != nullptr) {
-    t.scale = Vec3{static_cast<float>(scale[0]), static_cast<float>(scale[1]), static_cast<float>(scale[2])};
-  }
+  if (scale != nullptr) t.scale = vec3(scale);
   return t;
 }
 
