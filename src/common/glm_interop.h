@@ -1,7 +1,7 @@
 // The public value types (Vec3, Quat, Mat4 of springbones.h) to GLM and back: the only crossings
 // between the API and the core's maths. Plain float copies, so a value keeps its bits on both
-// sides. Always inlined: the WebAssembly build compiles most files at -Oz, where a call per
-// conversion was measurable in the per-frame code of jump_carry.cpp and xpbd_solver.cpp.
+// sides. Always inlined: the WebAssembly build compiles most files at -Oz, where they stayed
+// calls in per-frame code (jump_carry.cpp, xpbd_solver.cpp).
 #pragma once
 
 #include <glm/glm.hpp>
