@@ -270,7 +270,7 @@ std::uintptr_t scenePositionsPtr(int scene) {
 bool sceneSetBudget(int scene, int max_active, float x, float y, float z) {
   Scene* s = findScene(scene);
   if (s == nullptr) return false;
-  s->setBudget(max_active, glm::vec3(x, y, z));
+  s->setBudget(max_active, Vec3{x, y, z});
   return true;
 }
 
@@ -319,7 +319,7 @@ int jumps(int instance) {
 
 Wind windOf(float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
   Wind wind;
-  wind.direction = glm::vec3(dx, dy, dz);
+  wind.direction = Vec3{dx, dy, dz};
   wind.strength = strength;
   wind.gust_frequency = gust_frequency;
   wind.seed = seed >= 0.0 && seed <= 4294967295.0 ? static_cast<std::uint32_t>(seed) : 0u;

@@ -15,10 +15,17 @@
 #include <string_view>
 #include <vector>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 namespace springbones {
+
+// ---------------------------------------------------------------------------------------------
+// Value types: plain floats in glTF's conventions, so that neither this header nor its callers
+// need a maths library. The core computes in GLM and converts at its edges, bit for bit.
+
+struct Vec3 { float x = 0.0f, y = 0.0f, z = 0.0f; };
+/// A unit quaternion in glTF's order: x, y, z, then w.
+struct Quat { float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f; };
+/// A 4x4 matrix, column-major as glTF stores it (m[12..14]: the translation); identity by default.
+struct Mat4 { float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; };
 
 // ---------------------------------------------------------------------------------------------
 // Errors and warnings
@@ -65,17 +72,17 @@ inline constexpr std::size_t kMaxMetadataBytes = 16u << 20;
 // The GLB node hierarchy
 
 struct Transform {
-  glm::vec3 translation{0.0f};
-  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  ///< glm order: w, x, y, z
-  glm::vec3 scale{1.0f};
+  Vec3 translation;
+  Quat rotation;
+  Vec3 scale{1.0f, 1.0f, 1.0f};
 };
 
 struct SkeletonNode {
   std::string name;
   int parent = -1;  ///< index into Skeleton::nodes, -1 for a scene root
   std::vector<int> children;
-  Transform rest_local;    ///< from TRS, or decomposed from `matrix`
-  glm::mat4 rest_world{1.0f};  ///< product of the rest locals from the root down
+  Transform rest_local;  ///< from TRS, or decomposed from `matrix`
+  Mat4 rest_world;       ///< product of the rest locals from the root down
 };
 
 struct Skeleton {
@@ -92,10 +99,10 @@ Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out);
 // data.springBones parameters (ADR-316 table). Ranges are inclusive.
 
 struct BoneParams {
-  float stiffness = 2.0f;                   ///< [0, 4], pull back to the rest direction, m/s
-  float gravity_power = 0.0f;               ///< [0, 2], gravity impulse, m/s
-  glm::vec3 gravity_dir{0.0f, -1.0f, 0.0f};  ///< world direction, normalized at parse time
-  float drag = 0.5f;                        ///< [0, 1], fraction of velocity lost per step
+  float stiffness = 2.0f;              ///< [0, 4], pull back to the rest direction, m/s
+  float gravity_power = 0.0f;          ///< [0, 2], gravity impulse, m/s
+  Vec3 gravity_dir{0.0f, -1.0f, 0.0f};  ///< world direction, normalized at parse time
+  float drag = 0.5f;                   ///< [0, 1], fraction of velocity lost per step
 };
 
 struct BoneEntry {
@@ -140,8 +147,8 @@ struct Joint {
   int center_driver = -1;  ///< driver whose space holds the inertia, -1 for world space
   int chain = -1;          ///< index of the chain root joint
   BoneParams params;
-  Transform rest_local;     ///< the node's rest local transform
-  glm::vec3 tail_local{0};  ///< tail position in the joint's local space (child translation)
+  Transform rest_local;   ///< the node's rest local transform
+  Vec3 tail_local;        ///< tail position in the joint's local space (child translation)
   float rest_length = 0;    ///< world distance head->tail in the rest pose
   float hit_radius = 0;     ///< radius of the tail against colliders, world units
   std::vector<int> colliders;  ///< indices into Rig::colliders this joint's tail collides with
@@ -153,29 +160,27 @@ struct Driver {
   std::string name;
 };
 
-/// A collision shape carried by a driver's world matrix (VRMC_springBone colliders, and the
-/// plane and inside shapes of VRMC_springBone_extended_collider).
-struct Collider {
+/// A collision shape (VRMC_springBone colliders, and the plane and inside shapes of
+/// VRMC_springBone_extended_collider), in the space of the node that carries it.
+struct ColliderShape {
   enum class Shape { kSphere, kCapsule, kPlane };
   Shape shape = Shape::kSphere;
   /// Sphere and capsule only: the tail is kept inside the shape rather than pushed out of it.
   bool inside = false;
+  Vec3 offset;                   ///< sphere center / capsule start / a point of the plane
+  Vec3 tail;                     ///< capsule end
+  Vec3 normal{0.0f, 0.0f, 1.0f};  ///< plane only: the side tails are kept on
+  float radius = 0.0f;           ///< in the node's space (world radius = radius x its scale); 0 for a plane
+};
+
+/// A collider of the rig, carried by a driver's world matrix.
+struct Collider : ColliderShape {
   int driver = -1;
-  glm::vec3 offset{0.0f};  ///< sphere center / capsule start / a point of the plane, driver space
-  glm::vec3 tail{0.0f};    ///< capsule end, in the driver node's space
-  glm::vec3 normal{0.0f, 0.0f, 1.0f};  ///< plane only: the side tails are kept on, driver space
-  float radius = 0.0f;     ///< in the driver node's space (world radius = radius x its scale); 0 for a plane
 };
 
 /// A collider to attach by node name, for avatars whose GLB says nothing about colliders.
-struct ColliderSpec {
+struct ColliderSpec : ColliderShape {
   std::string node;
-  Collider::Shape shape = Collider::Shape::kSphere;
-  bool inside = false;
-  glm::vec3 offset{0.0f};
-  glm::vec3 tail{0.0f};
-  glm::vec3 normal{0.0f, 0.0f, 1.0f};
-  float radius = 0.0f;
 };
 
 /// Ready-made collider sets a rig can ask for by name (RigOptions::preset).
@@ -269,10 +274,10 @@ struct InstanceOptions {
 /// space, with gusts that are a seeded function of the instance's simulated time (windAt), so the
 /// same seed gives the same motion, natively and in WebAssembly (docs/semantics.md, "Wind").
 struct Wind {
-  glm::vec3 direction{1.0f, 0.0f, 0.0f};  ///< world direction; zero or non-finite: no wind
-  float strength = 0.0f;                  ///< [0, kMaxWindStrength], world units per second
-  float gust_frequency = 0.0f;            ///< [0, kMaxGustFrequency], gusts per second; 0: steady
-  std::uint32_t seed = 0;                 ///< picks the gust sequence
+  Vec3 direction{1.0f, 0.0f, 0.0f};  ///< world direction; zero or non-finite: no wind
+  float strength = 0.0f;             ///< [0, kMaxWindStrength], world units per second
+  float gust_frequency = 0.0f;       ///< [0, kMaxGustFrequency], gusts per second; 0: steady
+  std::uint32_t seed = 0;            ///< picks the gust sequence
 };
 inline constexpr float kMaxWindStrength = 10.0f;
 inline constexpr float kMaxGustFrequency = 10.0f;
@@ -351,7 +356,7 @@ class Scene {
   float* positions() { return positions_.data(); }
 
   /// max_active < 0: no budget, every instance steps. Non-finite viewer coordinates are ignored.
-  void setBudget(int max_active, const glm::vec3& viewer);
+  void setBudget(int max_active, const Vec3& viewer);
 
   /// Sets the wind of every instance in the scene, and of every one added later (an instance's own
   /// setWind afterwards overrides it for that instance until the scene's wind is set again).
@@ -371,7 +376,7 @@ class Scene {
   std::vector<std::pair<float, std::size_t>> by_distance_;  // scratch, kept to avoid allocation
   std::vector<Instance*> stepping_;                          // scratch: this step's instances
   int max_active_ = -1;
-  glm::vec3 viewer_{0.0f};
+  Vec3 viewer_;
   bool has_wind_ = false;
   Wind wind_;
 };

@@ -35,7 +35,7 @@ ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
   try {
     const json value = json::parse(text);
     const auto vec3 = [](const json& a) {
-      return glm::vec3(a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>());
+      return Vec3{a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>()};
     };
     if (value.contains("hitRadius")) out.hit_radius = value.at("hitRadius").get<float>();
     if (value.contains("preset")) {

@@ -8,7 +8,7 @@
 namespace springbones {
 namespace {
 
-FloatJson vec3(const glm::vec3& v) { return FloatJson::array({v.x, v.y, v.z}); }
+FloatJson vec3(const Vec3& v) { return FloatJson::array({v.x, v.y, v.z}); }
 
 FloatJson jointJson(const Rig& rig, const Joint& j) {
   const auto& nodes = rig.skeleton.nodes;

@@ -3,19 +3,16 @@
 
 #include <cmath>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
-#include "springbones/springbones.h"
+#include "common/glm_interop.h"
 
 namespace springbones {
 
 inline glm::mat4 composeTransform(const Transform& t) {
-  glm::mat4 m = glm::mat4_cast(t.rotation);
+  glm::mat4 m = glm::mat4_cast(toGlm(t.rotation));
   m[0] *= t.scale.x;
   m[1] *= t.scale.y;
   m[2] *= t.scale.z;
-  m[3] = glm::vec4(t.translation, 1.0f);
+  m[3] = glm::vec4(toGlm(t.translation), 1.0f);
   return m;
 }
 
@@ -49,17 +46,12 @@ inline bool affineInverse(const glm::mat4& m, glm::mat4& out) {
 /// dropped: glTF requires node matrices to be decomposable into TRS, so a sheared one is invalid
 /// input and the closest rotation is the best we can do.
 inline Transform decomposeTransform(const glm::mat4& m) {
-  Transform t;
-  t.translation = glm::vec3(m[3]);
-  glm::vec3 x(m[0]), y(m[1]), z(m[2]);
-  t.scale = glm::vec3(glm::length(x), glm::length(y), glm::length(z));
-  if (glm::dot(glm::cross(x, y), z) < 0.0f) t.scale.x = -t.scale.x;  // mirrored
+  const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
+  glm::vec3 scale(glm::length(x), glm::length(y), glm::length(z));
+  if (glm::dot(glm::cross(x, y), z) < 0.0f) scale.x = -scale.x;  // mirrored
   glm::mat3 r(1.0f);
-  if (t.scale.x != 0.0f && t.scale.y != 0.0f && t.scale.z != 0.0f) {
-    r = glm::mat3(x / t.scale.x, y / t.scale.y, z / t.scale.z);
-  }
-  t.rotation = glm::normalize(glm::quat_cast(r));
-  return t;
+  if (scale.x != 0.0f && scale.y != 0.0f && scale.z != 0.0f) r = glm::mat3(x / scale.x, y / scale.y, z / scale.z);
+  return Transform{fromGlm(glm::vec3(m[3])), fromGlm(glm::normalize(glm::quat_cast(r))), fromGlm(scale)};
 }
 
 /// Shortest-arc rotation taking unit vector `from` to unit vector `to`. For opposite vectors the

@@ -78,7 +78,7 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector
       if (node[b] < 0 && name == kBoneNames[b]) node[b] = static_cast<int>(n);
     }
   }
-  const auto position = [&](Bone b) { return glm::vec3(skeleton.nodes[node[b]].rest_world[3]); };
+  const auto position = [&](Bone b) { return glm::vec3(toGlm(skeleton.nodes[node[b]].rest_world)[3]); };
 
   std::vector<ColliderSpec> out;
   std::string skipped;
@@ -93,7 +93,7 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector
       leaveOut(rule);
       continue;
     }
-    const glm::mat4& carrier = skeleton.nodes[node[rule.carrier]].rest_world;
+    const glm::mat4 carrier = toGlm(skeleton.nodes[node[rule.carrier]].rest_world);
     glm::mat4 to_local;
     const glm::vec3 from = position(rule.from), segment = position(rule.to) - from;
     const float length = glm::length(segment);
@@ -117,8 +117,8 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector
     ColliderSpec spec;
     spec.node = kBoneNames[rule.carrier];
     spec.shape = rule.kind == Kind::kSphere ? Collider::Shape::kSphere : Collider::Shape::kCapsule;
-    spec.offset = glm::vec3(to_local * glm::vec4(start, 1.0f));
-    spec.tail = glm::vec3(to_local * glm::vec4(end, 1.0f));
+    spec.offset = fromGlm(glm::vec3(to_local * glm::vec4(start, 1.0f)));
+    spec.tail = fromGlm(glm::vec3(to_local * glm::vec4(end, 1.0f)));
     spec.radius = rule.radius * length / carrier_scale;
     out.push_back(std::move(spec));
   }

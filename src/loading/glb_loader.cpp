@@ -89,16 +89,14 @@ Error checkNode(const json& node, std::size_t index) {
 
 // a * b, the same IEEE operations in the same order as glm's mat4 operator* (so the same bits),
 // written out: at -Oz glm's vector operators are each an out-of-line call, 7,000 times a load.
-void multiplyLikeGlm(const glm::mat4& a, const glm::mat4& b, glm::mat4& out) {
-  const float* A = &a[0][0];
-  const float* B = &b[0][0];
+void multiplyLikeGlm(const float* A, const float* B, float* out) {
   float R[16];
   for (int i = 0; i < 4; ++i) {
     for (int r = 0; r < 4; ++r) {
       R[4 * i + r] = A[r] * B[4 * i] + A[4 + r] * B[4 * i + 1] + A[8 + r] * B[4 * i + 2] + A[12 + r] * B[4 * i + 3];
     }
   }
-  std::memcpy(&out[0][0], R, sizeof R);
+  std::memcpy(out, R, sizeof R);
 }
 
 // Parent links from children lists, rejecting out-of-range indices and second parents; then an
@@ -148,9 +146,9 @@ Error linkHierarchy(Skeleton& skeleton) {
     SkeletonNode& n = nodes[i];
     const glm::mat4 local = composeTransform(n.rest_local);
     if (n.parent < 0) {
-      n.rest_world = local;
+      n.rest_world = fromGlm(local);
     } else {
-      multiplyLikeGlm(nodes[n.parent].rest_world, local, n.rest_world);
+      multiplyLikeGlm(nodes[n.parent].rest_world.m, &local[0][0], n.rest_world.m);
     }
     // Float overflow (a decomposed matrix of huge entries, scales multiplying down a chain)
     // would hand infinities and NaNs to the solver.
@@ -159,7 +157,7 @@ Error linkHierarchy(Skeleton& skeleton) {
                   std::isfinite(t.translation.z) && std::isfinite(t.scale.x) && std::isfinite(t.scale.y) &&
                   std::isfinite(t.scale.z) && std::isfinite(t.rotation.x) && std::isfinite(t.rotation.y) &&
                   std::isfinite(t.rotation.z) && std::isfinite(t.rotation.w);
-    const float* w = &n.rest_world[0][0];
+    const float* w = n.rest_world.m;
     for (int c = 0; c < 4; ++c) {
       finite = finite && std::isfinite(w[4 * c]) && std::isfinite(w[4 * c + 1]) && std::isfinite(w[4 * c + 2]);
     }
@@ -174,27 +172,18 @@ Error linkHierarchy(Skeleton& skeleton) {
 // The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in glTF.
 Transform restTransform(const double* matrix, const double* translation, const double* rotation,
                         const double* scale) {
+  if (matrix != nullptr) return decomposeTransform(glm::mat4(glm::make_mat4(matrix)));
+  const auto vec3 = [](const double* v) { return Vec3{float(v[0]), float(v[1]), float(v[2])}; };
   Transform t;
-  if (matrix != nullptr) {
-    glm::mat4 m;
-    for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m[c][r] = static_cast<float>(matrix[c * 4 + r]);
-    }
-    return decomposeTransform(m);
-  }
-  if (translation != nullptr) {
-    t.translation = glm::vec3(translation[0], translation[1], translation[2]);
-  }
+  if (translation != nullptr) t.translation = vec3(translation);
   if (rotation != nullptr) {
     const double* r = rotation;
     // In double: the squares of float-range components overflow a float.
     const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
     // glTF demands unit quaternions; renormalize small errors, treat a zero one as identity.
-    t.rotation = len > 1e-6 ? glm::quat(static_cast<float>(r[3] / len), static_cast<float>(r[0] / len),
-                                        static_cast<float>(r[1] / len), static_cast<float>(r[2] / len))
-                            : glm::quat(1, 0, 0, 0);
+    if (len > 1e-6) t.rotation = Quat{float(r[0] / len), float(r[1] / len), float(r[2] / len), float(r[3] / len)};
   }
-  if (scale != nullptr) t.scale = glm::vec3(scale[0], scale[1], scale[2]);
+  if (scale != nullptr) t.scale = vec3(scale);
   return t;
 }
 

@@ -45,13 +45,12 @@ bool inRange(double value, const ParamRange& range) { return !(value < range.min
 
 // A readable gravityDir (3 finite numbers) as a unit vector; false when it has no direction.
 // Divided by the largest component first: squaring [1e200, 0, 0] would overflow to infinity.
-bool unitGravityDir(double v[3], glm::vec3& out) {
+bool unitGravityDir(double v[3], Vec3& out) {
   const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
   if (!(largest > 1e-9)) return false;
   for (int i = 0; i < 3; ++i) v[i] /= largest;
   const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  out = glm::vec3(static_cast<float>(v[0] / length), static_cast<float>(v[1] / length),
-                  static_cast<float>(v[2] / length));
+  out = Vec3{static_cast<float>(v[0] / length), static_cast<float>(v[1] / length), static_cast<float>(v[2] / length)};
   return true;
 }
 
@@ -89,8 +88,8 @@ class EntryReader {
     return static_cast<float>(value);
   }
 
-  glm::vec3 readGravityDir(const json& entry, const std::string& entry_path) {
-    const glm::vec3 fallback(0.0f, -1.0f, 0.0f);
+  Vec3 readGravityDir(const json& entry, const std::string& entry_path) {
+    const Vec3 fallback{0.0f, -1.0f, 0.0f};
     const std::string path = entry_path + "/gravityDir";
     auto it = entry.find("gravityDir");
     if (it == entry.end()) {
@@ -119,7 +118,7 @@ class EntryReader {
         break;
       }
     }
-    glm::vec3 unit;
+    Vec3 unit;
     if (!unitGravityDir(v, unit)) {
       warn("gravity-dir-zero", "gravityDir has no direction; using the default [0,-1,0]", path);
       return fallback;

@@ -277,8 +277,8 @@ class RigBuilder {
         joint.chain = chain_joint;
         joint.rest_local = node.rest_local;
         joint.tail_local = all[joint.tail_node].rest_local.translation;
-        joint.rest_length = glm::length(glm::vec3(all[joint.tail_node].rest_world[3]) -
-                                        glm::vec3(node.rest_world[3]));
+        joint.rest_length = glm::length(glm::vec3(toGlm(all[joint.tail_node].rest_world)[3]) -
+                                        glm::vec3(toGlm(node.rest_world)[3]));
         joint.parent_joint = parent_joint;
         if (parent_joint >= 0) {
           const Joint& parent = rig_->joints[parent_joint];
@@ -336,13 +336,13 @@ class RigBuilder {
     std::unordered_map<std::string, int> external;
     for (const ColliderSpec& spec : *specs) {
       const bool plane = spec.shape == Collider::Shape::kPlane;
-      const bool finite = isFinite(spec.offset) && isFinite(spec.tail) && (!plane || isFinite(spec.normal)) &&
+      const bool finite = isFinite(toGlm(spec.offset)) && isFinite(toGlm(spec.tail)) && (!plane || isFinite(toGlm(spec.normal))) &&
                           std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
         continue;
       }
-      glm::vec3 normal = spec.normal;
+      glm::vec3 normal = toGlm(spec.normal);
       if (plane && !toUnitLength(normal)) {
         warn("collider-invalid", "plane collider on '" + spec.node + "' has a zero normal; ignored");
         continue;
@@ -361,13 +361,12 @@ class RigBuilder {
         driver = e->second;
       }
       Collider collider;
-      collider.shape = spec.shape;
+      static_cast<ColliderShape&>(collider) = spec;
       collider.inside = spec.inside && !plane;
       collider.driver = driver;
-      collider.offset = spec.offset;
-      collider.tail = spec.shape == Collider::Shape::kCapsule ? spec.tail : spec.offset;
-      collider.normal = plane ? normal : glm::vec3(0.0f, 0.0f, 1.0f);
-      collider.radius = plane ? 0.0f : spec.radius;
+      if (spec.shape != Collider::Shape::kCapsule) collider.tail = spec.offset;
+      collider.normal = plane ? fromGlm(normal) : Vec3{0.0f, 0.0f, 1.0f};
+      if (plane) collider.radius = 0.0f;
       rig_->colliders.push_back(collider);
     }
     for (Joint& joint : rig_->joints) {

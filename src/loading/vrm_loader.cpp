@@ -114,26 +114,26 @@ bool readIndex(const json& value, std::size_t count, int& out) {
   return false;
 }
 
-bool readVec3Array(const json& value, glm::vec3& out) {
+bool readVec3Array(const json& value, Vec3& out) {
   if (!value.is_array() || value.size() != 3) return false;
-  glm::vec3 v;
+  float v[3];
   for (int i = 0; i < 3; ++i) {
     if (!readFloat(value[i], v[i])) return false;
   }
-  out = v;
+  out = Vec3{v[0], v[1], v[2]};
   return true;
 }
 
 // VRM 0.x vectors are objects {x, y, z}; a missing component is 0 (as three-vrm reads them).
-bool readVec3Object(const json& value, glm::vec3& out) {
+bool readVec3Object(const json& value, Vec3& out) {
   if (!value.is_object()) return false;
-  glm::vec3 v(0.0f);
+  float v[3] = {0.0f, 0.0f, 0.0f};
   static const char* const kKeys[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
     auto it = value.find(kKeys[i]);
     if (it != value.end() && !readFloat(*it, v[i])) return false;
   }
-  out = v;
+  out = Vec3{v[0], v[1], v[2]};
   return true;
 }
 
@@ -149,20 +149,15 @@ struct SpringInfo {
 struct SimJoint {
   int spring = -1;
   int tail_node = -1;  // -1: a VRM 0.x virtual tail
-  glm::vec3 tail_local{0.0f};
+  Vec3 tail_local;
   BoneParams params;
   float hit_radius = 0.0f;
 };
 
-struct FileCollider {
+// A collider as the file describes it: its shape, the node carrying it and where it was read.
+struct FileCollider : ColliderShape {
   bool valid = false;
   int node = -1;
-  Collider::Shape shape = Collider::Shape::kSphere;
-  bool inside = false;
-  glm::vec3 offset{0.0f};
-  glm::vec3 tail{0.0f};
-  glm::vec3 normal{0.0f, 0.0f, 1.0f};
-  float radius = 0.0f;
   std::string path;
 };
 
@@ -277,17 +272,18 @@ class VrmRigBuilder {
   }
 
   // gravityDir * gravityPower as the file means it, with a unit direction (see the header).
-  void setGravity(BoneParams& params, glm::vec3 dir, float power, const std::string& path) {
+  void setGravity(BoneParams& params, Vec3 dir, float power, const std::string& path) {
     const double length = std::sqrt(double(dir.x) * dir.x + double(dir.y) * dir.y + double(dir.z) * dir.z);
     if (!(length > 1e-6)) {
       if (power > 0.0f) {
         warn("vrm-gravity-dir-zero", "gravityDir is the zero vector: no gravity", path + "/gravityDir");
       }
-      params.gravity_dir = glm::vec3(0.0f, -1.0f, 0.0f);
+      params.gravity_dir = Vec3{0.0f, -1.0f, 0.0f};
       params.gravity_power = 0.0f;
       return;
     }
-    params.gravity_dir = glm::vec3(glm::dvec3(dir) / length);
+    params.gravity_dir = Vec3{static_cast<float>(dir.x / length), static_cast<float>(dir.y / length),
+                              static_cast<float>(dir.z / length)};
     params.gravity_power = static_cast<float>(std::min(double(power) * length, double(kUnbounded)));
     if (std::fabs(length - 1.0) > 1e-4) {
       warn("vrm-gravity-dir-scaled", "gravityDir has length " + std::to_string(length) +
@@ -397,9 +393,8 @@ class VrmRigBuilder {
   // A sphere or capsule body ({offset, radius, tail (capsules), inside (extended shapes)}) into
   // `out`; false with the reason for a value that cannot be read.
   static bool readRoundShape(const json& body, bool capsule, bool extended, FileCollider& out, std::string& why) {
+    static_cast<ColliderShape&>(out) = ColliderShape{};
     out.shape = capsule ? Collider::Shape::kCapsule : Collider::Shape::kSphere;
-    out.offset = glm::vec3(0.0f);
-    out.radius = 0.0f;
     if (auto it = body.find("offset"); it != body.end() && !readVec3Array(*it, out.offset)) {
       why = "has an offset that is not 3 finite numbers";
       return false;
@@ -408,15 +403,12 @@ class VrmRigBuilder {
       why = "has a radius that is not a finite number >= 0";
       return false;
     }
-    out.tail = out.offset;
-    if (capsule) {
-      out.tail = glm::vec3(0.0f);
-      if (auto it = body.find("tail"); it != body.end() && !readVec3Array(*it, out.tail)) {
-        why = "has a tail that is not 3 finite numbers";
-        return false;
-      }
+    if (!capsule) {
+      out.tail = out.offset;
+    } else if (auto it = body.find("tail"); it != body.end() && !readVec3Array(*it, out.tail)) {
+      why = "has a tail that is not 3 finite numbers";
+      return false;
     }
-    out.inside = false;
     if (auto it = body.find("inside"); extended && it != body.end()) {
       if (!it->is_boolean()) {
         why = "has an inside that is not a boolean";
@@ -466,12 +458,8 @@ class VrmRigBuilder {
 
   // A plane body ({offset, normal}, normal (0, 0, 1) by default) into `out`.
   static bool readPlaneShape(const json& body, FileCollider& out, std::string& why) {
+    static_cast<ColliderShape&>(out) = ColliderShape{};
     out.shape = Collider::Shape::kPlane;
-    out.offset = glm::vec3(0.0f);
-    out.tail = glm::vec3(0.0f);
-    out.radius = 0.0f;
-    out.inside = false;
-    out.normal = glm::vec3(0.0f, 0.0f, 1.0f);
     if (auto it = body.find("offset"); it != body.end() && !readVec3Array(*it, out.offset)) {
       why = "has an offset that is not 3 finite numbers";
       return false;
@@ -480,10 +468,12 @@ class VrmRigBuilder {
       why = "has a normal that is not 3 finite numbers";
       return false;
     }
-    if (!toUnitLength(out.normal)) {
+    glm::vec3 normal = toGlm(out.normal);
+    if (!toUnitLength(normal)) {
       why = "has a zero normal";
       return false;
     }
+    out.normal = fromGlm(normal);
     return true;
   }
 
@@ -495,6 +485,29 @@ class VrmRigBuilder {
     if (group_stamp_[group] == stamp) return;
     group_stamp_[group] = stamp;
     spring.groups.push_back(group);
+  }
+
+  // The colliderGroups of a spring (1.0) or a bone group (0.x): indices of the collider groups read
+  // before it. One that names none is left out with a warning; `name` and `the` are what the
+  // warnings call the owner ("bone group", "the group").
+  void readSpringColliderGroups(const json& owner, const std::string& path, const char* name, const char* the,
+                                SpringInfo& spring) {
+    auto groups = owner.find("colliderGroups");
+    if (groups == owner.end() || groups->is_null()) return;
+    if (!groups->is_array()) {
+      warn("vrm-collider-group-invalid", std::string("colliderGroups is not an array; ") + the + " has no colliders",
+           path + "/colliderGroups");
+      return;
+    }
+    for (std::size_t k = 0; k < groups->size(); ++k) {
+      int g = -1;
+      if (!readIndex((*groups)[k], group_colliders_.size(), g)) {
+        warn("vrm-collider-group-invalid", std::string(name) + " names a collider group that does not exist; ignored",
+             path + "/colliderGroups/" + std::to_string(k));
+        continue;
+      }
+      addSpringGroup(spring, g);
+    }
   }
 
   void readVrmcSpring(const json& s, const std::string& path) {
@@ -510,21 +523,7 @@ class VrmRigBuilder {
     }
     SpringInfo spring;
     spring.path = path;
-    if (auto groups = s.find("colliderGroups"); groups != s.end() && !groups->is_null()) {
-      if (!groups->is_array()) {
-        warn("vrm-collider-group-invalid", "colliderGroups is not an array; the spring has no colliders", path + "/colliderGroups");
-      } else {
-        for (std::size_t k = 0; k < groups->size(); ++k) {
-          int g = -1;
-          if (!readIndex((*groups)[k], group_colliders_.size(), g)) {
-            warn("vrm-collider-group-invalid", "spring names a collider group that does not exist; ignored",
-                 path + "/colliderGroups/" + std::to_string(k));
-            continue;
-          }
-          addSpringGroup(spring, g);
-        }
-      }
-    }
+    readSpringColliderGroups(s, path, "spring", "the spring", spring);
     if (auto center = s.find("center"); center != s.end() && !center->is_null()) {
       if (!readIndex(*center, nodes().size(), spring.center_node)) {
         spring.center_node = -1;
@@ -600,7 +599,7 @@ class VrmRigBuilder {
         if (fixed_tail_[n] < 0) fixed_tail_[n] = below;
         below = n;
       }
-      sim.tail_local = glm::vec3(path_matrix[3]);
+      sim.tail_local = fromGlm(glm::vec3(path_matrix[3]));
       if (!between.empty()) {
         std::string names;
         for (std::size_t i = between.size(); i-- > 0;) {
@@ -618,10 +617,10 @@ class VrmRigBuilder {
       const json& joint = (*joints)[k];
       sim.params.stiffness = readParam(joint, "stiffness", kDefaultStiffness, 0.0f, kUnbounded, joint_path);
       const float power = readParam(joint, "gravityPower", kDefaultGravityPower, 0.0f, kUnbounded, joint_path);
-      glm::vec3 dir(0.0f, -1.0f, 0.0f);
+      Vec3 dir{0.0f, -1.0f, 0.0f};
       if (auto it = joint.find("gravityDir"); it != joint.end() && !it->is_null() && !readVec3Array(*it, dir)) {
         warn("vrm-param-invalid", "gravityDir is not 3 finite numbers; using (0, -1, 0)", joint_path + "/gravityDir");
-        dir = glm::vec3(0.0f, -1.0f, 0.0f);
+        dir = Vec3{0.0f, -1.0f, 0.0f};
       }
       setGravity(sim.params, dir, power, joint_path);
       sim.params.drag = readParam(joint, "dragForce", kDefaultDrag, 0.0f, 1.0f, joint_path);
@@ -705,21 +704,7 @@ class VrmRigBuilder {
     }
     SpringInfo spring;
     spring.path = path;
-    if (auto list = group.find("colliderGroups"); list != group.end() && !list->is_null()) {
-      if (!list->is_array()) {
-        warn("vrm-collider-group-invalid", "colliderGroups is not an array; the group has no colliders", path + "/colliderGroups");
-      } else {
-        for (std::size_t k = 0; k < list->size(); ++k) {
-          int g = -1;
-          if (!readIndex((*list)[k], group_colliders_.size(), g)) {
-            warn("vrm-collider-group-invalid", "bone group names a collider group that does not exist; ignored",
-                 path + "/colliderGroups/" + std::to_string(k));
-            continue;
-          }
-          addSpringGroup(spring, g);
-        }
-      }
-    }
+    readSpringColliderGroups(group, path, "bone group", "the group", spring);
     if (auto center = group.find("center"); center != group.end() && !center->is_null()) {
       // UniVRM writes -1 for "no center".
       const bool none = center->is_number_integer() && center->get<std::int64_t>() == -1;
@@ -731,13 +716,13 @@ class VrmRigBuilder {
     BoneParams params;
     params.stiffness = readParam(group, "stiffiness", kDefaultStiffness, 0.0f, kUnbounded, path);  // sic, the 0.x key
     const float power = readParam(group, "gravityPower", kDefaultGravityPower, 0.0f, kUnbounded, path);
-    glm::vec3 dir(0.0f, -1.0f, 0.0f);
+    Vec3 dir{0.0f, -1.0f, 0.0f};
     if (auto it = group.find("gravityDir"); it != group.end() && !it->is_null()) {
       if (readVec3Object(*it, dir)) {
         dir.z = -dir.z;  // Unity axes -> glTF
       } else {
         warn("vrm-param-invalid", "gravityDir is not an object {x, y, z} of finite numbers; using (0, -1, 0)", path + "/gravityDir");
-        dir = glm::vec3(0.0f, -1.0f, 0.0f);
+        dir = Vec3{0.0f, -1.0f, 0.0f};
       }
     }
     setGravity(params, dir, power, path);
@@ -772,9 +757,9 @@ class VrmRigBuilder {
         sim.params = params;
         sim.hit_radius = hit_radius;
         if (node.children.empty()) {
-          const glm::vec3 t = node.rest_local.translation;
+          const glm::vec3 t = toGlm(node.rest_local.translation);
           const float length = glm::length(t);
-          sim.tail_local = length > kMinBoneLength && std::isfinite(length) ? t / length * kVrm0LeafTailLength : glm::vec3(0.0f);
+          if (length > kMinBoneLength && std::isfinite(length)) sim.tail_local = fromGlm(t / length * kVrm0LeafTailLength);
         } else {
           sim.tail_node = node.children.front();
           sim.tail_local = nodes()[sim.tail_node].rest_local.translation;
@@ -876,7 +861,7 @@ class VrmRigBuilder {
         joint.params = sim.params;
         joint.hit_radius = sim.hit_radius;
         joint.center_driver = centerDriver(sim.spring);
-        joint.rest_length = glm::length(glm::mat3(node.rest_world) * joint.tail_local);
+        joint.rest_length = glm::length(glm::mat3(toGlm(node.rest_world)) * toGlm(joint.tail_local));
         if (!(joint.rest_length > kMinBoneLength) || !std::isfinite(joint.rest_length)) {
           warn("zero-length-bone", nodeLabel(n) + (sim.tail_node >= 0 ? " and its tail " + nodeLabel(sim.tail_node) +
                                                                            " are at the same place"
@@ -941,13 +926,8 @@ class VrmRigBuilder {
         continue;
       }
       Collider collider;
-      collider.shape = c.shape;
-      collider.inside = c.inside;
+      static_cast<ColliderShape&>(collider) = c;
       collider.driver = driverFor(c.node);
-      collider.offset = c.offset;
-      collider.tail = c.tail;
-      collider.normal = c.normal;
-      collider.radius = c.radius;
       rig_index[id] = static_cast<int>(rig_->colliders.size());
       rig_->colliders.push_back(collider);
     }

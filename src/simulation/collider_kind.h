@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include <glm/glm.hpp>
-
-#include "springbones/springbones.h"
+#include "common/glm_interop.h"
 
 namespace springbones {
 

@@ -35,7 +35,7 @@ glm::mat4 DriverPoses::matrix(std::size_t d) const {
 }
 
 Transform DriverPoses::transform(std::size_t d) const {
-  if (similar(d)) return Transform{position(d), rotation(d), glm::vec3(scale(d))};
+  if (similar(d)) return Transform{fromGlm(position(d)), fromGlm(rotation(d)), fromGlm(glm::vec3(scale(d)))};
   return decomposeTransform(matrix(d));
 }
 

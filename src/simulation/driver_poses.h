@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "springbones/springbones.h"
+#include "common/glm_interop.h"
 
 namespace springbones {
 

@@ -32,9 +32,9 @@ bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, fl
   const float min_dot = check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
   for (std::size_t d = 0; d < to.size(); ++d) {
     const Transform a = from.transform(d), b = to.transform(d);
-    const glm::vec3 moved = b.translation - a.translation;
+    const glm::vec3 moved = toGlm(b.translation) - toGlm(a.translation);
     if (check_distance && glm::dot(moved, moved) > moved_limit * moved_limit) return true;
-    if (check_angle && std::abs(glm::dot(a.rotation, b.rotation)) < min_dot) return true;
+    if (check_angle && std::abs(glm::dot(toGlm(a.rotation), toGlm(b.rotation))) < min_dot) return true;
   }
   return false;
 }

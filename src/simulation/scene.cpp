@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/glm_interop.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
@@ -33,7 +34,7 @@ void Scene::remove(Instance* instance) {
   active_.erase(active_.begin() + slot);
 }
 
-void Scene::setBudget(int max_active, const glm::vec3& viewer) {
+void Scene::setBudget(int max_active, const Vec3& viewer) {
   max_active_ = max_active;
   if (std::isfinite(viewer.x) && std::isfinite(viewer.y) && std::isfinite(viewer.z)) viewer_ = viewer;
 }
@@ -64,7 +65,8 @@ void Scene::step(double dt) {
   by_distance_.clear();
   for (std::size_t i = 0; i < count; ++i) {
     const glm::vec3 p(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
-    float d = glm::dot(p - viewer_, p - viewer_);
+    const glm::vec3 to_viewer = p - toGlm(viewer_);
+    float d = glm::dot(to_viewer, to_viewer);
     if (!std::isfinite(d)) d = INFINITY;
     by_distance_.emplace_back(d, i);
   }

@@ -180,9 +180,9 @@ struct Instance::State {
       } else {
         const Transform ta = previousPoses().transform(d), tb = currentPoses().transform(d);
         Transform r;
-        r.translation = glm::mix(ta.translation, tb.translation, t);
-        r.rotation = interpolateRotation(ta.rotation, tb.rotation, t);
-        r.scale = glm::mix(ta.scale, tb.scale, t);
+        r.translation = fromGlm(glm::mix(toGlm(ta.translation), toGlm(tb.translation), t));
+        r.rotation = fromGlm(interpolateRotation(toGlm(ta.rotation), toGlm(tb.rotation), t));
+        r.scale = fromGlm(glm::mix(toGlm(ta.scale), toGlm(tb.scale), t));
         step_drivers[d] = composeTransform(r);
       }
       glm::mat4 inverse;
@@ -210,14 +210,14 @@ struct Instance::State {
         m.position = glm::vec3(table.px[slot], table.py[slot], table.pz[slot]);
         m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);
         m.scale = table.s[slot];
-        start = m.apply(collider.offset);
-        end = plane ? glm::normalize(m.rotation * collider.normal) : m.apply(collider.tail);
+        start = m.apply(toGlm(collider.offset));
+        end = plane ? glm::normalize(m.rotation * toGlm(collider.normal)) : m.apply(toGlm(collider.tail));
         scale = m.scale;
       } else {
         const glm::mat4& m = step_drivers[collider.driver];
-        start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
-        end = plane ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * collider.normal)
-                    : glm::vec3(m * glm::vec4(collider.tail, 1.0f));
+        start = glm::vec3(m * glm::vec4(toGlm(collider.offset), 1.0f));
+        end = plane ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * toGlm(collider.normal))
+                    : glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f));
         scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
       }
       const float radius = plane ? 0.0f : collider.radius * scale;
@@ -274,7 +274,7 @@ struct Instance::State {
     const glm::vec3 inertia = (current - previous_tail[j]) * (1.0f - p.drag);
     glm::vec3 next = fromCenter(joint, current + inertia);
     next += in.rest_dir * (p.stiffness * h);
-    next += p.gravity_dir * (p.gravity_power * h);
+    next += toGlm(p.gravity_dir) * (p.gravity_power * h);
     next += step_wind;
     glm::vec3 offset = next - in.head;
     const float offset_length = glm::length(offset);
@@ -291,7 +291,7 @@ struct Instance::State {
   glm::quat aimedRotation(std::size_t j, const Joint& joint, glm::vec3 local_dir) const {
     const float len = glm::length(local_dir);
     local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis[j];
-    return glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis[j], local_dir));
+    return glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(tail_axis[j], local_dir));
   }
 
   const glm::mat4& parentMatrix(const Joint& joint) const {
@@ -309,19 +309,19 @@ struct Instance::State {
       const glm::mat3 rest_linear(rest_world);
       SpringInput in;
       in.head = glm::vec3(rest_world[3]);
-      in.rest_offset = rest_linear * joint.tail_local;
+      in.rest_offset = rest_linear * toGlm(joint.tail_local);
       in.length = glm::length(in.rest_offset);
       if (seed_only || !(in.length > kMinLength) || !(tail_distance[j] > kMinLength)) {
         if (seed_only) current_tail[j] = previous_tail[j] = toCenter(joint, in.head + in.rest_offset);
         joint_world[j] = rest_world;
-        writeRotation(j, joint.rest_local.rotation);
+        writeRotation(j, toGlm(joint.rest_local.rotation));
         continue;
       }
       in.rest_dir = in.rest_offset / in.length;
       const glm::vec3 offset = integrate(j, joint, in, h);
       const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
       Transform local = joint.rest_local;
-      local.rotation = rotation;
+      local.rotation = fromGlm(rotation);
       joint_world[j] = parent * composeTransform(local);
       writeRotation(j, rotation);
     }
@@ -442,10 +442,11 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   for (std::size_t j = 0; j < joints; ++j) {
     const Joint& joint = s.rig->joints[j];
     s.rest_local_matrix[j] = composeTransform(joint.rest_local);
-    const float len = glm::length(joint.tail_local);
+    const glm::vec3 tail_local = toGlm(joint.tail_local);
+    const float len = glm::length(tail_local);
     s.tail_distance[j] = len;
-    s.tail_axis[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
-    const glm::vec3 scale = joint.rest_local.scale;
+    s.tail_axis[j] = len > kMinLength ? tail_local / len : glm::vec3(0, 1, 0);
+    const Vec3 scale = joint.rest_local.scale;
     if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) lanes_usable = false;
   }
   s.driver_input.resize(16 * drivers);
@@ -459,8 +460,8 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   // Until the caller writes them, drivers sit at their rest world matrices.
   for (std::size_t d = 0; d < drivers; ++d) {
     const int node = s.rig->drivers[d].node;  // -1: an avatar bone outside the GLB
-    const glm::mat4 rest = node >= 0 ? s.rig->skeleton.nodes[node].rest_world : glm::mat4(1.0f);
-    std::memcpy(s.driver_input.data() + 16 * d, &rest[0][0], sizeof(float) * 16);
+    const Mat4 rest = node >= 0 ? s.rig->skeleton.nodes[node].rest_world : Mat4{};
+    std::memcpy(s.driver_input.data() + 16 * d, rest.m, sizeof rest.m);
   }
   s.current_tail.resize(joints);
   s.previous_tail.resize(joints);
@@ -468,8 +469,8 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.world_output.resize(16 * joints);
   s.rotations.resize(4 * joints);
   for (std::size_t j = 0; j < joints; ++j) {
-    s.writeRotation(j, s.rig->joints[j].rest_local.rotation);
-    s.joint_world[j] = s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world;
+    s.writeRotation(j, toGlm(s.rig->joints[j].rest_local.rotation));
+    s.joint_world[j] = toGlm(s.rig->skeleton.nodes[s.rig->joints[j].node].rest_world);
   }
   // The lane path needs a copy in the rig's pool; the XPBD integrator never takes it.
   if (lanes_usable && !s.xpbd) {
@@ -508,11 +509,11 @@ void Instance::setWind(const Wind& wind) {
   w = wind;
   w.strength = std::isnan(wind.strength) ? 0.0f : std::clamp(wind.strength, 0.0f, kMaxWindStrength);
   w.gust_frequency = std::isnan(wind.gust_frequency) ? 0.0f : std::clamp(wind.gust_frequency, 0.0f, kMaxGustFrequency);
-  const float length = glm::length(wind.direction);
+  const float length = glm::length(toGlm(wind.direction));
   if (length > 0.0f && std::isfinite(length)) {
-    w.direction = wind.direction / length;
+    w.direction = fromGlm(toGlm(wind.direction) / length);
   } else {
-    w.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+    w.direction = Vec3{1.0f, 0.0f, 0.0f};
     w.strength = 0.0f;
   }
 }

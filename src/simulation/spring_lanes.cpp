@@ -219,11 +219,11 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     c.rz = rest.rotation.z;
     c.rw = rest.rotation.w;
     c.rs = rest.scale.x;
-    const float distance = glm::length(joint.tail_local);
-    const glm::vec3 axis = distance > kMinLength ? joint.tail_local / distance : glm::vec3(0, 1, 0);
+    const float distance = glm::length(toGlm(joint.tail_local));
+    const glm::vec3 axis = distance > kMinLength ? toGlm(joint.tail_local) / distance : glm::vec3(0, 1, 0);
     // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
     // parent's frame, where the rest rotation is already applied.
-    const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(rest.rotation) * axis);
+    const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(toGlm(rest.rotation)) * axis);
     const glm::vec3 perpendicular = perpendicularTo(axis_in_parent);
     c.bx = axis_in_parent.x;
     c.by = axis_in_parent.y;
@@ -248,8 +248,8 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     // A joint continuing its parent's lane is the parent's tail node, but only where the parent's
     // tail is this joint's rest translation does it sit on the parent's simulated tail (a VRM
     // joint held at rest has a zero tail toward its next joint).
-    c.continues = started[lane] && joints[joint.parent_joint].tail_local == rest.translation &&
-                  glm::length(rest.translation) > kMinLength;
+    c.continues = started[lane] && toGlm(joints[joint.parent_joint].tail_local) == toGlm(rest.translation) &&
+                  glm::length(toGlm(rest.translation)) > kMinLength;
     if (started[lane]) continue;
     started[lane] = true;
     LaneStart start;

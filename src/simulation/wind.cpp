@@ -33,7 +33,7 @@ double knotValue(std::uint32_t seed, std::int64_t knot) { return (mix(seed, knot
 
 glm::vec3 windAt(const Wind& wind, double time) {
   if (!(wind.strength > 0.0f) || !std::isfinite(wind.strength)) return glm::vec3(0.0f);
-  const glm::vec3& d = wind.direction;
+  const glm::vec3 d = toGlm(wind.direction);
   if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z))) return glm::vec3(0.0f);
   double gust = 1.0;
   const double x = time * static_cast<double>(wind.gust_frequency);

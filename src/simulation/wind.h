@@ -1,9 +1,7 @@
 // The gust function behind Wind (springbones.h): private to the solvers and their tests.
 #pragma once
 
-#include <glm/glm.hpp>
-
-#include "springbones/springbones.h"
+#include "common/glm_interop.h"
 
 namespace springbones {
 

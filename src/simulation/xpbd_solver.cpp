@@ -140,9 +140,10 @@ XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), 
   for (std::size_t j = 0; j < joints; ++j) {
     const Joint& joint = rig.joints[j];
     rest_local_matrix_[j] = composeTransform(joint.rest_local);
-    const float len = glm::length(joint.tail_local);
+    const glm::vec3 tail_local = toGlm(joint.tail_local);
+    const float len = glm::length(tail_local);
     tail_distance_[j] = len;
-    tail_axis_[j] = len > kMinLength ? joint.tail_local / len : glm::vec3(0, 1, 0);
+    tail_axis_[j] = len > kMinLength ? tail_local / len : glm::vec3(0, 1, 0);
     const int c = joint.center_driver;
     if (c >= 0 && static_cast<std::size_t>(c) < rig.drivers.size() &&
         std::find(center_drivers_.begin(), center_drivers_.end(), c) == center_drivers_.end()) {
@@ -191,11 +192,11 @@ void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const glm::mat4 rest_world = parentWorld(joint, driver_world, joint_world_out) * rest_local_matrix_[j];
-    const glm::vec3 tail = glm::vec3(rest_world[3]) + glm::mat3(rest_world) * joint.tail_local;
+    const glm::vec3 tail = glm::vec3(rest_world[3]) + glm::mat3(rest_world) * toGlm(joint.tail_local);
     current_tail_[j] = previous_tail_[j] = toCenter(joint.center_driver, tail);
     tail_world_[j] = tail;
     joint_world_out[j] = rest_world;
-    writeRotation(rotations_out + 4 * j, joint.rest_local.rotation);
+    writeRotation(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
   }
 }
 
@@ -226,20 +227,20 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
     const glm::vec3 head(rest_world[3]);
     // Measured under the current parent every substep, as in the default path: a scaled armature
     // scales its bones, and no error can accumulate from one step to the next.
-    const glm::vec3 rest_offset = rest_linear * joint.tail_local;
+    const glm::vec3 rest_offset = rest_linear * toGlm(joint.tail_local);
     const float length = glm::length(rest_offset);
     if (!(length > kMinLength) || !(tail_distance_[j] > kMinLength)) {
       // A zero-length bone (or a collapsed parent) has no direction: keep the rest pose.
       tail_world_[j] = head + rest_offset;
       joint_world_out[j] = rest_world;
-      writeRotation(rotations_out + 4 * j, joint.rest_local.rotation);
+      writeRotation(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
       continue;
     }
 
     // 1. Predict: inertia in center space, kept by rho; gravity as a force, x += h^2 w F.
     const glm::vec3 current = current_tail_[j];
     glm::vec3 x = fromCenter(joint.center_driver, current + (current - previous_tail_[j]) * keep_[j], driver_world);
-    x += joint.params.gravity_dir * (joint.params.gravity_power * h * h * inverse_mass_[j]);
+    x += toGlm(joint.params.gravity_dir) * (joint.params.gravity_power * h * h * inverse_mass_[j]);
     x += wind_ * (h * h * inverse_mass_[j]);
     glm::vec3 previous = current;
     if (!isFinite(x)) {
@@ -310,9 +311,9 @@ void XpbdSolver::writeOutputs(std::size_t j, const glm::mat4& parent, const glm:
   glm::vec3 local_dir = det_sign * glm::vec3(glm::dot(r0, offset), glm::dot(r1, offset), glm::dot(r2, offset));
   const float len = glm::length(local_dir);
   local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis_[j];
-  const glm::quat rotation = glm::normalize(joint.rest_local.rotation * rotationBetween(tail_axis_[j], local_dir));
+  const glm::quat rotation = glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(tail_axis_[j], local_dir));
   Transform local = joint.rest_local;
-  local.rotation = rotation;
+  local.rotation = fromGlm(rotation);
   joint_world_out[j] = parent * composeTransform(local);
   writeRotation(rotations_out + 4 * j, rotation);
 }

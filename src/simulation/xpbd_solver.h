@@ -10,11 +10,8 @@
 #include <cstddef>
 #include <vector>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 #include "simulation/collider_kind.h"
-#include "springbones/springbones.h"
+#include "common/glm_interop.h"
 
 namespace springbones {
 

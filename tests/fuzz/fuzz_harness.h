@@ -110,7 +110,7 @@ inline std::string checkRig(const Rig& rig) {
     if (!(c.radius >= 0.0f) || !std::isfinite(c.radius)) return "bad collider radius";
     if (c.shape == Collider::Shape::kPlane) {
       if (c.inside || c.radius != 0.0f) return "a plane collider with inside or a radius";
-      if (!(std::fabs(glm::length(c.normal) - 1.0f) < 1e-5f)) return "a plane normal that is not unit";
+      if (!(std::fabs(glm::length(toGlm(c.normal)) - 1.0f) < 1e-5f)) return "a plane normal that is not unit";
     }
   }
   for (const Warning& w : rig.warnings) {
@@ -441,6 +441,11 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   const Error meta = parseSpringBones(json{{"version", 1}, {"models", {{"h", bones}}}}, "h", model, warnings);
   if (std::string f = checkError(meta, "parseSpringBones"); !f.empty()) return f;
   if (meta) return {};
+  const auto vec3 = [&](double range) {  // three numbers from the bytes, x first
+    float v[3];
+    for (float& c : v) c = toFloat(in.number(range, ByteReader::kAny));
+    return Vec3{v[0], v[1], v[2]};
+  };
   // Colliders by node name (or on an avatar bone the GLB lacks), with any numbers at all.
   RigOptions rig_options;
   const int collider_count = in.byte() % 4;
@@ -452,12 +457,10 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     spec.shape = shape == 2 ? Collider::Shape::kPlane
                  : shape % 2 == 1 ? Collider::Shape::kCapsule : Collider::Shape::kSphere;
     spec.inside = shape >= 3 || (shape == 2 && in.byte() % 2 == 0);
-    for (int k = 0; k < 3; ++k) spec.offset[k] = toFloat(in.number(0.2, ByteReader::kAny));
-    for (int k = 0; k < 3; ++k) spec.tail[k] = toFloat(in.number(0.2, ByteReader::kAny));
+    spec.offset = vec3(0.2);
+    spec.tail = vec3(0.2);
     spec.radius = toFloat(in.number(0.2, ByteReader::kAny));
-    if (shape == 2) {
-      for (int k = 0; k < 3; ++k) spec.normal[k] = toFloat(in.number(1.0, ByteReader::kAny));
-    }
+    if (shape == 2) spec.normal = vec3(1.0);
     rig_options.colliders.push_back(spec);
   }
   rig_options.hit_radius = toFloat(in.number(0.05, ByteReader::kAny));
@@ -478,7 +481,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   const std::uint8_t wind_mode = in.byte() % 4;
   Wind wind;
   if (wind_mode != 0) {
-    for (int k = 0; k < 3; ++k) wind.direction[k] = toFloat(in.number(1, ByteReader::kAny));
+    wind.direction = vec3(1);
     wind.strength = toFloat(in.number(20, ByteReader::kAny));
     wind.gust_frequency = toFloat(in.number(20, ByteReader::kAny));
     wind.seed = in.u16() | (std::uint32_t(in.u16()) << 16);
@@ -536,7 +539,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     if (time % 8 == 7) {  // through a Scene, with a budget and a viewer from the bytes
       scene.positions()[0] = toFloat(in.number(10, ByteReader::kAny));
       scene.setBudget(static_cast<int>(in.byte() % 4) - 1,
-                      glm::vec3(toFloat(in.number(10, ByteReader::kAny)), 0.0f, 0.0f));
+                      Vec3{toFloat(in.number(10, ByteReader::kAny)), 0.0f, 0.0f});
       scene.step(dt);
     } else {
       instance.step(dt);
@@ -566,10 +569,10 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
       const Collider& collider = rig->colliders[c];
       const glm::mat4& m = driver_world[collider.driver];
       colliders[c].kind = colliderKind(collider);
-      colliders[c].start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
+      colliders[c].start = glm::vec3(m * glm::vec4(toGlm(collider.offset), 1.0f));
       colliders[c].end = collider.shape == Collider::Shape::kPlane
-                             ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * collider.normal)
-                         : collider.shape == Collider::Shape::kCapsule ? glm::vec3(m * glm::vec4(collider.tail, 1.0f))
+                             ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * toGlm(collider.normal))
+                         : collider.shape == Collider::Shape::kCapsule ? glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f))
                                                                        : colliders[c].start;
       colliders[c].radius = collider.shape == Collider::Shape::kPlane ? 0.0f : collider.radius * glm::length(glm::vec3(m[0]));
     }

@@ -28,17 +28,8 @@ std::shared_ptr<const Rig> fixtureRig(const std::string& glb, const std::string&
 
 RigOptions headColliders() {
   RigOptions options;
-  ColliderSpec head;
-  head.node = "Avatar_Head";
-  head.offset = glm::vec3(0.0f, 0.08f, 0.0f);
-  head.radius = 0.1f;
-  ColliderSpec torso;
-  torso.node = "Avatar_Hips";
-  torso.shape = Collider::Shape::kCapsule;
-  torso.offset = glm::vec3(0.0f, 0.1f, 0.0f);
-  torso.tail = glm::vec3(0.0f, 0.5f, 0.0f);
-  torso.radius = 0.12f;
-  options.colliders = {head, torso};
+  options.colliders = {sphereSpec("Avatar_Head", {0.0f, 0.08f, 0.0f}, 0.1f),
+                       capsuleSpec("Avatar_Hips", {0.0f, 0.1f, 0.0f}, {0.0f, 0.5f, 0.0f}, 0.12f)};
   options.hit_radius = 0.01f;
   return options;
 }
@@ -161,7 +152,7 @@ TEST_F(BatchedStep, StepAllMatchesSteppingEachInstanceAlone) {
 TEST_F(BatchedStep, SceneWithABudgetMatchesTheSameStepsTakenAlone) {
   Scene scene;
   for (Pair& pair : pairs_) scene.add(pair.member.get());
-  scene.setBudget(4, glm::vec3(0.0f));
+  scene.setBudget(4, Vec3{});
   std::vector<bool> was_active(pairs_.size(), true);
   for (int f = 1; f <= 180; ++f) {
     for (std::size_t i = 0; i < pairs_.size(); ++i) {

@@ -26,17 +26,17 @@ const ColliderSpec* findSpec(const std::vector<ColliderSpec>& specs, const std::
 }
 
 // World position of a point in a node's rest space.
-glm::vec3 worldOf(const Skeleton& skeleton, const std::string& node, const glm::vec3& local) {
-  return glm::vec3(skeleton.nodes[nodeIndex(skeleton, node)].rest_world * glm::vec4(local, 1.0f));
+glm::vec3 worldOf(const Skeleton& skeleton, const std::string& node, const Vec3& local) {
+  return glm::vec3(toGlm(skeleton.nodes[nodeIndex(skeleton, node)].rest_world) * glm::vec4(toGlm(local), 1.0f));
 }
 
 // The skeleton with its root scaled by `factor` (rest_world recomputed parents first).
 Skeleton scaled(Skeleton skeleton, float factor) {
-  skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale *= factor;
+  skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale = fromGlm(toGlm(skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale) * factor);
   for (int n : skeleton.parents_first) {
     SkeletonNode& node = skeleton.nodes[n];
     const glm::mat4 local = composeTransform(node.rest_local);
-    node.rest_world = node.parent >= 0 ? skeleton.nodes[node.parent].rest_world * local : local;
+    node.rest_world = fromGlm(node.parent >= 0 ? toGlm(skeleton.nodes[node.parent].rest_world) * local : local);
   }
   return skeleton;
 }

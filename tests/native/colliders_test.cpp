@@ -26,20 +26,12 @@ std::shared_ptr<const Rig> hangingJoint(const std::vector<ColliderSpec>& collide
   json nodes = {{{"name", "Avatar_Hips"}, {"children", {1}}},
                 {{"name", "springbone_a"}, {"children", {2}}, {"scale", {1.0, 1.0, z_scale}}},
                 {{"name", "springbone_a_tip"}, {"translation", {0, -0.3, 0}}}};
-  const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-  Skeleton skeleton;
-  EXPECT_FALSE(loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton));
-  ModelEntry model;
-  std::vector<Warning> warnings;
-  EXPECT_FALSE(parseSpringBones(json{{"version", 1},
-                                     {"models", {{"h", {{"springbone_a", {{"isRoot", true}, {"stiffness", 0},
-                                                                          {"gravityPower", 0}, {"gravityDir", {0, -1, 0}},
-                                                                          {"drag", 1}}}}}}}},
-                                "h", model, warnings));
+  const json bones = {{"springbone_a", {{"isRoot", true}, {"stiffness", 0}, {"gravityPower", 0},
+                                        {"gravityDir", {0, -1, 0}}, {"drag", 1}}}};
   RigOptions options;
   options.colliders = colliders;
   options.hit_radius = hit_radius;
-  return buildRig(std::move(skeleton), model, warnings, options);
+  return test::rigFromJson(nodes, bones, options);
 }
 
 int driverNamed(const Rig& rig, const std::string& name) {
@@ -56,19 +48,11 @@ void setDriver(Instance& instance, int driver, const glm::mat4& m) {
 glm::vec3 tailOf(const Instance& instance) {
   glm::mat4 world;
   std::memcpy(&world[0][0], instance.worldMatrices(), sizeof(float) * 16);
-  return glm::vec3(world * glm::vec4(instance.rig().joints[0].tail_local, 1.0f));
-}
-
-ColliderSpec sphere(const std::string& node, glm::vec3 offset, float radius) {
-  ColliderSpec c;
-  c.node = node;
-  c.offset = offset;
-  c.radius = radius;
-  return c;
+  return glm::vec3(world * glm::vec4(toGlm(instance.rig().joints[0].tail_local), 1.0f));
 }
 
 TEST(Colliders, ExternalColliderNodesJoinTheDriverList) {
-  auto rig = hangingJoint({sphere("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.0f);
+  auto rig = hangingJoint({test::sphereSpec("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.0f);
   ASSERT_EQ(rig->colliders.size(), 1u);
   const int head = driverNamed(*rig, "Avatar_Head");
   ASSERT_GE(head, 0);
@@ -78,7 +62,7 @@ TEST(Colliders, ExternalColliderNodesJoinTheDriverList) {
 }
 
 TEST(Colliders, ColliderOnASpringBoneIsIgnoredWithAWarning) {
-  auto rig = hangingJoint({sphere("springbone_a_tip", {0, 0, 0}, 0.1f)}, 0.0f);
+  auto rig = hangingJoint({test::sphereSpec("springbone_a_tip", {0, 0, 0}, 0.1f)}, 0.0f);
   EXPECT_TRUE(rig->colliders.empty());
   bool warned = false;
   for (const Warning& w : rig->warnings) warned = warned || w.code == "collider-on-spring-bone";
@@ -89,7 +73,7 @@ TEST(Colliders, SpherePushesTheTailOutThenTheLengthIsRestored) {
   // Sphere of radius 0.1 at (0.05, -0.3, 0), joint radius 0.02: the rest tail (0, -0.3, 0) is
   // 0.05 from the center, 0.07 inside. Pushed along (-1, 0, 0) to (-0.07, -0.3, 0), then back to
   // length 0.3: (-0.07, -0.3, 0) * 0.3 / sqrt(0.07^2 + 0.3^2).
-  auto rig = hangingJoint({sphere("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.02f);
+  auto rig = hangingJoint({test::sphereSpec("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.02f);
   Instance instance(rig);
   setDriver(instance, driverNamed(*rig, "Avatar_Head"), glm::translate(glm::mat4(1), glm::vec3(0.05f, -0.3f, 0)));
   instance.step(1.0 / 60);
@@ -102,7 +86,7 @@ TEST(Colliders, SpherePushesTheTailOutThenTheLengthIsRestored) {
 
 TEST(Colliders, SphereRadiusScalesWithItsNode) {
   // The same sphere given as radius 10 under a 0.01-scaled node behaves as radius 0.1.
-  auto rig = hangingJoint({sphere("Avatar_Head", {0, 0, 0}, 10.0f)}, 0.02f);
+  auto rig = hangingJoint({test::sphereSpec("Avatar_Head", {0, 0, 0}, 10.0f)}, 0.02f);
   Instance instance(rig);
   setDriver(instance, driverNamed(*rig, "Avatar_Head"),
             glm::scale(glm::translate(glm::mat4(1), glm::vec3(0.05f, -0.3f, 0)), glm::vec3(0.01f)));
@@ -116,12 +100,7 @@ TEST(Colliders, CapsulePushesFromItsClosestPoint) {
   // tail (0, -0.3, 0) projects before the start, so the closest point is the start: away =
   // (-0.05, 0, -0.1), distance d = sqrt(0.0125); pushed by (0.12 - d) / d along it, then back to
   // length 0.3.
-  ColliderSpec capsule;
-  capsule.node = "Avatar_Spine";
-  capsule.shape = Collider::Shape::kCapsule;
-  capsule.offset = {0.05f, -0.3f, 0.1f};
-  capsule.tail = {0.05f, -0.3f, 0.5f};
-  capsule.radius = 0.1f;
+  const ColliderSpec capsule = test::capsuleSpec("Avatar_Spine", {0.05f, -0.3f, 0.1f}, {0.05f, -0.3f, 0.5f}, 0.1f);
   auto rig = hangingJoint({capsule}, 0.02f);
   Instance instance(rig);
   instance.step(1.0 / 60);
@@ -138,12 +117,7 @@ TEST(Colliders, CapsulePushesFromItsClosestPoint) {
 TEST(Colliders, CapsuleSideProjectsOntoTheSegment) {
   // Capsule along Z through (0.05, -0.3, *): the tail's closest point is (0.05, -0.3, 0), the same
   // geometry as the sphere case.
-  ColliderSpec capsule;
-  capsule.node = "Avatar_Spine";
-  capsule.shape = Collider::Shape::kCapsule;
-  capsule.offset = {0.05f, -0.3f, -0.4f};
-  capsule.tail = {0.05f, -0.3f, 0.4f};
-  capsule.radius = 0.1f;
+  const ColliderSpec capsule = test::capsuleSpec("Avatar_Spine", {0.05f, -0.3f, -0.4f}, {0.05f, -0.3f, 0.4f}, 0.1f);
   auto rig = hangingJoint({capsule}, 0.02f);
   Instance instance(rig);
   instance.step(1.0 / 60);
@@ -153,7 +127,7 @@ TEST(Colliders, CapsuleSideProjectsOntoTheSegment) {
 }
 
 TEST(Colliders, ATailOutsideEveryShapeIsNotMoved) {
-  auto rig = hangingJoint({sphere("Avatar_Head", {1, 0, 0}, 0.1f)}, 0.02f);
+  auto rig = hangingJoint({test::sphereSpec("Avatar_Head", {1, 0, 0}, 0.1f)}, 0.02f);
   Instance instance(rig);
   instance.step(1.0 / 60);
   EXPECT_NEAR(tailOf(instance).x, 0.0, 1e-7);
@@ -163,7 +137,7 @@ TEST(Colliders, ATailOutsideEveryShapeIsNotMoved) {
 TEST(Colliders, GeneralPathPushesLikeTheLaneKernel) {
   // A rest scale off uniform by 1e-7 sends the instance down the general matrix path.
   for (float z_scale : {1.0f, 1.0f + 1e-7f}) {
-    auto rig = hangingJoint({sphere("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.02f, z_scale);
+    auto rig = hangingJoint({test::sphereSpec("Avatar_Head", {0, 0, 0}, 0.1f)}, 0.02f, z_scale);
     Instance instance(rig);
     setDriver(instance, driverNamed(*rig, "Avatar_Head"), glm::translate(glm::mat4(1), glm::vec3(0.05f, -0.3f, 0)));
     instance.step(1.0 / 60);
@@ -180,20 +154,12 @@ TEST(Colliders, HeadSphereKeepsASwingingStrandOutside) {
                   {{"name", "springbone_hair"}, {"translation", {0, 0.25, 0}}, {"children", {2}}},
                   {{"name", "springbone_hair_1"}, {"translation", {0.12, 0, 0}}, {"children", {3}}},
                   {{"name", "springbone_hair_tip"}, {"translation", {0.12, 0, 0}}}};
-    const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-    Skeleton skeleton;
-    loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton);
-    ModelEntry model;
-    std::vector<Warning> warnings;
-    parseSpringBones(json{{"version", 1},
-                          {"models", {{"h", {{"springbone_hair", {{"isRoot", true}, {"stiffness", 0.2},
-                                                                  {"gravityPower", 2}, {"gravityDir", {-0.3, -1, 0}},
-                                                                  {"drag", 0.2}}}}}}}},
-                     "h", model, warnings);
+    const json bones = {{"springbone_hair", {{"isRoot", true}, {"stiffness", 0.2}, {"gravityPower", 2},
+                                             {"gravityDir", {-0.3, -1, 0}}, {"drag", 0.2}}}};
     RigOptions options;
-    if (with_collider) options.colliders = {sphere("Avatar_Neck", {0, 0.12f, 0}, 0.1f)};
+    if (with_collider) options.colliders = {test::sphereSpec("Avatar_Neck", {0, 0.12f, 0}, 0.1f)};
     options.hit_radius = 0.01f;
-    Instance instance(buildRig(std::move(skeleton), model, warnings, options));
+    Instance instance(test::rigFromJson(nodes, bones, options));
     float deepest = 0.0f;
     for (int i = 0; i < 600; ++i) {
       instance.step(1.0 / 60);
@@ -201,7 +167,7 @@ TEST(Colliders, HeadSphereKeepsASwingingStrandOutside) {
       for (std::size_t j = 0; j < instance.jointCount(); ++j) {
         glm::mat4 m;
         std::memcpy(&m[0][0], world.data() + 16 * j, sizeof(float) * 16);
-        const glm::vec3 tail(m * glm::vec4(instance.rig().joints[j].tail_local, 1.0f));
+        const glm::vec3 tail(m * glm::vec4(toGlm(instance.rig().joints[j].tail_local), 1.0f));
         deepest = std::max(deepest, 0.11f - glm::length(tail - glm::vec3(0, 0.12f, 0)));
       }
     }
@@ -214,20 +180,20 @@ TEST(Colliders, HeadSphereKeepsASwingingStrandOutside) {
 // ---------------------------------------------------------------------------------------------
 // Extended shapes
 
-ColliderSpec insideSphere(glm::vec3 offset, float radius) {
-  ColliderSpec c = sphere("Avatar_Head", offset, radius);
+ColliderSpec insideSphere(Vec3 offset, float radius) {
+  ColliderSpec c = test::sphereSpec("Avatar_Head", offset, radius);
   c.inside = true;
   return c;
 }
 
-ColliderSpec insideCapsule(glm::vec3 offset, glm::vec3 tail, float radius) {
+ColliderSpec insideCapsule(Vec3 offset, Vec3 tail, float radius) {
   ColliderSpec c = insideSphere(offset, radius);
   c.shape = Collider::Shape::kCapsule;
   c.tail = tail;
   return c;
 }
 
-ColliderSpec plane(glm::vec3 offset, glm::vec3 normal) {
+ColliderSpec plane(Vec3 offset, Vec3 normal) {
   ColliderSpec c;
   c.node = "Avatar_Head";
   c.shape = Collider::Shape::kPlane;
@@ -348,22 +314,14 @@ TEST(ExtendedColliders, KeepASwingingStrandOnTheAllowedSideWithBothIntegrators) 
                       {{"name", "springbone_s"}, {"children", {2}}},
                       {{"name", "springbone_s_1"}, {"translation", {0, -0.12, 0}}, {"children", {3}}},
                       {{"name", "springbone_s_tip"}, {"translation", {0, -0.12, 0}}}};
-        const std::string gltf = json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump();
-        Skeleton skeleton;
-        loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton);
-        ModelEntry model;
-        std::vector<Warning> warnings;
-        parseSpringBones(json{{"version", 1},
-                              {"models", {{"h", {{"springbone_s", {{"isRoot", true}, {"stiffness", 0.1},
-                                                                   {"gravityPower", 1}, {"gravityDir", {-1, -0.2, 0}},
-                                                                   {"drag", 0.1}}}}}}}},
-                         "h", model, warnings);
+        const json bones = {{"springbone_s", {{"isRoot", true}, {"stiffness", 0.1}, {"gravityPower", 1},
+                                              {"gravityDir", {-1, -0.2, 0}}, {"drag", 0.1}}}};
         RigOptions options;
         if (with_collider) options.colliders = {shape.spec};
         options.hit_radius = 0.01f;
         InstanceOptions instance_options;
         instance_options.integrator = integrator;
-        Instance instance(buildRig(std::move(skeleton), model, warnings, options), instance_options);
+        Instance instance(test::rigFromJson(nodes, bones, options), instance_options);
         const int head_driver = driverNamed(instance.rig(), "Avatar_Head");
         float worst_end = -1.0f;
         for (int i = 0; i < 600; ++i) {
@@ -375,7 +333,7 @@ TEST(ExtendedColliders, KeepASwingingStrandOnTheAllowedSideWithBothIntegrators) 
           for (std::size_t j = 0; j < instance.jointCount(); ++j) {
             glm::mat4 m;
             std::memcpy(&m[0][0], instance.worldMatrices() + 16 * j, sizeof(float) * 16);
-            const glm::vec3 tail(m * glm::vec4(instance.rig().joints[j].tail_local, 1.0f));
+            const glm::vec3 tail(m * glm::vec4(toGlm(instance.rig().joints[j].tail_local), 1.0f));
             EXPECT_TRUE(std::isfinite(tail.x) && std::isfinite(tail.y) && std::isfinite(tail.z));
             worst_end = std::max(worst_end, shape.violation(tail - glm::vec3(head[3])));
           }

@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
     } else if (flag == "--wind") {  // from direction (1, 0, 0.5), as tests/wasm/parity.test.mjs sets it
       unsigned seed = 0;
       if (std::sscanf(value.c_str(), "%f,%f,%u", &wind.strength, &wind.gust_frequency, &seed) != 3) return usage();
-      wind.direction = glm::vec3(1.0f, 0.0f, 0.5f);
+      wind.direction = Vec3{1.0f, 0.0f, 0.5f};
       wind.seed = seed;
       wind_on = true;
     } else {

@@ -85,7 +85,7 @@ void expectAdrExampleHierarchy(const Skeleton& s) {
     EXPECT_TRUE(vecNear(n.rest_local.translation, glm::vec3(0)));
     EXPECT_TRUE(quatNear(n.rest_local.rotation, glm::quat(1, 0, 0, 0)));
     EXPECT_TRUE(vecNear(n.rest_local.scale, glm::vec3(1)));
-    EXPECT_EQ(n.rest_world, glm::mat4(1.0f));
+    EXPECT_EQ(toGlm(n.rest_world), glm::mat4(1.0f));
   }
 }
 
@@ -175,7 +175,7 @@ TEST(GlbLoader, DecomposesNodeMatrixIntoTranslationRotationScale) {
   EXPECT_TRUE(vecNear(t.scale, {2, 3, 4}));
   EXPECT_TRUE(quatNear(t.rotation, glm::quat(kHalfSqrt2, 0, 0, kHalfSqrt2)));  // 90 deg about Z
   // The world matrix of a root is its local matrix: (1,0,0) lands at T + Rz*S*(1,0,0) = (1,4,3).
-  EXPECT_TRUE(vecNear(glm::vec3(s.nodes[0].rest_world * glm::vec4(1, 0, 0, 1)), {1, 4, 3}));
+  EXPECT_TRUE(vecNear(glm::vec3(toGlm(s.nodes[0].rest_world) * glm::vec4(1, 0, 0, 1)), {1, 4, 3}));
 }
 
 TEST(GlbLoader, DecomposesMirroredMatrixIntoNegativeScale) {
@@ -188,7 +188,7 @@ TEST(GlbLoader, DecomposesMirroredMatrixIntoNegativeScale) {
   const Transform& t = s.nodes[0].rest_local;
   EXPECT_TRUE(vecNear(t.scale, {-1, 1, 1}));
   EXPECT_TRUE(quatNear(t.rotation, glm::quat(1, 0, 0, 0)));
-  EXPECT_TRUE(vecNear(glm::vec3(s.nodes[0].rest_world * glm::vec4(2, 3, 4, 1)), {-2, 3, 4}));
+  EXPECT_TRUE(vecNear(glm::vec3(toGlm(s.nodes[0].rest_world) * glm::vec4(2, 3, 4, 1)), {-2, 3, 4}));
 }
 
 TEST(GlbLoader, ComputesRestWorldTransformsFromTheRootDown) {
@@ -201,10 +201,10 @@ TEST(GlbLoader, ComputesRestWorldTransformsFromTheRootDown) {
   parent["scale"] = {2, 2, 2};
   Skeleton s;
   ASSERT_FALSE(loadText(gltfWithNodes({parent, node("C", {2}, {0, 0, 1}), node("G", {}, {0, 1, 0})}), s));
-  EXPECT_TRUE(vecNear(glm::vec3(s.nodes[1].rest_world[3]), {3, 0, 0}));
-  EXPECT_TRUE(vecNear(glm::vec3(s.nodes[2].rest_world[3]), {3, 2, 0}));
+  EXPECT_TRUE(vecNear(glm::vec3(toGlm(s.nodes[1].rest_world)[3]), {3, 0, 0}));
+  EXPECT_TRUE(vecNear(glm::vec3(toGlm(s.nodes[2].rest_world)[3]), {3, 2, 0}));
   // The child's x axis is the parent's: Ry(90) * 2 * (1,0,0) = (0,0,-2).
-  EXPECT_TRUE(vecNear(glm::vec3(s.nodes[1].rest_world[0]), {0, 0, -2}));
+  EXPECT_TRUE(vecNear(glm::vec3(toGlm(s.nodes[1].rest_world)[0]), {0, 0, -2}));
 }
 
 TEST(GlbLoader, ComputesWorldPositionsOfTheScaledRotatedAvatarArmature) {
@@ -288,7 +288,7 @@ TEST(GlbLoader, LoadsTenThousandDeepHierarchyWithoutRecursion) {
   EXPECT_EQ(s.nodes.back().parent, kDepth - 2);
   EXPECT_EQ(s.parents_first.front(), 0);
   EXPECT_EQ(s.parents_first.back(), kDepth - 1);
-  EXPECT_EQ(glm::vec3(s.nodes.back().rest_world[3]), glm::vec3(0, float(kDepth), 0));
+  EXPECT_EQ(glm::vec3(toGlm(s.nodes.back().rest_world)[3]), glm::vec3(0, float(kDepth), 0));
 }
 
 TEST(GlbLoader, LoadsDeeplyNestedExtrasWithoutRecursion) {
@@ -645,7 +645,7 @@ TEST(GlbLoader, RestWorldIsGlmsProductToTheBit) {
   for (int i : s.parents_first) {
     const SkeletonNode& n = s.nodes[i];
     const glm::mat4 local = composeTransform(n.rest_local);
-    const glm::mat4 expected = n.parent < 0 ? local : s.nodes[n.parent].rest_world * local;
+    const glm::mat4 expected = n.parent < 0 ? local : toGlm(s.nodes[n.parent].rest_world) * local;
     EXPECT_TRUE(std::memcmp(&expected, &n.rest_world, sizeof(glm::mat4)) == 0) << "node " << i;
     checked += n.parent >= 0;
   }

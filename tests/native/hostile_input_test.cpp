@@ -521,7 +521,7 @@ TEST(HostileInput, GravityDirOfLengthTwoOrFourFallsBackToDownWithAWarning) {
   for (const Case& c : cases) {
     const Loaded l = loadWearableValue(hairGlb(), hairMetadata(entry(1, 2, c.dir, 0.5)));
     ASSERT_FALSE(l.error) << c.dir;
-    const glm::vec3 g = l.rig->joints[0].params.gravity_dir;
+    const glm::vec3 g = toGlm(l.rig->joints[0].params.gravity_dir);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(g[k], c.expected[k], 1e-6f) << c.dir;
     ASSERT_EQ(l.rig->warnings.size(), 1u) << c.dir << test::describeWarnings(l.rig->warnings);
     EXPECT_EQ(l.rig->warnings[0].code, c.warning) << c.dir;

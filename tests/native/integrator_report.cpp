@@ -237,7 +237,7 @@ Stability runStability(const std::string& integrator, const std::string& rig_nam
       if (!std::isfinite(norm) || std::fabs(norm - 1.0f) > 1e-3f) exploded = true;
       const glm::mat4 w = runner->world(j);
       const glm::vec3 head(w[3]);
-      const glm::vec3 tail(w * glm::vec4(rig->joints[j].tail_local, 1.0f));
+      const glm::vec3 tail(w * glm::vec4(toGlm(rig->joints[j].tail_local), 1.0f));
       const double error = std::fabs(glm::length(tail - head) / rig->joints[j].rest_length - 1.0);
       if (!(error <= 0.01)) exploded = true;  // NaN counts
       if (std::isfinite(error)) frame_worst = std::max(frame_worst, error);

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include "loading/metadata.h"
@@ -75,7 +76,7 @@ TEST(Scene, BudgetSimulatesOnlyTheNearestAndTheOthersHoldTheirPose) {
   placeAt(scene, scene.add(&far), 30.0f);
   placeAt(scene, scene.add(&near), 1.0f);
   placeAt(scene, scene.add(&middle), 5.0f);
-  scene.setBudget(2, glm::vec3(0.0f));
+  scene.setBudget(2, Vec3{});
   for (int i = 0; i < 20; ++i) scene.step(1.0 / 60);
   EXPECT_FALSE(scene.isActive(0));
   EXPECT_TRUE(scene.isActive(1));
@@ -93,7 +94,7 @@ TEST(Scene, AnInstanceReturningToTheBudgetIsReseeded) {
   const std::size_t o = scene.add(&other);
   placeAt(scene, w, 1.0f);
   placeAt(scene, o, 2.0f);
-  scene.setBudget(1, glm::vec3(0.0f));
+  scene.setBudget(1, Vec3{});
   for (int i = 0; i < 50; ++i) scene.step(1.0 / 60);  // walker swings
   placeAt(scene, w, 10.0f);                            // walks away: other takes the budget
   for (int i = 0; i < 10; ++i) scene.step(1.0 / 60);
@@ -130,7 +131,7 @@ TEST(Scene, NonFinitePositionsSortLast) {
   const std::size_t f = scene.add(&found);
   scene.positions()[3 * l] = NAN;
   placeAt(scene, f, 100.0f);
-  scene.setBudget(1, glm::vec3(0.0f));
+  scene.setBudget(1, Vec3{});
   scene.step(1.0 / 60);
   EXPECT_FALSE(scene.isActive(l));
   EXPECT_TRUE(scene.isActive(f));
@@ -166,7 +167,7 @@ TEST(Scene, LastStepsIsZeroForAnInstanceTheBudgetHolds) {
   scene.step(1.0 / 30);
   EXPECT_EQ(near.lastSteps(), 2);
   EXPECT_EQ(far.lastSteps(), 2);
-  scene.setBudget(1, glm::vec3(0.0f));
+  scene.setBudget(1, Vec3{});
   scene.step(1.0 / 30);
   EXPECT_EQ(near.lastSteps(), 2);
   EXPECT_EQ(far.lastSteps(), 0);

@@ -67,7 +67,7 @@ glm::vec3 worldTail(const Instance& instance, std::size_t joint) {
   const Joint& j = instance.rig().joints[joint];
   glm::mat4 world;
   std::memcpy(&world[0][0], instance.worldMatrices() + 16 * joint, sizeof(float) * 16);
-  return glm::vec3(world * glm::vec4(j.tail_local, 1.0f));
+  return glm::vec3(world * glm::vec4(toGlm(j.tail_local), 1.0f));
 }
 
 glm::vec3 worldHead(const Instance& instance, std::size_t joint) {

@@ -13,12 +13,10 @@
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/glm_interop.h"
 #include "loading/metadata.h"
-#include "springbones/springbones.h"
 
 namespace springbones {
 namespace test {
@@ -152,14 +150,40 @@ inline int nodeIndex(const Skeleton& skeleton, const std::string& name) {
 
 inline glm::vec3 worldPosition(const Skeleton& skeleton, const std::string& name) {
   const int i = nodeIndex(skeleton, name);
-  return i < 0 ? glm::vec3(NAN) : glm::vec3(skeleton.nodes[i].rest_world[3]);
+  return i < 0 ? glm::vec3(NAN) : glm::vec3(toGlm(skeleton.nodes[i].rest_world)[3]);
+}
+
+/// A sphere collider to attach by node name (RigOptions::colliders).
+inline ColliderSpec sphereSpec(const std::string& node, Vec3 offset, float radius) {
+  ColliderSpec c;
+  c.node = node;
+  c.offset = offset;
+  c.radius = radius;
+  return c;
+}
+
+/// A capsule collider from `offset` to `tail`, to attach by node name.
+inline ColliderSpec capsuleSpec(const std::string& node, Vec3 offset, Vec3 tail, float radius) {
+  ColliderSpec c = sphereSpec(node, offset, radius);
+  c.shape = Collider::Shape::kCapsule;
+  c.tail = tail;
+  return c;
 }
 
 // ---------------------------------------------------------------------------------------------
-// Approximate comparisons
+// Approximate comparisons, of the public value types and of GLM's alike
 
-inline ::testing::AssertionResult vecNear(const glm::vec3& actual, const glm::vec3& expected,
-                                          float eps = 1e-5f) {
+struct AnyVec3 : glm::vec3 {
+  AnyVec3(const glm::vec3& v) : glm::vec3(v) {}
+  AnyVec3(const Vec3& v) : glm::vec3(toGlm(v)) {}
+  AnyVec3(float x, float y, float z) : glm::vec3(x, y, z) {}
+};
+struct AnyQuat : glm::quat {
+  AnyQuat(const glm::quat& q) : glm::quat(q) {}
+  AnyQuat(const Quat& q) : glm::quat(toGlm(q)) {}
+};
+
+inline ::testing::AssertionResult vecNear(const AnyVec3& actual, const AnyVec3& expected, float eps = 1e-5f) {
   const float d = glm::length(actual - expected);
   if (d <= eps) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "(" << actual.x << ", " << actual.y << ", " << actual.z
@@ -168,8 +192,7 @@ inline ::testing::AssertionResult vecNear(const glm::vec3& actual, const glm::ve
 }
 
 /// q and -q are the same rotation.
-inline ::testing::AssertionResult quatNear(const glm::quat& actual, const glm::quat& expected,
-                                           float eps = 1e-5f) {
+inline ::testing::AssertionResult quatNear(const AnyQuat& actual, const AnyQuat& expected, float eps = 1e-5f) {
   const float d = std::fmin(glm::length(glm::vec4(actual.x - expected.x, actual.y - expected.y,
                                                   actual.z - expected.z, actual.w - expected.w)),
                             glm::length(glm::vec4(actual.x + expected.x, actual.y + expected.y,

@@ -145,7 +145,7 @@ void expectRigInvariants(const Rig& rig) {
     EXPECT_TRUE(std::isfinite(joint.params.stiffness) && joint.params.stiffness >= 0.0f);
     EXPECT_TRUE(std::isfinite(joint.params.gravity_power) && joint.params.gravity_power >= 0.0f);
     EXPECT_TRUE(joint.params.drag >= 0.0f && joint.params.drag <= 1.0f);
-    EXPECT_NEAR(glm::length(joint.params.gravity_dir), 1.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(toGlm(joint.params.gravity_dir)), 1.0f, 1e-5f);
     EXPECT_TRUE(std::isfinite(joint.hit_radius) && joint.hit_radius >= 0.0f);
   }
   EXPECT_EQ(rig.chain_roots.size(), roots.size());
@@ -192,7 +192,7 @@ TEST(VrmLoader, Vrm10FixtureMapsSpringsJointsAndTails) {
     const Joint& j = joint(*rig, hair[k]);
     EXPECT_EQ(nodes[j.tail_node].name, hair[k + 1]);
     EXPECT_TRUE(vecNear(j.tail_local, nodes[j.tail_node].rest_local.translation, 0.0f));
-    EXPECT_NEAR(j.rest_length, glm::length(glm::vec3(nodes[j.tail_node].rest_world[3]) - glm::vec3(nodes[j.node].rest_world[3])), 1e-6f);
+    EXPECT_NEAR(j.rest_length, glm::length(glm::vec3(toGlm(nodes[j.tail_node].rest_world)[3]) - glm::vec3(toGlm(nodes[j.node].rest_world)[3])), 1e-6f);
     EXPECT_TRUE(quatNear(j.rest_local.rotation, nodes[j.node].rest_local.rotation, 0.0f));
     if (k > 0) {
       EXPECT_EQ(j.parent_joint, jointNamed(*rig, hair[k - 1]));
@@ -226,7 +226,7 @@ TEST(VrmLoader, Vrm10FixtureReadsPerJointParametersCentersAndColliders) {
   const float len = std::sqrt(1.5f * 1.5f + 0.5f * 0.5f);
   EXPECT_TRUE(vecNear(h4.params.gravity_dir, glm::vec3(0, -1.5f, 0.5f) / len, 1e-6f));
   EXPECT_NEAR(h4.params.gravity_power, 0.3f * len, 1e-6f);
-  EXPECT_TRUE(vecNear(h4.params.gravity_dir * h4.params.gravity_power, glm::vec3(0, -1.5f, 0.5f) * 0.3f, 1e-6f));
+  EXPECT_TRUE(vecNear(toGlm(h4.params.gravity_dir) * h4.params.gravity_power, glm::vec3(0, -1.5f, 0.5f) * 0.3f, 1e-6f));
 
   // Centers: the skirt's is J_Hips (also its root's parent driver), the hair has none.
   EXPECT_EQ(h1.center_driver, -1);
@@ -306,7 +306,7 @@ TEST(VrmLoader, Vrm0FixtureMapsBoneGroupsToEveryDescendant) {
   for (const char* leaf : {"Hair_1_a_b", "Hair_1_side", "Ear_L", "Tail_3"}) {
     const Joint& j = joint(*rig, leaf);
     EXPECT_EQ(j.tail_node, -1) << leaf;
-    const glm::vec3 t = nodes[j.node].rest_local.translation;
+    const glm::vec3 t = toGlm(nodes[j.node].rest_local.translation);
     EXPECT_TRUE(vecNear(j.tail_local, glm::normalize(t) * 0.07f, 1e-7f)) << leaf;
     EXPECT_NEAR(j.rest_length, 0.07f, 1e-6f) << leaf;
   }
@@ -418,9 +418,9 @@ TEST(VrmLoader, SkippedNodesBetweenJointsAreHeldAtRest) {
   const Joint& a = joint(*rig, "A");
   EXPECT_EQ(a.tail_node, 4);
   // C in A's frame: B's local transform applied to C's translation.
-  const glm::vec3 expected = glm::vec3(nodes[3].rest_local.translation) + nodes[3].rest_local.rotation * nodes[4].rest_local.translation;
+  const glm::vec3 expected = toGlm(nodes[3].rest_local.translation) + toGlm(nodes[3].rest_local.rotation) * toGlm(nodes[4].rest_local.translation);
   EXPECT_TRUE(vecNear(a.tail_local, expected, 1e-6f));
-  EXPECT_NEAR(a.rest_length, glm::length(glm::vec3(nodes[4].rest_world[3]) - glm::vec3(nodes[2].rest_world[3])), 1e-6f);
+  EXPECT_NEAR(a.rest_length, glm::length(glm::vec3(toGlm(nodes[4].rest_world)[3]) - glm::vec3(toGlm(nodes[2].rest_world)[3])), 1e-6f);
   const Joint& b = joint(*rig, "B");
   EXPECT_EQ(b.tail_node, 4);
   EXPECT_TRUE(vecNear(b.tail_local, glm::vec3(0.0f), 0.0f));
@@ -454,7 +454,7 @@ TEST(VrmLoader, SkippedNodesComposeThroughTheSolverOnBothPaths) {
       std::memcpy(instance.driverMatrices() + 16 * head, &m[0][0], sizeof(float) * 16);
       instance.step(1.0 / 60.0);
       EXPECT_TRUE(quatNear(rotationOf(instance, b), rig->joints[b].rest_local.rotation, 1e-6f));
-      const glm::vec3 aimed = glm::vec3(worldOf(instance, a) * glm::vec4(rig->joints[a].tail_local, 1.0f));
+      const glm::vec3 aimed = glm::vec3(worldOf(instance, a) * glm::vec4(toGlm(rig->joints[a].tail_local), 1.0f));
       EXPECT_TRUE(vecNear(glm::vec3(worldOf(instance, c)[3]), aimed, 1e-5f)) << "frame " << f;
     }
     // The joints did move.

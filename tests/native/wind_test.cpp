@@ -21,7 +21,7 @@ using namespace test;
 
 Wind breeze(std::uint32_t seed = 7, float gusts = 1.5f) {
   Wind wind;
-  wind.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+  wind.direction = Vec3{1.0f, 0.0f, 0.0f};
   wind.strength = 1.0f;
   wind.gust_frequency = gusts;
   wind.seed = seed;
@@ -159,7 +159,7 @@ TEST(Wind, ASceneSetsEveryMemberAndStepsThemAsIfAlone) {
 TEST(Wind, OutOfRangeValuesAreClamped) {
   auto instance = instanceOn(hangingChain(), Path::kLanes);
   Wind wind = breeze();
-  wind.direction = glm::vec3(0.0f, 0.0f, 2.0f);
+  wind.direction = Vec3{0.0f, 0.0f, 2.0f};
   wind.strength = 1e9f;
   wind.gust_frequency = NAN;
   instance->setWind(wind);
@@ -170,10 +170,10 @@ TEST(Wind, OutOfRangeValuesAreClamped) {
   instance->setWind(wind);
   EXPECT_EQ(instance->wind().strength, 0.0f);
   wind.strength = 1.0f;
-  wind.direction = glm::vec3(NAN, 0.0f, 0.0f);
+  wind.direction = Vec3{NAN, 0.0f, 0.0f};
   instance->setWind(wind);
   EXPECT_EQ(instance->wind().strength, 0.0f);  // no usable direction: no wind
-  wind.direction = glm::vec3(0.0f);
+  wind.direction = Vec3{};
   instance->setWind(wind);
   EXPECT_EQ(instance->wind().strength, 0.0f);
   // The strongest wind with the fastest gusts for a long time: still finite.

@@ -32,19 +32,19 @@ class XpbdRunner {
     input_.resize(drivers);
     for (std::size_t d = 0; d < drivers; ++d) {
       const int node = rig_->drivers[d].node;
-      input_[d] = node >= 0 ? rig_->skeleton.nodes[node].rest_world : glm::mat4(1.0f);
+      input_[d] = node >= 0 ? toGlm(rig_->skeleton.nodes[node].rest_world) : glm::mat4(1.0f);
     }
     previous_ = current_ = step_drivers_ = input_;
     colliders_.resize(rig_->colliders.size());
     rotations_.resize(4 * rig_->joints.size());
     joint_world_.resize(rig_->joints.size());
     for (std::size_t j = 0; j < rig_->joints.size(); ++j) {
-      const glm::quat& q = rig_->joints[j].rest_local.rotation;
+      const Quat& q = rig_->joints[j].rest_local.rotation;
       rotations_[4 * j] = q.x;
       rotations_[4 * j + 1] = q.y;
       rotations_[4 * j + 2] = q.z;
       rotations_[4 * j + 3] = q.w;
-      joint_world_[j] = rig_->skeleton.nodes[rig_->joints[j].node].rest_world;
+      joint_world_[j] = toGlm(rig_->skeleton.nodes[rig_->joints[j].node].rest_world);
     }
   }
 
@@ -108,9 +108,9 @@ class XpbdRunner {
       }
       const Transform a = decomposeTransform(previous_[d]), b = decomposeTransform(current_[d]);
       Transform r;
-      r.translation = glm::mix(a.translation, b.translation, t);
-      r.rotation = glm::slerp(a.rotation, b.rotation, t);
-      r.scale = glm::mix(a.scale, b.scale, t);
+      r.translation = fromGlm(glm::mix(toGlm(a.translation), toGlm(b.translation), t));
+      r.rotation = fromGlm(glm::slerp(toGlm(a.rotation), toGlm(b.rotation), t));
+      r.scale = fromGlm(glm::mix(toGlm(a.scale), toGlm(b.scale), t));
       step_drivers_[d] = composeTransform(r);
     }
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
@@ -118,8 +118,8 @@ class XpbdRunner {
       const glm::mat4& m = step_drivers_[collider.driver];
       const float scale =
           std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
-      colliders_[c].start = glm::vec3(m * glm::vec4(collider.offset, 1.0f));
-      colliders_[c].end = glm::vec3(m * glm::vec4(collider.tail, 1.0f));
+      colliders_[c].start = glm::vec3(m * glm::vec4(toGlm(collider.offset), 1.0f));
+      colliders_[c].end = glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f));
       colliders_[c].radius = collider.radius * scale;
     }
   }

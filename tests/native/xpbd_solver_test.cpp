@@ -67,7 +67,7 @@ glm::vec3 headOf(const XpbdRunner& runner, std::size_t joint) { return glm::vec3
 
 // The tail as the outputs place it: the joint's world matrix applied to its rest tail offset.
 glm::vec3 tailOf(const XpbdRunner& runner, std::size_t joint) {
-  return glm::vec3(runner.worldMatrices()[joint] * glm::vec4(runner.rig().joints[joint].tail_local, 1.0f));
+  return glm::vec3(runner.worldMatrices()[joint] * glm::vec4(toGlm(runner.rig().joints[joint].tail_local), 1.0f));
 }
 
 bool allFiniteUnit(const float* rotations, std::size_t joints) {
@@ -255,11 +255,8 @@ TEST(XpbdSolver, SphereColliderKeepsTheTailOutside) {
   // A 0.3 m bone resting along +X swings down under gravity (no stiffness, little drag) into a
   // sphere of radius 0.05 sitting on its path at 60 degrees down; joint hit radius 0.02. The tail
   // must stay at least 0.07 from the sphere's center on every frame and come to rest on it.
-  ColliderSpec sphere;
-  sphere.node = "Avatar_Head";
-  sphere.radius = 0.05f;
   RigOptions options;
-  options.colliders = {sphere};
+  options.colliders = {test::sphereSpec("Avatar_Head", {0, 0, 0}, 0.05f)};
   options.hit_radius = 0.02f;
   auto rig = singleJointRig({0.3f, 0, 0}, rootParams(0, 1, 0.1), options);
   ASSERT_EQ(rig->colliders.size(), 1u);
@@ -302,14 +299,8 @@ TEST(XpbdSolver, CenterSpaceRemovesTheSwayOfAUniformlyTranslatingAvatar) {
 TEST(XpbdSolver, TwoRunsAreBitIdentical) {
   // Same rig and inputs, two solvers: the same bits on every frame (center, collider, irregular
   // frames with spikes and interpolated drivers all included).
-  ColliderSpec capsule;
-  capsule.node = "Avatar_Head";
-  capsule.shape = Collider::Shape::kCapsule;
-  capsule.offset = {0.1f, -0.2f, -0.1f};
-  capsule.tail = {0.1f, -0.2f, 0.1f};
-  capsule.radius = 0.04f;
   RigOptions options;
-  options.colliders = {capsule};
+  options.colliders = {test::capsuleSpec("Avatar_Head", {0.1f, -0.2f, -0.1f}, {0.1f, -0.2f, 0.1f}, 0.04f)};
   options.hit_radius = 0.01f;
   json root = rootParams(2, 1.5, 0.05);
   root["center"] = "Avatar_Hips";
@@ -382,10 +373,7 @@ TEST(XpbdSolver, ScaledArmatureBehavesLikeAnUnscaledOne) {
 
 TEST(XpbdSolver, ColliderTableOverloadMatchesTheColliderArray) {
   // The overload Instance uses (its ColliderTable) must give the same bits as the array one.
-  ColliderSpec sphere;
-  sphere.node = "Avatar_Head";
-  sphere.offset = {0.2f, -0.15f, 0};
-  sphere.radius = 0.06f;
+  const ColliderSpec sphere = test::sphereSpec("Avatar_Head", {0.2f, -0.15f, 0}, 0.06f);
   RigOptions options;
   options.colliders = {sphere};
   options.hit_radius = 0.01f;
@@ -398,16 +386,16 @@ TEST(XpbdSolver, ColliderTableOverloadMatchesTheColliderArray) {
   std::vector<glm::mat4> joints_a(1), joints_b(1);
   by_array.seed(world.data(), rotations_a.data(), joints_a.data());
   by_table.seed(world.data(), rotations_b.data(), joints_b.data());
-  const XpbdCollider collider{sphere.offset, sphere.offset, sphere.radius};
+  const XpbdCollider collider{toGlm(sphere.offset), toGlm(sphere.offset), sphere.radius};
   ColliderTable table;
   table.resize(1);
-  table.set(0, sphere.offset, sphere.offset, sphere.radius);
+  table.set(0, toGlm(sphere.offset), toGlm(sphere.offset), sphere.radius);
   bool touched = false;
   for (int i = 0; i < 240; ++i) {
     by_array.step(world.data(), &collider, 1, float(kSubstep), rotations_a.data(), joints_a.data());
     by_table.step(world.data(), table, float(kSubstep), rotations_b.data(), joints_b.data());
     ASSERT_EQ(rotations_a, rotations_b) << "step " << i;
-    touched = touched || glm::length(by_array.tailWorld(0) - sphere.offset) < 0.0701f;
+    touched = touched || glm::length(by_array.tailWorld(0) - toGlm(sphere.offset)) < 0.0701f;
   }
   EXPECT_TRUE(touched);  // the collider did take part
 }
