@@ -34,7 +34,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include "springbones/springbones.h"
@@ -161,6 +163,9 @@ class Runner {
   long long substeps_ = 0;
 };
 
+// The joint's tail in its local space, for the glm arithmetic of this report.
+glm::vec3 tailLocal(const Joint& joint) { return {joint.tail_local.x, joint.tail_local.y, joint.tail_local.z}; }
+
 glm::quat rotationAt(const float* rotations, std::size_t j) {
   const float* r = rotations + 4 * j;
   return glm::quat(r[3], r[0], r[1], r[2]);
@@ -237,7 +242,7 @@ Stability runStability(const std::string& integrator, const std::string& rig_nam
       if (!std::isfinite(norm) || std::fabs(norm - 1.0f) > 1e-3f) exploded = true;
       const glm::mat4 w = runner->world(j);
       const glm::vec3 head(w[3]);
-      const glm::vec3 tail(w * glm::vec4(toGlm(rig->joints[j].tail_local), 1.0f));
+      const glm::vec3 tail(w * glm::vec4(tailLocal(rig->joints[j]), 1.0f));
       const double error = std::fabs(glm::length(tail - head) / rig->joints[j].rest_length - 1.0);
       if (!(error <= 0.01)) exploded = true;  // NaN counts
       if (std::isfinite(error)) frame_worst = std::max(frame_worst, error);
