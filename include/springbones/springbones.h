@@ -149,8 +149,8 @@ struct Joint {
   BoneParams params;
   Transform rest_local;   ///< the node's rest local transform
   Vec3 tail_local;        ///< tail position in the joint's local space (child translation)
-  float rest_length = 0;    ///< world distance head->tail in the rest pose
-  float hit_radius = 0;     ///< radius of the tail against colliders, world units
+  float rest_length = 0;  ///< world distance head->tail in the rest pose
+  float hit_radius = 0;   ///< radius of the tail against colliders, world units
   std::vector<int> colliders;  ///< indices into Rig::colliders this joint's tail collides with
 };
 
