@@ -1,56 +1,20 @@
-// VRM spring bones into a Rig (see springbones/vrm.h for the two formats).
-//
-// How the file's model becomes ours, and the choices where the references disagree:
-//  - Joints. VRMC_springBone: pair (joints[k], joints[k+1]) is one joint on joints[k]'s node with
-//    joints[k]'s parameters; the last listed joint is only a tail. VRM 0.x: every node of a root's
-//    subtree is a joint with its first child as tail. The Rig holds every joint once, parents
-//    first, and a joint's parent_joint is the joint of its glTF parent; a joint whose glTF parent
-//    is not a joint is a chain root and hangs from a driver (that parent), as in rig_builder.cpp.
-//  - Tails. tail_local is the tail's position in the joint's local space at rest. VRMC_springBone
-//    allows joints[k+1] to be any descendant of joints[k] ("intermediate nodes are ignored"); the
-//    tail position is then composed from the local transforms along the path, so the bone points at
-//    the listed node (three-vrm and UniVRM use the grandchild's own local translation instead, which
-//    points the bone the wrong way). The skipped nodes are added as fixed joints: zero tail, so the
-//    solver keeps them at their rest rotation, and the chain's world transforms compose through
-//    them. Likewise a spring root lying below another joint through nodes that are no joint (under
-//    a spring's tail-only node, or a branch the file does not list) gets those nodes as fixed
-//    joints: the solver carries transforms only down joint links, and a driver there would depend
-//    on the simulation's own output. Each such insertion is reported (`vrm-fixed-nodes`).
-//  - VRM 0.x leaves get a virtual tail of kVrm0LeafTailLength along normalize(leaf translation),
-//    in the leaf's own local frame and not scaled: three-vrm 3.5.5's rule and what UniVRM's 0.x ->
-//    1.0 migration bakes into an `_end` node. UniVRM 0.x's own component uses the world
-//    parent->leaf direction times the lossy scale; the two agree when the leaf's rest rotation is
-//    identity and its scale 1 (normalized VRM 0.x rigs). A leaf at its parent's origin has no
-//    direction: the joint keeps its rest rotation (`zero-length-bone`).
-//  - Conflicts: a node is simulated by at most one joint. The first spring / bone group (file
-//    order) keeps it; a later spring is cut before the conflicting pair, a later 0.x root skips
-//    the nodes already taken (`vrm-joint-conflict`). A spring whose next joint is not a
-//    descendant is cut there (`vrm-joint-not-descendant`).
-//  - Defaults for missing parameters are the VRMC_springBone 1.0 schema's, for both formats:
-//    stiffness 1, gravityPower 0, gravityDir (0,-1,0), dragForce 0.5, hitRadius 0 (three-vrm uses
-//    dragForce 0.4; the VRM 0.x schema has no defaults). Ranges are the schema's: stiffness,
-//    gravityPower, hitRadius >= 0, dragForce in [0, 1]; out-of-range values are clamped and
-//    unreadable ones replaced, each with a warning. There is no upper bound on stiffness (unlike
-//    ADR-316's 4).
-//  - gravityDir is stored normalized (the BoneParams contract) and its length is folded into
-//    gravity_power: the gravity impulse dir * power is exactly the file's, as UniVRM and three-vrm
-//    3.5.5 apply it unnormalized, so a non-unit direction moves the same. A zero direction means no
-//    gravity (power 0).
-//  - VRM 0.x vectors are stored in Unity's axes: collider offsets and gravityDir get z negated
-//    (three-vrm negates z of the offsets but takes gravityDir as is; UniVRM's migration converts
-//    both). VRMC_springBone vectors are used as they are.
-//  - Colliders: sphere and capsule, and VRMC_springBone_extended_collider's plane, inside sphere
-//    and inside capsule (specVersion "1.0" or the draft's "1.0-draft"), which replace the base
-//    shape; an unknown version or shape, or an unreadable one, falls back to the base shape the
-//    extension requires writers to provide (`vrm-extended-collider`). Collider nodes become drivers; a collider on a joint or
-//    below one is skipped (its driver matrix would depend on the simulation; three-vrm orders such
-//    updates instead). Only colliders some built joint uses are kept, in file order; a joint's
-//    collider list is sorted and without duplicates, so the push-out order is file order, not the
-//    spring's group order (both solver paths test in index order). Radii are scaled by the
-//    collider node's world scale in the solver (UniVRM 1.0 does too; three-vrm does not).
-//  - Centers: the spring's (1.0) or group's (0.x, -1 = none) center node becomes a driver. A
-//    center that is a joint or lies below one is replaced by world space (`center-is-spring-bone`),
-//    as rig_builder.cpp does.
+// VRM spring bones into a Rig (see springbones/vrm.h for the two formats). What a file's model
+// becomes, and where we differ from three-vrm and UniVRM, is docs/semantics.md, "VRM avatars";
+// here, how the code holds to it:
+//  - The Rig holds every joint once, parents first; a joint's parent_joint is the joint of its
+//    glTF parent, and a joint whose glTF parent is no joint is a chain root hanging from a driver,
+//    as in rig_builder.cpp. The solver carries transforms only down joint links, so nodes skipped
+//    between a VRMC_springBone joint and its next one, or between a spring root and a joint above
+//    it, become fixed joints (zero tail: held at their rest rotation).
+//  - A VRMC_springBone tail several nodes down is composed from the local transforms along the
+//    path, so the bone points at the listed node.
+//  - A VRM 0.x leaf's virtual tail (kVrm0LeafTailLength along its normalized translation, in its
+//    own frame, unscaled) is three-vrm 3.5.5's rule and what UniVRM's 0.x -> 1.0 migration bakes
+//    into an `_end` node; UniVRM 0.x's own component agrees on normalized rigs.
+//  - gravityDir is stored normalized (the BoneParams contract) with its length folded into
+//    gravity_power, so dir * power is exactly the file's impulse.
+//  - A joint's collider list is sorted and without duplicates: both solver paths push out in
+//    index order, which is file order.
 #include "springbones/vrm.h"
 
 #include <algorithm>
