@@ -1,82 +1,16 @@
-// The XPBD integrator (`integrator: 'xpbd'`).
-//
-// docs/xpbd.md describes it and the stability comparison. The usual XPBD spring-bone recipe (as
-// in VRMMetalKit's GPU solver: predict, then 2-4 iterations of distance and collision constraints,
-// fixed 120 Hz substeps, compliant constraints) on Macklin, Mueller and Chentanez, "XPBD:
-// Position-Based Simulation of Compliant Constrained Dynamics" (MIG 2016), whose update we use:
-// per compliant constraint, dlambda = (-C - alpha~ lambda) / (w |grad C|^2 + alpha~),
-// alpha~ = alpha / h^2, x += w grad C dlambda.
-//
-// Per fixed substep h (the owner runs it at 120 Hz by default) and per joint, parents first:
-//   1. predict the tail particle from its inertia (center space, as in the default path) and
-//      gravity;
-//   2. up to `iterations` Gauss-Seidel passes over the joint's constraints: the compliant bend
-//      constraint, the hard bone-length constraint, then each collider (a hard inequality) followed
-//      by the length again (VRMC_springBone's order), the length last so it is exact; passes after
-//      the first run only while a collider is active (see the bend constraint below for why);
-//   3. velocity stays implicit in (current - previous), as in the default path and in XPBD's
-//      v = (x - previous x) / h;
-//   4. the joint turns its rest axis toward the tail, exactly as the default path does, so the
-//      rotations mean the same thing.
-// The head of a joint is the (already solved) parent's transform, i.e. a particle of inverse mass
-// 0: a child never pulls its parent. That is how the default path and every VRM renderer propagate,
-// it is what the rotation outputs need, and it makes each joint's constraints a one-particle
-// problem: the hard projections are exact, so bone lengths hold to float rounding after any
-// number of steps rather than up to solver convergence (a GPU solver that solves all distance
-// constraints in parallel needs its iterations for that).
-//
-// The mapping from the VRM parameters, and why. The parameters are defined by the default update
-// (docs/semantics.md, The step) at the step rate it is tuned at, h0 = 1 / reference_hz = 1/60 s: per step
-// the tail's velocity (metres per step) becomes (1 - drag) v + stiffness h0 restDir +
-// gravityPower h0 gravityDir, then the tail goes back onto the bone-length sphere. So stiffness is
-// a pull of constant size along the rest direction (a second gravity), not a Hookean spring, and
-// drag is a fraction lost per 1/60 s.
-//  - stiffness -> a compliant zero-length "bend" spring between the tail x and the rest tail
-//    r = head + restDir L (under the current parent), compliance alpha = L / stiffness (spring
-//    constant stiffness / L), written as the vector constraint C = x - r: three linear
-//    constraints, one per axis, sharing that compliance (energy stiffness / (2 L) |x - r|^2). Why
-//    this spring: its force (stiffness / L)(r - x) has, for the tail on the sphere, the tangential
-//    part (stiffness / L) L restDir_perp = stiffness restDir_perp at every angle, exactly the
-//    tangential part of the default's stiffness impulse; the radial parts are taken by the hard
-//    length constraint. Same restoring torque curve, hence the same equilibrium (stiffness restDir
-//    + gravityPower gravityDir along the bone), but solved implicitly, which is what keeps XPBD
-//    stable at any stiffness and substep. Why not the common mapping that sets the compliance from
-//    stiffness directly (compliance = 1 / (stiffness dt^2), i.e. alpha = 1 / stiffness)? With the
-//    VRM meaning of stiffness it makes the bend strength depend on the bone length and
-//    the world unit (a 0.05 m bone ten times stiffer than a 0.5 m one, a 0.01-scaled armature a
-//    hundred times) and moves the equilibrium away from the default's; dividing by L keeps both as
-//    the default has them. Why the vector form rather than the scalar C = |x - r|: the scalar
-//    form's accumulated lambda counts the radial part of each correction, which the length
-//    projection then throws away, so 2 or more iterations converge to a softer spring (we measured
-//    45.09 degrees on a 0.3 m bone and 45.57 on a 0.05 m one where the default gives 45). The
-//    linear form has no such error: one pass of bend then length already is the exact implicit
-//    Euler solution of spring plus sphere, x = head + L normalize((x~ + b r) / (1 + b) - head)
-//    with b = w / alpha~, and further passes reproduce it. So the iterations only matter, and only
-//    run, while a collider is active.
-//  - gravityPower, gravityDir -> an external force on the tail in the predict step
-//    (x += h^2 F / m); the wind's pull (windAt) is another such force.
-//  - drag -> implicit (backward Euler) velocity damping: each substep keeps rho = (1 -
-//    drag)^(h / h0) of the velocity, so a free tail loses the same fraction per 1/60 s as in the
-//    default, at any substep rate. In the solve it scales the tail's inverse mass by rho (backward
-//    Euler damping c is a mass (1 + c h) m, and 1 / (1 + c h) = rho), which is what keeps drag 1
-//    finite: rho = 0 is the first-order limit where the tail moves only by its impulses, as it
-//    does in the default.
-//  - the tail's mass m (XPBD divides forces by a mass; VRM has none): chosen so that a free
-//    tail's velocity over 1/60 s follows the default's map v -> (1 - drag) v + F exactly, F =
-//    stiffness restDir + gravityPower gravityDir in m/s. Over n = h0 / h substeps v -> rho (v + h F
-//    / m) gives rho^n v + (h / m) F rho (1 - rho^n) / (1 - rho), so 1 / m = (1 - rho) / (drag h rho),
-//    which tends to 1 / h0 as drag -> 0. The solve uses w = rho / m = (1 - rho) / (drag h), finite
-//    for every drag in [0, 1]. Stiffness and gravity scale alike with m, so drag never moves the
-//    equilibrium, as in the default.
-// What comes out (tests/native/xpbd_solver_test.cpp, tests/native/integrator_report.cpp): the
-// default's equilibria to 1e-3 degrees, bone lengths exact to float rounding, no explosion under
-// the most energetic parameters at 30 fps with 0.5 s frames, collider penetration a tenth of the
-// default's. Where it differs from the default, by design: the motion converges as h -> 0 (first
-// order, implicit Euler) instead of depending on the step rate; the default's one projection per
-// 1/60 s removes more energy than ours per 1/120 s, so at low drag the xpbd bones swing longer
-// (a horizontal bone at stiffness = gravityPower = 1 settles within 1 degree in 3.0 s at drag 0
-// and 0.45 s at drag 0.2, the default in 1.55 s and 0.32 s); and colliders converge over the
-// iterations instead of one push-out per step.
+// The XPBD integrator (`integrator: 'xpbd'`): Macklin, Mueller and Chentanez, "XPBD:
+// Position-Based Simulation of Compliant Constrained Dynamics" (MIG 2016), in the usual
+// spring-bone recipe (predict, then Gauss-Seidel passes of distance and collision constraints at
+// fixed substeps, compliant constraints). docs/xpbd.md is its description: one substep, the
+// mapping from the VRM parameters (stiffness -> a bend compliance L / stiffness on three linear
+// constraints, drag -> the kept fraction rho = (1 - drag)^(h / h0) that also scales the inverse
+// mass, the tail's mass matching the default's velocity map over 1/60 s), each with its reason,
+// and the comparison with the default update. In short, per substep and per joint, parents first:
+// predict the tail from its inertia and the external pulls; pass over bend, length, then each
+// collider followed by the length again (the length last, so it is exact), repeating only while a
+// collider pushes; turn the rest axis toward the tail as the default update does. The head is
+// the solved parent's transform (a particle of infinite mass), so each joint's constraints are a
+// problem of one particle and the hard projections are exact.
 #include "simulation/xpbd_solver.h"
 
 #include <algorithm>
