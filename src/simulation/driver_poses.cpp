@@ -14,6 +14,29 @@ namespace {
 
 constexpr std::size_t kVector = 4;  // drivers per SIMD vector; arrays are padded to a multiple
 
+// cos x for x in [0, pi/2] by its Taylor series (the last term is below 1e-16 there): std::cos
+// would bring libm's argument reduction and its tables into the module, about 7 KB gzip.
+double cosine(double x) {
+  double term = 1.0, sum = 1.0;
+  for (int k = 1; k <= 12; ++k) {
+    term *= -x * x / ((2 * k - 1) * (2 * k));
+    sum += term;
+  }
+  return sum;
+}
+
+// The position and rotation of driver d: the similarity's, or its general matrix decomposed.
+void poseOf(const DriverPoses& poses, std::size_t d, glm::vec3& position, glm::quat& rotation) {
+  if (poses.similar(d)) {
+    position = poses.position(d);
+    rotation = poses.rotation(d);
+    return;
+  }
+  const Transform t = decomposeTransform(poses.matrix(d));
+  position = toGlm(t.translation);
+  rotation = toGlm(t.rotation);
+}
+
 }  // namespace
 
 void DriverPoses::resize(std::size_t drivers) {
@@ -156,6 +179,26 @@ void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t,
     nlerpRotation(fqx[d], fqy[d], fqz[d], fqw[d], tqx[d], tqy[d], tqz[d], tqw[d], t, table.qx[at], table.qy[at],
                   table.qz[at], table.qw[at]);
   }
+}
+
+bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle) {
+  const float per = static_cast<float>(std::max(1, steps));
+  const float moved_limit = distance * per;
+  const float half_angle = 0.5f * angle * per;
+  const bool check_distance = moved_limit > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
+  // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is below
+  // the cosine of half of it.
+  const float min_dot = check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
+  for (std::size_t d = 0; d < to.size(); ++d) {
+    glm::vec3 pa, pb;
+    glm::quat ra, rb;
+    poseOf(from, d, pa, ra);
+    poseOf(to, d, pb, rb);
+    const glm::vec3 moved = pb - pa;
+    if (check_distance && glm::dot(moved, moved) > moved_limit * moved_limit) return true;
+    if (check_angle && std::abs(glm::dot(ra, rb)) < min_dot) return true;
+  }
+  return false;
 }
 
 }  // namespace springbones

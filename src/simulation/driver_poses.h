@@ -84,4 +84,9 @@ class DriverPoses {
   std::vector<std::int32_t> flags_;
 };
 
+/// Whether a driver moved, between two frames' poses, farther than `distance` or turned by more
+/// than `angle` radians per step of a frame of `steps` fixed steps (at least one is assumed).
+/// A threshold of 0 is not tested. Runs every frame (Instance's jump detection).
+bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle);
+
 }  // namespace springbones

@@ -7,38 +7,6 @@
 #include "common/transform_math.h"
 
 namespace springbones {
-namespace {
-
-// cos x for x in [0, pi/2] by its Taylor series (the last term is below 1e-16 there): std::cos
-// would bring libm's argument reduction and its tables into the module, about 7 KB gzip.
-double cosine(double x) {
-  double term = 1.0, sum = 1.0;
-  for (int k = 1; k <= 12; ++k) {
-    term *= -x * x / ((2 * k - 1) * (2 * k));
-    sum += term;
-  }
-  return sum;
-}
-
-}  // namespace
-
-bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle) {
-  const float per = static_cast<float>(std::max(1, steps));
-  const float moved_limit = distance * per;
-  const float half_angle = 0.5f * angle * per;
-  const bool check_distance = moved_limit > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
-  // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is below
-  // the cosine of half of it.
-  const float min_dot = check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
-  for (std::size_t d = 0; d < to.size(); ++d) {
-    const Transform a = from.transform(d), b = to.transform(d);
-    const glm::vec3 moved = toGlm(b.translation) - toGlm(a.translation);
-    if (check_distance && glm::dot(moved, moved) > moved_limit * moved_limit) return true;
-    if (check_angle && std::abs(glm::dot(toGlm(a.rotation), toGlm(b.rotation))) < min_dot) return true;
-  }
-  return false;
-}
-
 void JumpCarry::resize(std::size_t drivers) {
   delta_.resize(drivers);
   from_.resize(drivers);

@@ -1,7 +1,8 @@
-// Jumps of an instance's drivers (Instance::jump, docs/semantics.md "Jumps"): telling a jump from
-// motion, and the arithmetic that carries a chain's tails across one. Kept out of the per-frame
-// files (solver.cpp and its neighbours are built at -O3 for WebAssembly): a jump is rare, and
-// inlined there its matrix code cost 7 KB of the module.
+// Jumps of an instance's drivers (Instance::jump, docs/semantics.md "Jumps"): the arithmetic that
+// carries a chain's tails across one. Kept out of the per-frame files (solver.cpp and its
+// neighbours are built at -O3 for WebAssembly): a jump is rare, and inlined there its matrix code
+// cost 7 KB of the module. Telling a jump from motion runs every frame: driversJumped, beside the
+// driver poses it reads (driver_poses.h).
 #pragma once
 
 #include <cstddef>
@@ -12,11 +13,6 @@
 #include "simulation/driver_poses.h"
 
 namespace springbones {
-
-/// Whether a driver moved, between two frames' poses, farther than `distance` or turned by more
-/// than `angle` radians per step of a frame of `steps` fixed steps (at least one is assumed).
-/// A threshold of 0 is not tested.
-bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle);
 
 class JumpCarry {
  public:
