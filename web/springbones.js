@@ -221,7 +221,8 @@ class Rig {
     const opts = optionsObject('createInstance', options,
                                ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations', ...kJumpOptions]);
     const jumps = jumpOptions('createInstance', opts, this.#jumps);
-    const integrator = opts.integrator === undefined ? 'vrm' : checkOneOf('createInstance: integrator', opts.integrator, kIntegrators);
+    const integrator = opts.integrator === undefined
+      ? 'vrm' : checkOneOf('createInstance: integrator', opts.integrator, kIntegrators);
     // 0 leaves a value to the core's default for the integrator.
     const { maxStepHz, maxSubsteps: maxSubstepsLimit, maxXpbdIterations, integrators } = this.#limits;
     const stepHz = opts.stepHz === undefined ? 0 : checkRange('createInstance: stepHz', opts.stepHz, 1, maxStepHz);
@@ -300,14 +301,18 @@ class Instance {
   /** Driver world matrices (column-major 4x4, 16 floats per rig.drivers entry), written before step(). */
   get driverMatrices() {
     this.#live();
-    if (isStale(this.#m, this.#drivers, this.#driverFloats)) this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
+    if (isStale(this.#m, this.#drivers, this.#driverFloats)) {
+      this.#drivers = this.#view(this.#driverPtr, this.#driverFloats);
+    }
     return this.#drivers;
   }
 
   /** Local rotations (x, y, z, w), 4 floats per rig.joints entry, current after step(). */
   get rotations() {
     this.#live();
-    if (isStale(this.#m, this.#rotations, this.#rotationFloats)) this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
+    if (isStale(this.#m, this.#rotations, this.#rotationFloats)) {
+      this.#rotations = this.#view(this.#rotationsPtr, this.#rotationFloats);
+    }
     return this.#rotations;
   }
 
@@ -317,7 +322,9 @@ class Instance {
    */
   get worldMatrices() {
     this.#m.worldMatricesPtr(this.#live());  // fills the buffer; its address never changes
-    if (isStale(this.#m, this.#world, 4 * this.#rotationFloats)) this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
+    if (isStale(this.#m, this.#world, 4 * this.#rotationFloats)) {
+      this.#world = this.#view(this.#worldPtr, 4 * this.#rotationFloats);
+    }
     return this.#world;
   }
 
