@@ -7,13 +7,17 @@
 
 namespace springbones {
 
-inline glm::mat4 composeTransform(const Transform& t) {
-  glm::mat4 m = glm::mat4_cast(toGlm(t.rotation));
-  m[0] *= t.scale.x;
-  m[1] *= t.scale.y;
-  m[2] *= t.scale.z;
-  m[3] = glm::vec4(toGlm(t.translation), 1.0f);
+inline glm::mat4 composeTransform(const glm::vec3& translation, const glm::quat& rotation, const glm::vec3& scale) {
+  glm::mat4 m = glm::mat4_cast(rotation);
+  m[0] *= scale.x;
+  m[1] *= scale.y;
+  m[2] *= scale.z;
+  m[3] = glm::vec4(translation, 1.0f);
   return m;
+}
+
+inline glm::mat4 composeTransform(const Transform& t) {
+  return composeTransform(toGlm(t.translation), toGlm(t.rotation), toGlm(t.scale));
 }
 
 inline bool isFinite(const glm::vec3& v) {

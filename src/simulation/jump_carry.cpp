@@ -1,12 +1,11 @@
 #include "simulation/jump_carry.h"
 
-#include <algorithm>
-#include <cmath>
 #include <cstring>
 
 #include "common/transform_math.h"
 
 namespace springbones {
+
 void JumpCarry::resize(std::size_t drivers) {
   delta_.resize(drivers);
   from_.resize(drivers);

@@ -63,9 +63,10 @@ void Scene::step(double dt) {
   }
   // Nearest first; an avatar at a non-finite position sorts last.
   by_distance_.clear();
+  const glm::vec3 viewer = toGlm(viewer_);
   for (std::size_t i = 0; i < count; ++i) {
     const glm::vec3 p(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
-    const glm::vec3 to_viewer = p - toGlm(viewer_);
+    const glm::vec3 to_viewer = p - viewer;
     float d = glm::dot(to_viewer, to_viewer);
     if (!std::isfinite(d)) d = INFINITY;
     by_distance_.emplace_back(d, i);

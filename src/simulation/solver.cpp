@@ -179,11 +179,9 @@ struct Instance::State {
         step_drivers[d] = currentPoses().matrix(d);
       } else {
         const Transform ta = previousPoses().transform(d), tb = currentPoses().transform(d);
-        Transform r;
-        r.translation = fromGlm(glm::mix(toGlm(ta.translation), toGlm(tb.translation), t));
-        r.rotation = fromGlm(interpolateRotation(toGlm(ta.rotation), toGlm(tb.rotation), t));
-        r.scale = fromGlm(glm::mix(toGlm(ta.scale), toGlm(tb.scale), t));
-        step_drivers[d] = composeTransform(r);
+        step_drivers[d] = composeTransform(glm::mix(toGlm(ta.translation), toGlm(tb.translation), t),
+                                           interpolateRotation(toGlm(ta.rotation), toGlm(tb.rotation), t),
+                                           glm::mix(toGlm(ta.scale), toGlm(tb.scale), t));
       }
       glm::mat4 inverse;
       step_inverse_valid[d] = affineInverse(step_drivers[d], inverse);
@@ -320,9 +318,8 @@ struct Instance::State {
       in.rest_dir = in.rest_offset / in.length;
       const glm::vec3 offset = integrate(j, joint, in, h);
       const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
-      Transform local = joint.rest_local;
-      local.rotation = fromGlm(rotation);
-      joint_world[j] = parent * composeTransform(local);
+      joint_world[j] =
+          parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
       writeRotation(j, rotation);
     }
   }

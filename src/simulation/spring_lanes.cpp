@@ -150,7 +150,6 @@ SPRINGBONES_ALWAYS_INLINE inline void collideLanes(const ColliderTable& table, s
 
 }  // namespace
 
-
 void ColliderTable::resize(std::size_t colliders) {
   count = colliders;
   for (auto* v : {&x0, &y0, &z0, &x1, &y1, &z1, &radius}) v->assign(colliders, 0.0f);
@@ -219,8 +218,9 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     c.rz = rest.rotation.z;
     c.rw = rest.rotation.w;
     c.rs = rest.scale.x;
-    const float distance = glm::length(toGlm(joint.tail_local));
-    const glm::vec3 axis = distance > kMinLength ? toGlm(joint.tail_local) / distance : glm::vec3(0, 1, 0);
+    const glm::vec3 tail_local = toGlm(joint.tail_local);
+    const float distance = glm::length(tail_local);
+    const glm::vec3 axis = distance > kMinLength ? tail_local / distance : glm::vec3(0, 1, 0);
     // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
     // parent's frame, where the rest rotation is already applied.
     const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(toGlm(rest.rotation)) * axis);

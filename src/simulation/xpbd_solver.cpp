@@ -246,9 +246,8 @@ void XpbdSolver::writeOutputs(std::size_t j, const glm::mat4& parent, const glm:
   const float len = glm::length(local_dir);
   local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis_[j];
   const glm::quat rotation = glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(tail_axis_[j], local_dir));
-  Transform local = joint.rest_local;
-  local.rotation = fromGlm(rotation);
-  joint_world_out[j] = parent * composeTransform(local);
+  joint_world_out[j] =
+      parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
   writeRotation(rotations_out + 4 * j, rotation);
 }
 
