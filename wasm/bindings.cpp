@@ -6,9 +6,10 @@
 //  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
 //    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
-//  - Bulk data crosses as pointers into WASM memory (GLB bytes and springBones text in, driver
-//    matrices in, rotations out); structured data crosses as one JSON string each way, written and
-//    read by the core (springbones/boundary.h).
+//  - Bulk data crosses as pointers into WASM memory: typed input in (the glTF's nodes,
+//    springBones, the entity, the rig options: springbones/typed_input.h), driver matrices in,
+//    rotations out; what comes back structured is one JSON string written by the core
+//    (springbones/boundary.h). The runtime reads no JSON text.
 //  - An entry point has the name of the core function it calls (contentHash, describeRig...) and
 //    of the JS method that calls it; an instance's operations are the Instance methods' names
 //    (step, jump...), a scene's are prefixed with "scene" (sceneStep), their handle first.
@@ -33,6 +34,7 @@
 #include "springbones/boundary.h"
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
+#include "springbones/typed_input.h"
 #include "springbones/vrm.h"
 
 namespace springbones::bindings {
@@ -71,26 +73,27 @@ int badHandle(const char* what, int handle) {
 // ---------------------------------------------------------------------------------------------
 // Entry points
 
-/// Loads a rig from `size` GLB/glTF bytes at `data`, the springBones JSON text as `metadata_size`
-/// UTF-8 bytes at `metadata_data` (the text "null" for none; bytes, not a JS string, because
-/// embind converts strings with a per-character JavaScript loop), the models key (empty: the
-/// GLB's own content hash) and the rig options as JSON (empty for none). The steps run in the
-/// order of their errors: options, skeleton, metadata. Returns the rig handle, or 0 with the error
-/// pending. The caller keeps ownership of `data`.
-int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data, std::size_t metadata_size,
-            const std::string& hash, const std::string& options_text) {
+TypedBytes typedAt(std::uintptr_t data, std::size_t size) {
+  return TypedBytes{reinterpret_cast<const std::uint8_t*>(data), size};
+}
+
+/// Loads a rig from typed input (springbones/typed_input.h, written by web/typed_value.js): the
+/// glTF document's {asset, nodes} at `gltf`, data.springBones at `metadata` (null for none), the
+/// models key, and the rig options at `options` (no bytes for none). The steps run in the order of
+/// their errors: options, skeleton, metadata. Returns the rig handle, or 0 with the error
+/// pending. The caller keeps ownership of the bytes.
+int loadRig(std::uintptr_t gltf, std::size_t gltf_size, std::uintptr_t metadata, std::size_t metadata_size,
+            const std::string& hash, std::uintptr_t options_data, std::size_t options_size) {
   return guarded([&] {
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
     RigOptions options;
-    if (ApiFailure f = readRigOptions(options_text, options)) return fail(std::move(f));
+    if (ApiFailure f = readRigOptions(typedAt(options_data, options_size), options)) return fail(std::move(f));
     Skeleton skeleton;
-    if (Error e = loadSkeleton(bytes, size, skeleton)) return fail(e);
+    if (Error e = loadSkeleton(typedAt(gltf, gltf_size), skeleton)) return fail(e);
     LoadedRig loaded;
-    loaded.hash = hash.empty() ? springbones::contentHash(bytes, size) : hash;
+    loaded.hash = hash;
     ModelEntry model;
     std::vector<Warning> warnings;
-    const std::string_view metadata(reinterpret_cast<const char*>(metadata_data), metadata_size);
-    if (Error e = parseSpringBonesText(metadata, loaded.hash, model, warnings)) return fail(e);
+    if (Error e = parseSpringBones(typedAt(metadata, metadata_size), loaded.hash, model, warnings)) return fail(e);
     loaded.rig = buildRig(std::move(skeleton), model, std::move(warnings), options);
     const int handle = newHandle();
     g_rigs.emplace(handle, std::move(loaded));
@@ -98,15 +101,14 @@ int loadRig(std::uintptr_t data, std::size_t size, std::uintptr_t metadata_data,
   });
 }
 
-/// Loads the spring bones of a .vrm (VRMC_springBone 1.0 or VRM 0.x secondaryAnimation) into a
-/// rig. Returns the rig handle, or 0 with the error pending.
-int loadVrm(std::uintptr_t data, std::size_t size) {
+/// Loads the spring bones of a VRM document given as typed {asset, nodes, extensions}
+/// (VRMC_springBone 1.0 or VRM 0.x secondaryAnimation) into a rig. Returns the rig handle, or 0
+/// with the error pending.
+int loadVrm(std::uintptr_t gltf, std::size_t size) {
   return guarded([&] {
     LoadedRig loaded;
     VrmSpringFormat format = VrmSpringFormat::kNone;
-    if (Error e = springbones::loadVrm(reinterpret_cast<const std::uint8_t*>(data), size, loaded.rig, &format)) {
-      return fail(e);
-    }
+    if (Error e = springbones::loadVrm(typedAt(gltf, size), loaded.rig, &format)) return fail(e);
     loaded.format = format == VrmSpringFormat::kVrmcSpringBone1 ? "vrmc-springbone"
                     : format == VrmSpringFormat::kVrm0          ? "vrm0"
                                                                 : "none";
@@ -116,12 +118,12 @@ int loadVrm(std::uintptr_t data, std::size_t size) {
   });
 }
 
-/// The GLB hash of the representation `body_shape` wears in the entity (JSON text), or "" with
+/// The GLB hash of the representation `body_shape` wears in the entity (typed input), or "" with
 /// the error pending.
-std::string mainFileHashFor(const std::string& entity_text, const std::string& body_shape) {
+std::string mainFileHashFor(std::uintptr_t entity, std::size_t size, const std::string& body_shape) {
   std::string hash;
   const int ok = guarded([&] {
-    if (ApiFailure f = springbones::mainFileHashFor(entity_text, body_shape, hash)) return fail(std::move(f));
+    if (Error e = springbones::mainFileHashFor(typedAt(entity, size), body_shape, hash)) return fail(e);
     return 1;
   });
   return ok ? hash : std::string();

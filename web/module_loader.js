@@ -9,7 +9,7 @@
 import { checkKeys } from './arguments.js';
 import { SpringBonesError, withCause } from './errors.js';
 
-const kIsNode =
+export const kIsNode =
   typeof process === 'object' && process !== null && typeof process.versions === 'object' &&
   process.versions !== null && typeof process.versions.node === 'string';
 

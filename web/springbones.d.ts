@@ -23,8 +23,10 @@ export type SpringBonesErrorCode =
   | 'out-of-memory'               // WebAssembly memory could not grow
   | 'internal-error'              // a bug: please report it with the input
   | 'disposed'                    // the rig, instance or scene was used after dispose()
-  | 'module-not-found'            // a module's glue (web/dist/springbones_wasm.js or
-                                  // springbones_creator_tools.js) is missing (not built)
+  | 'readers-not-loaded'          // loadRig / loadVrm were given bytes in a browser before
+                                  // `await sb.readers()` (or the readers module failed to load)
+  | 'module-not-found'            // a module's glue (web/dist/springbones_wasm.js,
+                                  // springbones_readers.js or springbones_creator_tools.js) is missing (not built)
   | 'module-load-failed';         // the .wasm could not be fetched, compiled or instantiated
 
 export class SpringBonesError extends Error {
@@ -169,24 +171,48 @@ export interface ValidationError {
   message: string;
 }
 
+/** A parsed glTF document, as a loader holds it (three.js: `gltf.parser.json`). */
+export interface GltfJson {
+  asset?: { version?: string; [key: string]: unknown };
+  nodes?: object[];
+  extensions?: object;
+  [key: string]: unknown;
+}
+
 export interface SpringBones {
   /** The package version, equal to the installed package.json's `version` (semver, 0.x). */
   readonly version: string;
   /**
    * Loads a wearable once; share the rig between every avatar wearing it.
-   * @param glbBytes GLB or glTF JSON bytes (copied; the caller keeps its buffer)
-   * @param springBones data.springBones as an object (serialized once with JSON.stringify) or its
-   *   JSON text; null/undefined: no spring bones
+   * @param glb the glTF JSON the page's loader already parsed (three.js: `gltf.parser.json`; only
+   *   its `asset` and its nodes' name, children and transforms are read), or GLB / glTF JSON bytes
+   *   (copied; read by the readers module: in a browser, `await sb.readers()` first, else a
+   *   'readers-not-loaded' error). With the parsed JSON there are no bytes to hash: name the models
+   *   entry with `contentHash` or `entity` + `bodyShape` (else a TypeError, unless springBones is
+   *   null or undefined).
+   * @param springBones data.springBones (e.g. `entity.metadata.data.springBones`) as an object,
+   *   handed over as it is (no JSON.stringify; NaN and Infinity stay numbers and earn the core's
+   *   'param-not-finite' warning), or its JSON text; null/undefined: no spring bones
    * @throws TypeError, RangeError for bad arguments; SpringBonesError for unreadable input
    */
-  loadRig(glbBytes: Uint8Array | ArrayBuffer, springBones?: SpringBonesData | object | string | null,
+  loadRig(glb: GltfJson | Uint8Array | ArrayBuffer, springBones?: SpringBonesData | object | string | null,
           options?: LoadOptions | null): Rig;
   /**
    * Loads the spring bones of a VRM avatar: VRMC_springBone 1.0 (preferred when both are present)
    * or VRM 0.x secondaryAnimation, with their colliders. Same Rig interface; contentHash is ''.
    * A file with neither gives an empty rig with a 'vrm-no-springs' warning.
+   * @param vrm the glTF JSON a loader parsed (its asset, nodes and root extensions are read), or
+   *   the .vrm bytes (read by the readers module, as for loadRig)
    */
-  loadVrm(vrmBytes: Uint8Array | ArrayBuffer): Rig;
+  loadVrm(vrm: GltfJson | Uint8Array | ArrayBuffer): Rig;
+  /**
+   * The readers module, which reads GLB and VRM bytes for loadRig and loadVrm
+   * (dist/springbones_readers.wasm, the package's `springbones/readers-wasm`). In Node,
+   * createSpringBones() loads it; in a browser a page that has bytes to read awaits this first (a
+   * page that hands over its loader's parse never needs it). Every later call resolves with the
+   * same module; a failed load rejects ('module-load-failed') and the next call tries again.
+   */
+  readers(options?: CreateOptions): Promise<void>;
   /** The Decentraland content hash (CIDv1, "bafk..."/"bafy...") of the bytes, as the catalyst computes it. */
   contentHash(bytes: Uint8Array | ArrayBuffer): string;
   /**

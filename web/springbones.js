@@ -7,19 +7,21 @@
 // frozen plain data for the rig description, and typed-array views over the instance buffers
 // that are rebuilt when WASM memory grows. Per frame exactly one call crosses the boundary
 // (instance.step, or scene.step for a whole page) and nothing is allocated on either side.
-// Deploy-time validation and the Builder edits are the creator tools, a second module loaded on
-// first use by sb.creatorTools() (creator_tools.js); structured inputs cross as JSON text, once
-// per call.
+// Structured inputs cross as typed input (typed_value.js): what the page parsed, never JSON text.
+// Bytes (a GLB, a VRM) are read by the readers module (readers.js), loaded beside the runtime in
+// Node and by sb.readers() in browsers. Deploy-time validation and the Builder edits are the
+// creator tools, another module loaded on first use by sb.creatorTools() (creator_tools.js).
 //
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
-import { checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes, toJsonText } from './arguments.js';
-import { SpringBonesError, call, takeError } from './errors.js';
-import { instantiateModule, loadFailed } from './module_loader.js';
+import { checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes } from './arguments.js';
+import { SpringBonesError, call, takeError, withCause } from './errors.js';
+import { instantiateModule, kIsNode, loadFailed } from './module_loader.js';
+import { encodeGltf, encodeTyped } from './typed_value.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
-import { withBytes, withRoomForStrings, withUtf8 } from './wasm_memory.js';
+import { withBytes, withRoomForStrings } from './wasm_memory.js';
 
 export { SpringBonesError };
 
@@ -32,6 +34,10 @@ const kModuleUrl = new URL('./dist/springbones_wasm.wasm', import.meta.url);
  *          wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL}} [options]
  */
 export async function createSpringBones(options = {}) {
+  // In Node the readers come at once (local files, no download), so that loadRig and loadVrm take
+  // bytes as they always have; a page loads them with sb.readers() when it has bytes to read.
+  const readers = kIsNode ? loadReaders({}) : undefined;
+  readers?.catch(() => {});  // reported by the first call that needs them (loadRig with bytes)
   const module = await instantiateModule('createSpringBones', options, {
     importGlue: () => import('./dist/springbones_wasm.js'),
     glueFile: 'web/dist/springbones_wasm.js',
@@ -45,10 +51,15 @@ export async function createSpringBones(options = {}) {
   } catch (cause) {
     throw loadFailed(kModuleUrl.href, cause);
   }
-  const sb = new SpringBones(module, limits);
+  const sb = new SpringBones(module, limits, readers);
+  if (readers !== undefined) await sb.readers().catch(() => {});
   warmUpWhenIdle(sb);
   return sb;
 }
+
+// The readers module's API, imported on first use: a page that hands over what its loader parsed
+// never downloads readers.js or its module.
+const loadReaders = (options) => import('./readers.js').then((readers) => readers.loadReaders(options));
 
 // ---------------------------------------------------------------------------------------------
 
@@ -56,10 +67,14 @@ class SpringBones {
   #m;
   #limits;
   #creatorTools;  // the promise of the first creatorTools() call
+  #readersLoading;  // the promise of the first readers() call
+  #readers;  // the readers, once loaded
+  #readersError;  // why the last load of the readers failed
 
-  constructor(module, limits) {
+  constructor(module, limits, readers) {
     this.#m = module;
     this.#limits = limits;
+    if (readers !== undefined) this.#startReaders(readers);
   }
 
   /** The package version (package.json's), e.g. '0.2.0'. */
@@ -68,37 +83,82 @@ class SpringBones {
   }
 
   /**
-   * Loads a wearable: GLB (or glTF JSON) bytes, its data.springBones (object, JSON text, or
-   * null/undefined for none), which models entry applies, and optional colliders.
+   * Loads a wearable: the glTF JSON the page's loader already parsed (three.js: parser.json), or
+   * GLB / glTF bytes (read by the readers module); its data.springBones (object, JSON text, or
+   * null/undefined for none); which models entry applies; optional colliders.
    */
-  loadRig(glbBytes, springBones, options) {
-    const bytes = toBytes('loadRig: glbBytes', glbBytes);
-    // Stringified first, so that its TypeErrors (cycles, BigInt) come first, as for every
-    // argument check; the core parses it once.
-    const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
+  loadRig(glb, springBones, options) {
+    const gltf = this.#gltfInput('loadRig', glb, false);
+    const metadata = typedMetadata(springBones, this.#limits);
     const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius', ...kJumpOptions]);
-    const rigOptionsText = rigOptionsJson(opts);
+    const rigOptions = typedRigOptions(opts);
     const jumps = jumpOptions('loadRig', opts, {});
     const m = this.#m;
-    const hash = resolveHash(m, 'loadRig', opts);
-    // The metadata goes in as UTF-8 bytes: TextEncoder is far faster than embind's string loop.
-    const handle = withBytes(m, bytes, (ptr, size) => withUtf8(m, metadataText,
-      (metaPtr, metaSize) => withRoomForStrings(m, [hash, rigOptionsText],
-        () => m.loadRig(ptr, size, metaPtr, metaSize, hash, rigOptionsText))));
+    let hash = resolveHash(m, 'loadRig', opts);
+    if (hash === '' && gltf.bytes !== undefined) hash = this.contentHash(gltf.bytes);
+    if (hash === '' && springBones !== null && springBones !== undefined) {
+      throw new TypeError('loadRig: the glTF was given parsed, so there are no bytes to hash: say which ' +
+                          'springBones.models entry applies with contentHash, or entity and bodyShape');
+    }
+    const handle = withBytes(m, gltf.typed, (gltfPtr, gltfSize) => withBytes(m, metadata,
+      (metaPtr, metaSize) => withBytes(m, rigOptions, (optPtr, optSize) => withRoomForStrings(m, [hash],
+        () => m.loadRig(gltfPtr, gltfSize, metaPtr, metaSize, hash, optPtr, optSize)))));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle, jumps);
   }
 
   /**
-   * Loads the spring bones of a VRM avatar (.vrm bytes): VRMC_springBone 1.0, or VRM 0.x
-   * secondaryAnimation, with their colliders. The rig has the same interface as loadRig's.
+   * Loads the spring bones of a VRM avatar (.vrm bytes, or the glTF JSON a loader parsed):
+   * VRMC_springBone 1.0, or VRM 0.x secondaryAnimation, with their colliders. The rig has the same
+   * interface as loadRig's.
    */
-  loadVrm(vrmBytes) {
-    const bytes = toBytes('loadVrm: vrmBytes', vrmBytes);
+  loadVrm(vrm) {
+    const gltf = this.#gltfInput('loadVrm', vrm, true);
     const m = this.#m;
-    const handle = withBytes(m, bytes, (ptr, size) => m.loadVrm(ptr, size));
+    const handle = withBytes(m, gltf.typed, (ptr, size) => m.loadVrm(ptr, size));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
+  }
+
+  /**
+   * The readers module, which reads GLB and VRM bytes for loadRig and loadVrm: in Node it comes
+   * with createSpringBones(); a page that has bytes to read awaits this first. Takes the options
+   * createSpringBones takes, for the readers' .wasm (dist/springbones_readers.wasm by default). A
+   * failed load rejects, and the next call tries again.
+   */
+  readers(options = {}) {
+    if (this.#readersLoading === undefined) this.#startReaders(loadReaders(options));
+    return this.#readersLoading;
+  }
+
+  #startReaders(loading) {
+    this.#readersLoading = loading.then((readers) => {
+      this.#readers = readers;
+    }, (error) => {
+      this.#readersLoading = undefined;
+      this.#readersError = error;
+      throw error;
+    });
+  }
+
+  // A glTF argument as typed input {typed, bytes?}: a parsed glTF document is written directly;
+  // bytes go through the readers.
+  #gltfInput(where, value, withExtensions) {
+    if (value instanceof Uint8Array || value instanceof ArrayBuffer) {
+      const bytes = toBytes(`${where}: bytes`, value);
+      if (this.#readers === undefined) {
+        const error = new SpringBonesError('readers-not-loaded',
+          `${where} was given bytes, which the readers module reads, and it is not loaded: ` +
+          'await sb.readers() first, or pass the glTF JSON your loader already parsed (three.js: gltf.parser.json)');
+        throw this.#readersError ? withCause(error, this.#readersError) : error;
+      }
+      return { typed: this.#readers.readGltf(bytes, withExtensions), bytes };
+    }
+    if (value === null || typeof value !== 'object' || Array.isArray(value)) {
+      throw new TypeError(`${where}: the glTF must be the parsed glTF JSON (an object with asset and nodes), ` +
+                          'a Uint8Array or an ArrayBuffer');
+    }
+    return { typed: encodeGltf(`${where}: glTF`, value, withExtensions) };
   }
 
   /** The Decentraland content hash (CIDv1 string) of some bytes, as the catalyst computes it. */
@@ -579,19 +639,49 @@ function resolveHash(m, where, options) {
     }
     checkNonEmptyString(`${where}: bodyShape`, bodyShape);
   }
-  const entityText = entity === undefined ? undefined : toJsonText(`${where}: entity`, entity, false);
+  const typedEntity = entity === undefined ? undefined : encodeTyped(`${where}: entity`, parsedArgument(
+    `${where}: entity`, entity, 'entity-bad-json', 'an object or JSON text'));
   if (contentHash !== undefined) return contentHash;
-  if (entityText === undefined) return '';
-  const hash = call(() => withRoomForStrings(m, [entityText, bodyShape], () => m.mainFileHashFor(entityText, bodyShape)));
+  if (typedEntity === undefined) return '';
+  const hash = call(() => withBytes(m, typedEntity, (ptr, size) => withRoomForStrings(m, [bodyShape],
+    () => m.mainFileHashFor(ptr, size, bodyShape))));
   if (hash === '') throw takeError(m);
   return hash;
 }
 
+// An object argument, or JSON text parsed here (a SpringBonesError with `badJsonCode` when it does
+// not parse).
+function parsedArgument(what, value, badJsonCode, described) {
+  if (typeof value === 'string') {
+    try {
+      return JSON.parse(value);
+    } catch (cause) {
+      throw withCause(new SpringBonesError(badJsonCode, `${what} JSON does not parse: ${cause.message}`), cause);
+    }
+  }
+  if (value === null || typeof value !== 'object') throw new TypeError(`${what} must be ${described}`);
+  return value;
+}
+
+// data.springBones as typed input: an object, JSON text (at most maxMetadataBytes), or
+// null/undefined for none.
+function typedMetadata(springBones, limits) {
+  const what = 'loadRig: springBones';
+  if (springBones === null || springBones === undefined) return encodeTyped(what, null);
+  if (typeof springBones === 'string' && springBones.length > limits.maxMetadataBytes / 3 &&
+      new TextEncoder().encode(springBones).length > limits.maxMetadataBytes) {
+    throw new SpringBonesError('limit-exceeded',
+      `springBones JSON is more than the limit of ${limits.maxMetadataBytes} bytes`);
+  }
+  return encodeTyped(what, parsedArgument(what, springBones, 'metadata-bad-json',
+                                          'an object, JSON text, null or undefined'));
+}
+
 // The colliders (a list, or a preset's name) and hitRadius of loadRig's options, checked, as the
-// JSON the bindings read.
-function rigOptionsJson(options) {
+// typed input the bindings read (no bytes for none).
+function typedRigOptions(options) {
   const { colliders, hitRadius } = options;
-  if (colliders === undefined && hitRadius === undefined) return '';
+  if (colliders === undefined && hitRadius === undefined) return new Uint8Array(0);
   const out = {};
   if (hitRadius !== undefined) out.hitRadius = checkNonNegative('loadRig: hitRadius', hitRadius);
   if (typeof colliders === 'string') {
@@ -603,7 +693,7 @@ function rigOptionsJson(options) {
     if (!Array.isArray(colliders)) throw new TypeError(`loadRig: colliders must be an array or '${kColliderPresets[0]}'`);
     out.colliders = colliders.map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
   }
-  return JSON.stringify(out);
+  return encodeTyped('loadRig: options', out);
 }
 
 const kColliderShapes = ['sphere', 'capsule', 'plane'];

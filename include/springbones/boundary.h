@@ -1,7 +1,7 @@
-// The JSON texts the JavaScript API and the core exchange (the creator tools' are in
-// creator_tools.h): the arguments web/springbones.js hands over as text and the results it reads
-// back. The bindings (wasm/bindings.cpp) only pass these strings through; the JSON reading and
-// writing stays inside the core (src/boundary/).
+// What the runtime's JavaScript API and the core exchange besides typed input (typed_input.h): the
+// rig options, and the JSON texts it reads back (failures, the rig description, limits, stats),
+// written by the core without a JSON library (src/boundary/). The creator tools' texts are in
+// creator_tools.h. The bindings (wasm/bindings.cpp) only pass these through.
 #pragma once
 
 #include <cstddef>
@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "springbones/springbones.h"
+#include "springbones/typed_input.h"
 
 namespace springbones {
 
@@ -25,22 +26,17 @@ ApiFailure toFailure(const Error& error);
 /// {code, message, path}.
 std::string failureJson(const ApiFailure& failure);
 
-/// The rig options loadRig's JS side writes after checking every field: {"colliders": [{"node",
-/// "offset": [x,y,z], "radius"?, "tail"?: [x,y,z], "normal"?: [x,y,z], "inside"?: bool}],
-/// "preset"?: "dcl-body", "hitRadius"} (a collider with a normal is a plane, else one with a tail
-/// a capsule, else a sphere); empty text for none. An "invalid-argument" failure for any other
-/// shape.
-ApiFailure readRigOptions(std::string_view text, RigOptions& out);
-
-/// The GLB hash of the representation `body_shape` wears in the entity or Builder item given as
-/// JSON text: an "entity-bad-json" failure when the text does not parse, else mainFileHashFor's
-/// errors (an unknown body shape, a main file missing from the content list).
-ApiFailure mainFileHashFor(std::string_view entity_text, const std::string& body_shape, std::string& hash);
+/// The rig options loadRig's JS side writes, as typed input, after checking every field:
+/// {colliders: [{node, offset: [x,y,z], radius?, tail?: [x,y,z], normal?: [x,y,z], inside?: bool}],
+/// preset?: "dcl-body", hitRadius?} (a collider with a normal is a plane, else one with a tail a
+/// capsule, else a sphere); no bytes for none. An "invalid-argument" failure for any other shape.
+ApiFailure readRigOptions(TypedBytes options, RigOptions& out);
 
 /// The rig as JSON text: {contentHash, format, nodeCount, joints, chains, drivers, colliders,
 /// warnings}, with the property names of web/springbones.d.ts. `content_hash` is the models key
 /// the rig was built from, `format` where its springs came from (dcl, vrmc-springbone, vrm0, none).
-/// Non-finite floats are written as null; strings that are not UTF-8 with U+FFFD in their place.
+/// Members in key order; non-finite floats are written as null; strings that are not UTF-8 with
+/// U+FFFD in their place.
 std::string describeRig(const Rig& rig, const std::string& content_hash, const std::string& format);
 
 /// The limits and defaults the JS API checks its arguments against, as the core defines them:

@@ -90,10 +90,8 @@ struct Skeleton {
   std::vector<int> parents_first;   ///< every node index, each after its parent
 };
 
-/// Reads the node hierarchy of a GLB or of glTF JSON text (embedded data allowed) held in memory.
-/// Buffers, images, meshes and accessors are never decoded. On failure returns an Error and leaves
-/// `out` empty.
-Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out);
+// Reading it: loadSkeleton, from typed input (typed_input.h) or, with the readers, from bytes
+// (readers.h).
 
 // ---------------------------------------------------------------------------------------------
 // data.springBones parameters (ADR-316 table). Ranges are inclusive.
@@ -122,14 +120,6 @@ struct ModelEntry {
   /// when a warning needs it: one string per entry was a tenth of reading 5,000 entries.
   std::string entryPath(const BoneEntry& bone) const;
 };
-
-/// Picks data.springBones.models[hash] from the JSON text of data.springBones (at most
-/// kMaxMetadataBytes; "null": no spring bones) and reads it with the runtime's forgiving rules:
-/// defaults for missing fields, clamping of out-of-range values and replacement of non-finite
-/// ones, each with a warning. Errors only for text that does not parse and shapes that cannot be
-/// read at all (not an object, models not an object).
-Error parseSpringBonesText(std::string_view text, const std::string& hash, ModelEntry& out,
-                           std::vector<Warning>& warnings);
 
 /// True when a node name contains "springbone", ASCII case-insensitive (the ADR's discovery rule).
 bool isSpringBoneName(const std::string& name);

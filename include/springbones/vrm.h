@@ -33,12 +33,7 @@ inline constexpr float kVrm0LeafTailLength = 0.07f;
 /// the rig's memory). A file beyond it is an Error (kLimitExceeded); real avatars use a few hundred.
 inline constexpr std::size_t kMaxVrmColliderReferences = std::size_t(1) << 22;
 
-/// Loads the hierarchy (loadSkeleton) and the spring bones of a .vrm / glTF held in memory.
-/// Errors: everything loadSkeleton reports, kGltfBadJson, kMetadataInvalid (with `path`) when a
-/// spring-bone extension has a shape that cannot be read at all (not an object, `springs` not an
-/// array...), kLimitExceeded beyond kMaxVrmColliderReferences. Everything else that is skipped or
-/// replaced becomes a Warning in Rig::warnings. On failure `out` is reset. `format`, when given, receives which extension was read.
-Error loadVrm(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out,
-            VrmSpringFormat* format = nullptr);
+// Reading one: loadVrm, from typed input (typed_input.h) or, with the readers, from bytes
+// (readers.h).
 
 }  // namespace springbones

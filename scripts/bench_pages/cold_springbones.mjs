@@ -15,11 +15,12 @@ coldStart({
     return { api, adapter };
   },
   start: (lib) => lib.api.createSpringBones({ wasm: fetch(MODULE) }),
-  wear: (lib, { avatar, wearable, wearableBytes, springBones, contentHash }, started) => {
+  wear: (lib, { avatar, wearable, springBones, contentHash }, started) => {
     let loadStart = 0, loadRigMs = 0;
     const rig = started.then((sb) => {
       loadStart = performance.now();
-      const loaded = sb.loadRig(wearableBytes, springBones, { contentHash });
+      // The glTF JSON GLTFLoader already parsed, as the loader plugin hands it over.
+      const loaded = sb.loadRig(wearable.parser.json, springBones, { contentHash });
       loadRigMs = performance.now() - loadStart;
       return loaded;
     });

@@ -1,15 +1,80 @@
-#include "boundary/api_json.h"
+// The JSON texts of the runtime's boundary (springbones/boundary.h), written with JsonText, and the
+// rig options read from typed input.
+#include "springbones/boundary.h"
 
-#include <cmath>
-#include <cstddef>
 #include <utility>
 
-#include "boundary/rig_description.h"
-#include "loading/entity.h"
+#include "common/json_text.h"
+#include "common/typed_value.h"
 
 namespace springbones {
+namespace {
 
-using nlohmann::json;
+ApiFailure badOptions(const std::string& why) {
+  return ApiFailure{"invalid-argument", "rig options could not be read: " + why, ""};
+}
+
+bool readVec3(const TypedValue& value, Vec3& out) {
+  if (!value.is_array() || value.size() != 3) return false;
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!value[i].is_number()) return false;
+  }
+  out = Vec3{value[0].get<float>(), value[1].get<float>(), value[2].get<float>()};
+  return true;
+}
+
+ApiFailure readCollider(const TypedValue& c, std::size_t index, ColliderSpec& spec) {
+  const std::string where = "collider " + std::to_string(index);
+  const auto node = c.find("node");
+  const auto offset = c.find("offset");
+  if (node == c.end() || !node->is_string()) return badOptions(where + " has no node name");
+  spec.node = node->get<std::string>();
+  if (offset == c.end() || !readVec3(*offset, spec.offset)) return badOptions(where + " has no offset [x, y, z]");
+  if (auto radius = c.find("radius"); radius != c.end()) {
+    if (!radius->is_number()) return badOptions(where + ": radius is not a number");
+    spec.radius = radius->get<float>();
+  }
+  if (auto inside = c.find("inside"); inside != c.end()) {
+    if (!inside->is_boolean()) return badOptions(where + ": inside is not a boolean");
+    spec.inside = inside->get<bool>();
+  }
+  if (auto normal = c.find("normal"); normal != c.end()) {
+    spec.shape = Collider::Shape::kPlane;
+    if (!readVec3(*normal, spec.normal)) return badOptions(where + ": normal is not [x, y, z]");
+  } else if (auto tail = c.find("tail"); tail != c.end()) {
+    spec.shape = Collider::Shape::kCapsule;
+    if (!readVec3(*tail, spec.tail)) return badOptions(where + ": tail is not [x, y, z]");
+  }
+  return {};
+}
+
+ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
+  if (value.is_null()) return {};
+  if (!value.is_object()) return badOptions("not an object");
+  if (auto hit = value.find("hitRadius"); hit != value.end()) {
+    if (!hit->is_number()) return badOptions("hitRadius is not a number");
+    out.hit_radius = hit->get<float>();
+  }
+  if (auto preset = value.find("preset"); preset != value.end()) {
+    if (*preset != "dcl-body") {
+      return ApiFailure{"invalid-argument",
+                        "rig options: unknown collider preset '" + preset->get<std::string>() + "'", ""};
+    }
+    out.preset = ColliderPreset::kDclBody;
+  }
+  if (auto colliders = value.find("colliders"); colliders != value.end()) {
+    if (!colliders->is_array()) return badOptions("colliders is not an array");
+    out.colliders.reserve(colliders->size());
+    for (std::size_t i = 0; i < colliders->size(); ++i) {
+      ColliderSpec spec;
+      if (ApiFailure f = readCollider((*colliders)[i], i, spec)) return f;
+      out.colliders.push_back(std::move(spec));
+    }
+  }
+  return {};
+}
+
+}  // namespace
 
 ApiFailure toFailure(const Error& error) {
   if (!error) return {};
@@ -17,141 +82,47 @@ ApiFailure toFailure(const Error& error) {
 }
 
 std::string failureJson(const ApiFailure& failure) {
-  return dumpReplacingInvalidUtf8(json{{"code", failure.code}, {"message", failure.message}, {"path", failure.path}});
+  JsonText out;
+  out.beginObject().key("code").value(failure.code).key("message").value(failure.message);
+  out.key("path").value(failure.path).endObject();
+  return out.take();
 }
 
-ApiFailure parseArgument(std::string_view text, const char* what, json& out) {
-  try {
-    out = json::parse(text);
-    return {};
-  } catch (const json::exception& ex) {
-    return ApiFailure{std::string(what) + "-bad-json", std::string(what) + " JSON does not parse: " + ex.what(), ""};
-  }
-}
-
-ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
+ApiFailure readRigOptions(TypedBytes options, RigOptions& out) {
   out = RigOptions{};
-  if (text.empty()) return {};
-  try {
-    const json value = json::parse(text);
-    const auto vec3 = [](const json& a) {
-      return Vec3{a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>()};
-    };
-    if (value.contains("hitRadius")) out.hit_radius = value.at("hitRadius").get<float>();
-    if (value.contains("preset")) {
-      const std::string preset = value.at("preset").get<std::string>();
-      if (preset != "dcl-body") {
-        out = RigOptions{};
-        return ApiFailure{"invalid-argument", "rig options: unknown collider preset '" + preset + "'", ""};
-      }
-      out.preset = ColliderPreset::kDclBody;
-    }
-    if (value.contains("colliders")) {
-      for (const json& c : value.at("colliders")) {
-        ColliderSpec spec;
-        spec.node = c.at("node").get<std::string>();
-        spec.offset = vec3(c.at("offset"));
-        spec.radius = c.value("radius", 0.0f);
-        spec.inside = c.value("inside", false);
-        if (c.contains("normal")) {
-          spec.shape = Collider::Shape::kPlane;
-          spec.normal = vec3(c.at("normal"));
-        } else if (c.contains("tail")) {
-          spec.shape = Collider::Shape::kCapsule;
-          spec.tail = vec3(c.at("tail"));
-        }
-        out.colliders.push_back(std::move(spec));
-      }
-    }
-  } catch (const json::exception& ex) {
-    out = RigOptions{};
-    return ApiFailure{"invalid-argument", std::string("rig options could not be read: ") + ex.what(), ""};
-  }
-  return {};
-}
-
-void restoreNonFinite(json& value, const std::string& marker) {
-  if (marker.empty()) return;
-  std::vector<json*> stack{&value};
-  while (!stack.empty()) {
-    json* v = stack.back();
-    stack.pop_back();
-    if (v->is_structured()) {
-      for (json& child : *v) stack.push_back(&child);
-    } else if (v->is_string()) {
-      const std::string& text = v->get_ref<const std::string&>();
-      if (text.size() <= marker.size() || text.compare(0, marker.size(), marker) != 0) continue;
-      const std::string_view rest = std::string_view(text).substr(marker.size());
-      if (rest == "NaN") {
-        *v = std::nan("");
-      } else if (rest == "Infinity") {
-        *v = INFINITY;
-      } else if (rest == "-Infinity") {
-        *v = -INFINITY;
-      }
-    }
-  }
-}
-
-std::string validationErrorsJson(const std::vector<ValidationError>& errors) {
-  json out = json::array();
-  for (const ValidationError& e : errors) out.push_back(json{{"path", e.path}, {"message", e.message}});
-  return dumpReplacingInvalidUtf8(out);
-}
-
-std::string candidatesJson(const std::string& content_hash, const std::vector<SpringBoneCandidate>& candidates,
-                           const std::vector<Warning>& warnings) {
-  FloatJson list = FloatJson::array();
-  for (const SpringBoneCandidate& c : candidates) {
-    const BoneParams& p = c.params;
-    FloatJson entry{{"name", c.name},
-                    {"node", c.node},
-                    {"parent", c.parent_candidate},
-                    {"hasEntry", c.has_entry},
-                    {"isRoot", c.is_root},
-                    {"params",
-                     {{"stiffness", p.stiffness},
-                      {"gravityPower", p.gravity_power},
-                      {"gravityDir", {p.gravity_dir.x, p.gravity_dir.y, p.gravity_dir.z}},
-                      {"drag", p.drag}}}};
-    if (c.has_center) entry["center"] = c.center.empty() ? FloatJson(nullptr) : FloatJson(c.center);
-    list.push_back(std::move(entry));
-  }
-  FloatJson warnings_json = FloatJson::array();
-  for (const Warning& w : warnings) {
-    warnings_json.push_back(FloatJson{{"code", w.code}, {"message", w.message}, {"path", w.path}});
-  }
-  return dumpReplacingInvalidUtf8(
-      FloatJson{{"contentHash", content_hash}, {"candidates", std::move(list)}, {"warnings", std::move(warnings_json)}});
+  if (options.size == 0) return {};
+  TypedDocument doc;
+  if (Error e = doc.decode(options.data, options.size)) return toFailure(e);
+  ApiFailure failure = readOptions(doc.root(), out);
+  if (failure) out = RigOptions{};
+  return failure;
 }
 
 std::string limitsJson() {
   const IntegratorDefaults vrm = integratorDefaults(Integrator::kVrm);
   const IntegratorDefaults xpbd = integratorDefaults(Integrator::kXpbd);
-  return json{{"maxStepHz", kMaxStepHz},
-              {"maxSubsteps", kMaxSubsteps},
-              {"maxXpbdIterations", kMaxXpbdIterations},
-              {"maxMetadataBytes", kMaxMetadataBytes},
-              {"maxWindStrength", kMaxWindStrength},
-              {"maxGustFrequency", kMaxGustFrequency},
-              {"integrators",
-               {{"vrm", {{"stepHz", vrm.step_hz}, {"maxSubsteps", vrm.max_substeps}}},
-                {"xpbd",
-                 {{"stepHz", xpbd.step_hz},
-                  {"maxSubsteps", xpbd.max_substeps},
-                  {"xpbdIterations", kDefaultXpbdIterations}}}}}}
-      .dump();
+  JsonText out;
+  out.beginObject();
+  out.key("integrators").beginObject();
+  out.key("vrm").beginObject().key("maxSubsteps").value(vrm.max_substeps).key("stepHz").value(vrm.step_hz).endObject();
+  out.key("xpbd").beginObject().key("maxSubsteps").value(xpbd.max_substeps).key("stepHz").value(xpbd.step_hz);
+  out.key("xpbdIterations").value(kDefaultXpbdIterations).endObject();
+  out.endObject();
+  out.key("maxGustFrequency").value(kMaxGustFrequency);
+  out.key("maxMetadataBytes").value(kMaxMetadataBytes);
+  out.key("maxStepHz").value(kMaxStepHz);
+  out.key("maxSubsteps").value(kMaxSubsteps);
+  out.key("maxWindStrength").value(kMaxWindStrength);
+  out.key("maxXpbdIterations").value(kMaxXpbdIterations);
+  out.endObject();
+  return out.take();
 }
 
 std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use) {
-  return json{{"rigs", rigs}, {"instances", instances}, {"scenes", scenes}, {"heapInUse", heap_in_use}}.dump();
-}
-
-ApiFailure mainFileHashFor(std::string_view entity_text, const std::string& body_shape, std::string& hash) {
-  hash.clear();
-  json entity;
-  if (ApiFailure f = parseArgument(entity_text, "entity", entity)) return f;
-  return toFailure(mainFileHashFor(entity, body_shape, hash));
+  JsonText out;
+  out.beginObject().key("heapInUse").value(heap_in_use).key("instances").value(instances);
+  out.key("rigs").value(rigs).key("scenes").value(scenes).endObject();
+  return out.take();
 }
 
 }  // namespace springbones

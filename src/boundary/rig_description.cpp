@@ -1,82 +1,111 @@
-// describeRig: the rig as one JSON text, built as a nlohmann value with float numbers.
-#include "boundary/rig_description.h"
-
-#include <utility>
-
+// describeRig: the rig as one JSON text (springbones/boundary.h), written with JsonText.
 #include "springbones/boundary.h"
+
+#include "common/json_text.h"
 
 namespace springbones {
 namespace {
 
-FloatJson vec3(const Vec3& v) { return FloatJson::array({v.x, v.y, v.z}); }
-
-FloatJson jointJson(const Rig& rig, const Joint& j) {
+void nodeName(JsonText& out, const Rig& rig, int node) {
   const auto& nodes = rig.skeleton.nodes;
-  const auto nodeName = [&](int node) -> FloatJson {
-    if (node < 0 || static_cast<std::size_t>(node) >= nodes.size()) return nullptr;
-    return nodes[node].name;
-  };
-  // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
-  const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < nodes.size();
-  return FloatJson{{"name", nodeName(j.node)},
-                   {"node", j.node},
-                   {"tail", tail_is_node ? nodeName(j.tail_node) : FloatJson(nullptr)},
-                   {"tailNode", tail_is_node ? j.tail_node : -1},
-                   {"parent", j.parent_joint},
-                   {"parentDriver", j.parent_driver},
-                   {"centerDriver", j.center_driver},
-                   {"chain", j.chain},
-                   {"params",
-                    {{"stiffness", j.params.stiffness},
-                     {"gravityPower", j.params.gravity_power},
-                     {"gravityDir", vec3(j.params.gravity_dir)},
-                     {"drag", j.params.drag}}},
-                   {"tailOffset", vec3(j.tail_local)},
-                   {"restLength", j.rest_length},
-                   {"hitRadius", j.hit_radius}};
+  if (node < 0 || static_cast<std::size_t>(node) >= nodes.size()) {
+    out.null();
+  } else {
+    out.value(nodes[node].name);
+  }
 }
 
-FloatJson colliderJson(const Rig& rig, const Collider& c) {
+void vec3(JsonText& out, const Vec3& v) { out.vec3(v.x, v.y, v.z); }
+
+// Members in key order, as the description has always been written (some callers compare texts).
+void joint(JsonText& out, const Rig& rig, const Joint& j) {
+  // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
+  const bool tail_is_node = j.tail_node >= 0 && static_cast<std::size_t>(j.tail_node) < rig.skeleton.nodes.size();
+  out.beginObject();
+  out.key("centerDriver").value(j.center_driver);
+  out.key("chain").value(j.chain);
+  out.key("hitRadius").value(j.hit_radius);
+  out.key("name");
+  nodeName(out, rig, j.node);
+  out.key("node").value(j.node);
+  out.key("params").beginObject();
+  out.key("drag").value(j.params.drag);
+  out.key("gravityDir");
+  vec3(out, j.params.gravity_dir);
+  out.key("gravityPower").value(j.params.gravity_power);
+  out.key("stiffness").value(j.params.stiffness);
+  out.endObject();
+  out.key("parent").value(j.parent_joint);
+  out.key("parentDriver").value(j.parent_driver);
+  out.key("restLength").value(j.rest_length);
+  out.key("tail");
+  nodeName(out, rig, tail_is_node ? j.tail_node : -1);
+  out.key("tailNode").value(tail_is_node ? j.tail_node : -1);
+  out.key("tailOffset");
+  vec3(out, j.tail_local);
+  out.endObject();
+}
+
+void collider(JsonText& out, const Rig& rig, const Collider& c) {
   const bool has_driver = c.driver >= 0 && static_cast<std::size_t>(c.driver) < rig.drivers.size();
-  FloatJson out{{"driver", c.driver},
-                {"node", has_driver ? FloatJson(rig.drivers[c.driver].name) : FloatJson(nullptr)},
-                {"offset", vec3(c.offset)},
-                {"radius", c.radius}};
-  if (c.shape == Collider::Shape::kCapsule) {
-    out["shape"] = "capsule";
-    out["tail"] = vec3(c.tail);
-  } else if (c.shape == Collider::Shape::kPlane) {
-    out["shape"] = "plane";
-    out["normal"] = vec3(c.normal);
+  out.beginObject();
+  out.key("driver").value(c.driver);
+  out.key("inside").value(c.inside);
+  out.key("node");
+  if (has_driver) {
+    out.value(rig.drivers[c.driver].name);
   } else {
-    out["shape"] = "sphere";
+    out.null();
   }
-  out["inside"] = c.inside;
-  return out;
+  if (c.shape == Collider::Shape::kPlane) {
+    out.key("normal");
+    vec3(out, c.normal);
+  }
+  out.key("offset");
+  vec3(out, c.offset);
+  out.key("radius").value(c.radius);
+  out.key("shape").value(c.shape == Collider::Shape::kCapsule ? "capsule"
+                         : c.shape == Collider::Shape::kPlane ? "plane"
+                                                              : "sphere");
+  if (c.shape == Collider::Shape::kCapsule) {
+    out.key("tail");
+    vec3(out, c.tail);
+  }
+  out.endObject();
+}
+
+void writeWarnings(JsonText& out, const std::vector<Warning>& warnings) {
+  out.beginArray();
+  for (const Warning& w : warnings) {
+    out.beginObject().key("code").value(w.code).key("message").value(w.message).key("path").value(w.path).endObject();
+  }
+  out.endArray();
 }
 
 }  // namespace
 
 std::string describeRig(const Rig& rig, const std::string& content_hash, const std::string& format) {
-  FloatJson joints = FloatJson::array();
-  for (const Joint& j : rig.joints) joints.push_back(jointJson(rig, j));
-  FloatJson drivers = FloatJson::array();
-  for (const Driver& d : rig.drivers) drivers.push_back(FloatJson{{"name", d.name}, {"node", d.node}});
-  FloatJson colliders = FloatJson::array();
-  for (const Collider& c : rig.colliders) colliders.push_back(colliderJson(rig, c));
-  FloatJson warnings = FloatJson::array();
-  for (const Warning& w : rig.warnings) {
-    warnings.push_back(FloatJson{{"code", w.code}, {"message", w.message}, {"path", w.path}});
-  }
-  const FloatJson description{{"contentHash", content_hash},
-                              {"format", format},
-                              {"nodeCount", rig.skeleton.nodes.size()},
-                              {"joints", std::move(joints)},
-                              {"chains", rig.chain_roots},
-                              {"drivers", std::move(drivers)},
-                              {"colliders", std::move(colliders)},
-                              {"warnings", std::move(warnings)}};
-  return dumpReplacingInvalidUtf8(description);
+  JsonText out;
+  out.beginObject();
+  out.key("chains").beginArray();
+  for (int root : rig.chain_roots) out.value(root);
+  out.endArray();
+  out.key("colliders").beginArray();
+  for (const Collider& c : rig.colliders) collider(out, rig, c);
+  out.endArray();
+  out.key("contentHash").value(content_hash);
+  out.key("drivers").beginArray();
+  for (const Driver& d : rig.drivers) out.beginObject().key("name").value(d.name).key("node").value(d.node).endObject();
+  out.endArray();
+  out.key("format").value(format);
+  out.key("joints").beginArray();
+  for (const Joint& j : rig.joints) joint(out, rig, j);
+  out.endArray();
+  out.key("nodeCount").value(rig.skeleton.nodes.size());
+  out.key("warnings");
+  writeWarnings(out, rig.warnings);
+  out.endObject();
+  return out.take();
 }
 
 }  // namespace springbones

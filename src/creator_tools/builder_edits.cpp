@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "boundary/api_json.h"
-#include "boundary/rig_description.h"
-#include "common/json_depth.h"
-#include "loading/entity.h"
+#include "creator_tools/tool_json.h"
+#include "creator_tools/json_depth.h"
+#include "readers/json_values.h"
 #include "springbones/content_hash.h"
+#include "springbones/readers.h"
 
 namespace springbones {
 

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "boundary/api_json.h"
+#include "creator_tools/tool_json.h"
 #include "common/json_pointer.h"
 #include "creator_tools/utf8_append.h"
 #include "loading/bone_params.h"

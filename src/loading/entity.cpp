@@ -3,27 +3,17 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include <nlohmann/json.hpp>
-
 namespace springbones {
 namespace {
 
-using nlohmann::json;
-
-const json& nullJson() {
-  static const json kNull;
-  return kNull;
-}
-
-const json& field(const json& object, const char* key) {
-  if (!object.is_object()) return nullJson();
+TypedValue field(const TypedValue& object, const char* key) {
   auto it = object.find(key);
-  return it == object.end() ? nullJson() : *it;
+  return it == object.end() ? TypedValue() : *it;
 }
 
 // The item data: entity.metadata.data for a catalyst entity, item.data for a Builder item.
-const json& dataOf(const json& entity) {
-  const json& from_metadata = field(field(entity, "metadata"), "data");
+TypedValue dataOf(const TypedValue& entity) {
+  const TypedValue from_metadata = field(field(entity, "metadata"), "data");
   return from_metadata.is_object() ? from_metadata : field(entity, "data");
 }
 
@@ -39,9 +29,9 @@ bool bodyShapeMatches(const std::string& listed, const std::string& wanted) {
 
 }  // namespace
 
-const json& springBonesOf(const json& entity) { return field(dataOf(entity), "springBones"); }
+TypedValue springBonesOf(const TypedValue& entity) { return field(dataOf(entity), "springBones"); }
 
-Error readRepresentations(const json& entity, std::vector<Representation>& out) {
+Error readRepresentations(const TypedValue& entity, std::vector<Representation>& out) {
   out.clear();
   if (!entity.is_object()) return invalid("the entity is not an object", "");
   // Content hashes by file name: an array of {file, hash} (catalyst entity) or an object
@@ -49,12 +39,12 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
   // The first entry of a file wins; looked up by name, so many representations over a long content
   // list stay linear.
   std::unordered_map<std::string, std::string> files;
-  const json& content = field(entity, "content");
-  const json& contents = field(entity, "contents");
+  const TypedValue content = field(entity, "content");
+  const TypedValue contents = field(entity, "contents");
   if (content.is_array()) {
     for (std::size_t i = 0; i < content.size(); ++i) {
-      const json& f = field(content[i], "file");
-      const json& h = field(content[i], "hash");
+      const TypedValue f = field(content[i], "file");
+      const TypedValue h = field(content[i], "hash");
       if (!f.is_string() || !h.is_string()) {
         return invalid("content entry is not {file, hash} strings", "/content/" + std::to_string(i));
       }
@@ -69,20 +59,20 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
     return invalid("the entity's content list is neither an array nor an object", "/content");
   }
 
-  const json& representations = field(dataOf(entity), "representations");
+  const TypedValue representations = field(dataOf(entity), "representations");
   if (!representations.is_array()) {
     return invalid("the entity has no data.representations array", "/metadata/data/representations");
   }
   for (std::size_t i = 0; i < representations.size(); ++i) {
     const std::string path = "/metadata/data/representations/" + std::to_string(i);
-    const json& r = representations[i];
-    const json& main_file = field(r, "mainFile");
+    const TypedValue r = representations[i];
+    const TypedValue main_file = field(r, "mainFile");
     if (!main_file.is_string()) return invalid("representation has no mainFile string", path + "/mainFile");
     Representation rep;
     rep.main_file = main_file.get<std::string>();
-    const json& shapes = field(r, "bodyShapes");
+    const TypedValue shapes = field(r, "bodyShapes");
     if (shapes.is_array()) {
-      for (const json& s : shapes) {
+      for (const TypedValue& s : shapes) {
         if (s.is_string()) rep.body_shapes.push_back(s.get<std::string>());
       }
     }
@@ -92,7 +82,7 @@ Error readRepresentations(const json& entity, std::vector<Representation>& out) 
   return {};
 }
 
-Error mainFileHashFor(const json& entity, const std::string& body_shape, std::string& hash) {
+Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, std::string& hash) {
   hash.clear();
   std::vector<Representation> representations;
   if (Error e = readRepresentations(entity, representations)) return e;

@@ -5,8 +5,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
-
+#include "common/typed_value.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
@@ -20,16 +19,16 @@ struct Representation {
 /// The representations of an entity `{content: [{file, hash}], metadata: {data: {representations}}}`
 /// or of a Builder item `{contents: {file: hash}, data: {representations}}`. Error (with a JSON
 /// path) when the structure cannot be read.
-Error readRepresentations(const nlohmann::json& entity, std::vector<Representation>& out);
+Error readRepresentations(const TypedValue& entity, std::vector<Representation>& out);
 
 /// The GLB hash of the representation worn by `body_shape` (a full URN such as
 /// "urn:decentraland:off-chain:base-avatars:BaseMale", or its last segment "BaseMale").
-Error mainFileHashFor(const nlohmann::json& entity, const std::string& body_shape, std::string& hash);
+Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, std::string& hash);
 
 /// The set of hashes some representation's main file has (each once, in representation order).
 std::vector<std::string> activeModelHashes(const std::vector<Representation>& representations);
 
 /// The data.springBones value of an entity or item (null when absent).
-const nlohmann::json& springBonesOf(const nlohmann::json& entity);
+TypedValue springBonesOf(const TypedValue& entity);
 
 }  // namespace springbones

@@ -1,8 +1,8 @@
 // Reading data.springBones for the runtime: forgiving where the deploy-time validator is strict.
 // A preview must show whatever the catalyst accepted, and should still show something sensible
 // for metadata it would reject, so every problem here is a warning with a fallback, except shapes
-// that leave nothing to read (springBones or models[hash] not an object). One reader, on
-// nlohmann-json: the text form is parsed by it and read by the same code as a parsed value.
+// that leave nothing to read (springBones or models[hash] not an object). One reader, on typed
+// values: the page's parsed object and the readers' parse of a text reach the same code.
 #include "loading/metadata.h"
 
 #include <algorithm>
@@ -10,24 +10,15 @@
 #include <string>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
-#include "common/json_depth.h"
 #include "common/json_pointer.h"
+#include "common/json_text.h"
 #include "loading/bone_params.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
 namespace {
 
-using nlohmann::json;
-
-std::string describe(const json& value) {
-  if (nestsDeeperThan(value, 8)) return value.is_array() ? "a deeply nested array" : "a deeply nested object";
-  std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  return text;
-}
+std::string describe(const TypedValue& value) { return quoteValue(value, 60); }
 
 std::string format(float v) {
   std::string s = std::to_string(v);
@@ -58,7 +49,7 @@ class EntryReader {
  public:
   EntryReader(std::vector<Warning>& warnings) : warnings_(warnings) {}
 
-  float readScalar(const json& entry, const ParamRange& range, const std::string& entry_path) {
+  float readScalar(const TypedValue& entry, const ParamRange& range, const std::string& entry_path) {
     const std::string key(range.key);
     const std::string path = entry_path + pointerToken(key);
     auto it = entry.find(key);
@@ -88,7 +79,7 @@ class EntryReader {
     return static_cast<float>(value);
   }
 
-  Vec3 readGravityDir(const json& entry, const std::string& entry_path) {
+  Vec3 readGravityDir(const TypedValue& entry, const std::string& entry_path) {
     const Vec3 fallback{0.0f, -1.0f, 0.0f};
     const std::string path = entry_path + "/gravityDir";
     auto it = entry.find("gravityDir");
@@ -126,7 +117,7 @@ class EntryReader {
     return unit;
   }
 
-  void readCenter(const json& entry, const std::string& entry_path, BoneEntry& out) {
+  void readCenter(const TypedValue& entry, const std::string& entry_path, BoneEntry& out) {
     auto it = entry.find("center");
     if (it == entry.end()) return;
     if (it->is_null()) {
@@ -140,7 +131,7 @@ class EntryReader {
     }
   }
 
-  bool readIsRoot(const json& entry, const std::string& entry_path) {
+  bool readIsRoot(const TypedValue& entry, const std::string& entry_path) {
     auto it = entry.find("isRoot");
     if (it == entry.end() || it->is_null()) return false;
     if (it->is_boolean()) return it->get<bool>();
@@ -159,7 +150,7 @@ class EntryReader {
 
 }  // namespace
 
-Error parseSpringBones(const json& springBones, const std::string& hash, ModelEntry& out,
+Error parseSpringBones(const TypedValue& springBones, const std::string& hash, ModelEntry& out,
                        std::vector<Warning>& warnings) {
   out = ModelEntry{};
   if (springBones.is_null()) return {};
@@ -230,24 +221,5 @@ Error parseSpringBones(const json& springBones, const std::string& hash, ModelEn
 }
 
 std::string ModelEntry::entryPath(const BoneEntry& bone) const { return path + pointerToken(bone.name); }
-
-Error parseSpringBonesText(std::string_view text, const std::string& hash, ModelEntry& out,
-                           std::vector<Warning>& warnings) {
-  out = ModelEntry{};
-  if (text.size() > kMaxMetadataBytes) {
-    return Error{ErrorCode::kLimitExceeded,
-                 "springBones JSON is " + std::to_string(text.size()) +
-                     " bytes, more than the limit of " + std::to_string(kMaxMetadataBytes),
-                 ""};
-  }
-  json value;
-  try {
-    value = json::parse(text);
-  } catch (const json::exception& ex) {
-    return Error{ErrorCode::kMetadataBadJson,
-                 std::string("springBones JSON does not parse: ") + ex.what(), ""};
-  }
-  return parseSpringBones(value, hash, out, warnings);
-}
 
 }  // namespace springbones

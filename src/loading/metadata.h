@@ -1,18 +1,19 @@
-// The data.springBones reader over a value already parsed, for the callers that hold one (the
-// fuzz and hostile-input tests build values no JSON text would give, such as NaN parameters).
+// The data.springBones reader: the runtime's forgiving rules (defaults, clamps, fallbacks, each
+// with a warning) on a typed value, whichever front end produced it.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
-
+#include "common/typed_value.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
 
-/// parseSpringBonesText's rules, on the value of data.springBones (null: no spring bones).
-Error parseSpringBones(const nlohmann::json& springBones, const std::string& hash, ModelEntry& out,
+/// Picks data.springBones.models[hash] from the value of data.springBones (null: no spring bones)
+/// and reads it. Errors only for shapes that cannot be read at all (not an object, models not an
+/// object).
+Error parseSpringBones(const TypedValue& springBones, const std::string& hash, ModelEntry& out,
                        std::vector<Warning>& warnings);
 
 }  // namespace springbones

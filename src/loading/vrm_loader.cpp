@@ -15,7 +15,7 @@
 //    gravity_power, so dir * power is exactly the file's impulse.
 //  - A joint's collider list is sorted and without duplicates: both solver paths push out in
 //    index order, which is file order.
-#include "springbones/vrm.h"
+#include "loading/vrm_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,15 +25,16 @@
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <optional>
 
 #include "common/transform_math.h"
-#include "loading/gltf_json.h"
+#include "common/typed_value.h"
+#include "loading/gltf_nodes.h"
 
 namespace springbones {
 namespace {
 
-using nlohmann::json;
+using json = TypedValue;
 
 constexpr float kMinBoneLength = 1e-6f;
 constexpr std::size_t kMaxNamesInWarning = 8;
@@ -162,20 +163,20 @@ class VrmRigBuilder {
     if (!extensions.is_null() && !extensions.is_object()) {
       return fail(ErrorCode::kGltfInvalid, "the glTF 'extensions' value is not an object", "/extensions");
     }
-    const json* vrmc = nullptr;
-    const json* vrm0 = nullptr;
+    std::optional<TypedValue> vrmc;
+    std::optional<TypedValue> vrm0;
     if (extensions.is_object()) {
-      if (auto it = extensions.find("VRMC_springBone"); it != extensions.end()) vrmc = &*it;
-      if (auto it = extensions.find("VRM"); it != extensions.end()) vrm0 = &*it;
+      if (auto it = extensions.find("VRMC_springBone"); it != extensions.end()) vrmc = *it;
+      if (auto it = extensions.find("VRM"); it != extensions.end()) vrm0 = *it;
     }
-    if (vrmc != nullptr) {
+    if (vrmc.has_value()) {
       format = VrmSpringFormat::kVrmcSpringBone1;
       if (Error e = readVrmc(*vrmc)) return e;
-      if (vrm0 != nullptr) {
+      if (vrm0.has_value()) {
         warn("vrm-both-formats", "the file has VRMC_springBone and VRM 0.x data; the VRM 0.x secondaryAnimation is ignored",
              "/extensions/VRM");
       }
-    } else if (vrm0 != nullptr) {
+    } else if (vrm0.has_value()) {
       if (!vrm0->is_object()) return fail(ErrorCode::kMetadataInvalid, "extensions.VRM is not an object", "/extensions/VRM");
       auto it = vrm0->find("secondaryAnimation");
       if (it != vrm0->end() && !it->is_null()) {
@@ -260,12 +261,12 @@ class VrmRigBuilder {
   // VRMC_springBone 1.0
 
   // Optional array member: null when absent, an Error when present but not an array.
-  Error optionalArray(const json& object, const char* key, const std::string& path, const json*& out) {
-    out = nullptr;
+  Error optionalArray(const json& object, const char* key, const std::string& path, std::optional<TypedValue>& out) {
+    out.reset();
     auto it = object.find(key);
     if (it == object.end() || it->is_null()) return {};
     if (!it->is_array()) return fail(ErrorCode::kMetadataInvalid, std::string(key) + " is not an array", path + "/" + key);
-    out = &*it;
+    out = *it;
     return {};
   }
 
@@ -279,19 +280,19 @@ class VrmRigBuilder {
       warn("vrm-spec-version", "VRMC_springBone specVersion '" + version->get<std::string>() + "' is unknown; read as 1.0",
            base + "/specVersion");
     }
-    const json* colliders = nullptr;
-    const json* groups = nullptr;
-    const json* springs = nullptr;
+    std::optional<TypedValue> colliders;
+    std::optional<TypedValue> groups;
+    std::optional<TypedValue> springs;
     if (Error e = optionalArray(ext, "colliders", base, colliders)) return e;
     if (Error e = optionalArray(ext, "colliderGroups", base, groups)) return e;
     if (Error e = optionalArray(ext, "springs", base, springs)) return e;
 
-    if (colliders != nullptr) {
+    if (colliders.has_value()) {
       for (std::size_t i = 0; i < colliders->size(); ++i) {
         file_colliders_.push_back(readVrmcCollider((*colliders)[i], base + "/colliders/" + std::to_string(i)));
       }
     }
-    if (groups != nullptr) {
+    if (groups.has_value()) {
       std::vector<std::size_t> listed(file_colliders_.size(), 0);  // group index + 1 that last listed it
       for (std::size_t g = 0; g < groups->size(); ++g) {
         const std::string path = base + "/colliderGroups/" + std::to_string(g);
@@ -317,7 +318,7 @@ class VrmRigBuilder {
         group_colliders_.push_back(std::move(ids));
       }
     }
-    if (springs != nullptr) {
+    if (springs.has_value()) {
       for (std::size_t s = 0; s < springs->size(); ++s) readVrmcSpring((*springs)[s], base + "/springs/" + std::to_string(s));
     }
     return {};
@@ -396,7 +397,7 @@ class VrmRigBuilder {
     if (!ext.is_object()) return fallback("is not an object");
     auto version = ext.find("specVersion");
     if (version == ext.end() || !version->is_string()) return fallback("has no specVersion");
-    const std::string& v = version->get_ref<const std::string&>();
+    const std::string v = version->get<std::string>();
     if (v != "1.0" && v != "1.0-draft") return fallback("has specVersion \"" + v + "\", which is not known");
     auto shape = ext.find("shape");
     if (shape == ext.end() || !shape->is_object()) return fallback("has no shape");
@@ -605,12 +606,12 @@ class VrmRigBuilder {
   Error readVrm0(const json& sa) {
     const std::string base = "/extensions/VRM/secondaryAnimation";
     if (!sa.is_object()) return fail(ErrorCode::kMetadataInvalid, "secondaryAnimation is not an object", base);
-    const json* groups = nullptr;
-    const json* bone_groups = nullptr;
+    std::optional<TypedValue> groups;
+    std::optional<TypedValue> bone_groups;
     if (Error e = optionalArray(sa, "colliderGroups", base, groups)) return e;
     if (Error e = optionalArray(sa, "boneGroups", base, bone_groups)) return e;
 
-    if (groups != nullptr) {
+    if (groups.has_value()) {
       for (std::size_t g = 0; g < groups->size(); ++g) {
         const std::string path = base + "/colliderGroups/" + std::to_string(g);
         const json& group = (*groups)[g];
@@ -650,7 +651,7 @@ class VrmRigBuilder {
         group_colliders_.push_back(std::move(ids));
       }
     }
-    if (bone_groups != nullptr) {
+    if (bone_groups.has_value()) {
       for (std::size_t g = 0; g < bone_groups->size(); ++g) readVrm0Group((*bone_groups)[g], base + "/boneGroups/" + std::to_string(g));
     }
     return {};
@@ -922,33 +923,27 @@ class VrmRigBuilder {
   std::vector<int> group_stamp_;
 };
 
-// The spring bones of a document whose skeleton is read: `extensions` is the value of its root
-// "extensions" (null when absent).
-Error buildVrmRig(Skeleton skeleton, const nlohmann::json& extensions, std::shared_ptr<const Rig>& out,
-                  VrmSpringFormat* format) {
+}  // namespace
+
+Error loadVrm(const TypedValue& gltf, std::shared_ptr<const Rig>& out, VrmSpringFormat* format) {
   out.reset();
+  if (format != nullptr) *format = VrmSpringFormat::kNone;
+  Skeleton skeleton;
+  if (Error e = readGltfDocument(gltf, skeleton)) return e;
+  const auto extensions = gltf.find("extensions");
   VrmSpringFormat read = VrmSpringFormat::kNone;
-  if (format != nullptr) *format = read;
   std::shared_ptr<const Rig> rig;
   try {
-    if (Error e = VrmRigBuilder(std::move(skeleton)).build(extensions, read, rig)) return e;
+    if (Error e = VrmRigBuilder(std::move(skeleton)).build(extensions == gltf.end() ? TypedValue() : *extensions,
+                                                           read, rig)) {
+      return e;
+    }
   } catch (const std::exception& ex) {  // allocation failure on an absurd file; nothing else throws
     return fail(ErrorCode::kMetadataInvalid, std::string("VRM spring bones could not be read: ") + ex.what());
   }
   if (format != nullptr) *format = read;
   out = std::move(rig);
   return {};
-}
-
-}  // namespace
-
-Error loadVrm(const std::uint8_t* data, std::size_t size, std::shared_ptr<const Rig>& out, VrmSpringFormat* format) {
-  out.reset();
-  if (format != nullptr) *format = VrmSpringFormat::kNone;
-  Skeleton skeleton;
-  json extensions;
-  if (Error e = loadSkeletonAndExtensions(data, size, skeleton, &extensions)) return e;
-  return buildVrmRig(std::move(skeleton), extensions, out, format);
 }
 
 }  // namespace springbones

@@ -23,10 +23,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "boundary/rig_description.h"
+#include "creator_tools/tool_json.h"
+#include "springbones/boundary.h"
 #include "creator_tools/builder_edits.h"
 #include "loading/entity.h"
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
 #if __has_include("simulation/xpbd_solver.h")

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "loading/body_colliders.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 #include "common/transform_math.h"

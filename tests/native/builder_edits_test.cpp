@@ -5,7 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "creator_tools/builder_edits.h"
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 
 namespace springbones {
 namespace {

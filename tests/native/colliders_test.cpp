@@ -10,7 +10,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

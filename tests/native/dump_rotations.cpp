@@ -29,6 +29,7 @@
 
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
+#include "springbones/readers.h"
 #include "springbones/vrm.h"
 
 namespace {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/transform_math.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

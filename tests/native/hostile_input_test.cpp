@@ -22,7 +22,8 @@
 
 #include "creator_tools/builder_edits.h"
 #include "creator_tools/validation.h"
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

@@ -39,6 +39,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 
 namespace {

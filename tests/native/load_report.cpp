@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 
 namespace {

@@ -11,7 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
 

@@ -8,7 +8,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
 
 namespace springbones {

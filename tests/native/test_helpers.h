@@ -16,7 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/glm_interop.h"
-#include "loading/metadata.h"
+#include "readers/json_values.h"
+#include "springbones/readers.h"
 
 namespace springbones {
 namespace test {

@@ -15,8 +15,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "loading/gltf_json.h"
+#include "readers/glb_container.h"
 #include "springbones/springbones.h"
+#include "springbones/readers.h"
 #include "springbones/vrm.h"
 #include "test_helpers.h"
 

@@ -15,8 +15,9 @@
 // file's exact bytes, and GLTFLoader does not hand a plugin the bytes it fetched. So the caller
 // names the hash, as loadRig's options do: `contentHash`, or `entity` + `bodyShape` (the
 // entity's content list has the hash; a page that shows a catalyst's wearable has the entity),
-// or `glb`, the bytes it parsed (loadRig hashes them). With a hash, the rig is read from the
-// glTF JSON the parser already holds (parser.json), so the bytes are not needed at all.
+// or `glb`, the bytes it parsed (hashed with sb.contentHash). Either way the rig is read from the
+// glTF JSON the parser already holds (parser.json), handed over as it is: no second parse.
+
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { attachWearable, isThenable, wearableNodes } from './springBonesThree.js';
 
@@ -60,13 +61,17 @@ export class SpringBonesLoaderPlugin {
     const { sb, springBones, glb } = this.options;
     const rigOptions = {};
     for (const key of kRigOptions) if (this.options[key] !== undefined) rigOptions[key] = this.options[key];
-    // Without the bytes the hash is the caller's; the rig needs only the nodes, which the JSON has.
+    // The rig needs only the nodes, which the JSON GLTFLoader parsed has: it goes to loadRig as it
+    // is (no second parse). The bytes, when given, only name the models key by their hash.
     const json = this.parser.json;
     const load = (module) => {
       if (typeof module?.loadRig !== 'function') {
         throw new TypeError('SpringBonesLoaderPlugin: options.sb resolved to something other than the springbones module');
       }
-      return module.loadRig(glb ?? new TextEncoder().encode(JSON.stringify(json)), springBones, rigOptions);
+      if (glb !== undefined && rigOptions.contentHash === undefined && rigOptions.entity === undefined) {
+        rigOptions.contentHash = module.contentHash(glb);
+      }
+      return module.loadRig(json, springBones, rigOptions);
     };
     // The module itself: the rig now (its errors reject the load). Its promise: the load goes on.
     const rig = isThenable(sb) ? Promise.resolve(sb).then(load) : load(sb);

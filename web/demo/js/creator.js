@@ -210,6 +210,8 @@ export class Creator {
   /** Checks the bytes with the core (hierarchy, limits) and three.js (meshes), hashes them. */
   async readGlb({ name, bytes }) {
     const hash = this.sb.contentHash(bytes);
+    // A dropped file is bytes: the readers module reads them (the preview never needed it).
+    await this.sb.readers();
     const probe = this.sb.loadRig(bytes, null, { contentHash: hash });  // throws SpringBonesError
     probe.dispose();
     // The creator tools are a second module that the preview never needed: downloaded now.

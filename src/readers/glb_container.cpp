@@ -1,7 +1,6 @@
-// The glTF JSON inside a GLB or a glTF text input (see gltf_json.h): stage 1 of loadSkeleton
-// (glb_loader.cpp). Our own check rather than tinygltf's, which reports these as text only, so
-// each kind of bad container gets its error code.
-#include "loading/gltf_json.h"
+// The glTF JSON inside a GLB or a glTF text input (see glb_container.h): our own check of the
+// container, so that each kind of bad container gets its error code.
+#include "readers/glb_container.h"
 
 #include <string>
 #include <utility>

@@ -1,23 +1,11 @@
-// GLB / glTF loading: the node hierarchy and rest pose, and for the VRM reader the document's root
-// `extensions`, all from one parse.
-//
-// Wearables arrive from anyone and we only need node names, parents and rest transforms, so:
-//  1. our own check of the GLB container (gltf_json.h), so a truncated or malformed file gets a
-//     precise error code (tinygltf reports these as text only);
-//  2. nlohmann-json parses the JSON text once, in linear time and without recursion (so deeply
-//     nested values are harmless). Only the root's `asset`, `nodes` and, for the VRM reader,
-//     `extensions` are read: buffers, images, meshes, accessors, materials... stay JSON values,
-//     never decoded, fetched or validated, so a broken one cannot stop the load;
-//  3. each node's fields are type-checked (wrong types are errors: a node we cannot place would
-//     misplace every bone below it), its `extras` and `extensions` erased (tinygltf would convert
-//     them into its Value type recursively, which a deeply nested one would turn into a stack
-//     overflow), and tinygltf's own node reader fills a tinygltf::Node from it. tinygltf's public
-//     entry points cannot be used: they fail the whole load on any broken buffer, accessor or mesh
-//     and convert every extras/extensions recursively; the node reader is visible here because
-//     this is the one file that compiles tinygltf's implementation;
-//  4. we check the hierarchy ourselves: child indices in range, no node with two parents, no
-//     cycles, then rest world matrices computed iteratively.
-#include <fstream>  // tiny_gltf.h uses it even with TINYGLTF_NO_FS
+// The node hierarchy and rest pose of a glTF document given as a typed value (its `asset` and
+// `nodes`; nothing else of the document is read or needs to be given):
+//  1. each node's fields are type-checked: a wrong type is an error, because a node we cannot
+//     place would misplace every bone below it;
+//  2. the rest transform comes from `matrix` (decomposed) or from TRS, rotations renormalized;
+//  3. the hierarchy is checked: child indices in range, no node with two parents, no cycles; then
+//     rest world matrices are computed iteratively, and must stay finite.
+#include "loading/gltf_nodes.h"
 
 #include <cmath>
 #include <cstring>
@@ -25,29 +13,17 @@
 #include <string>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
-#define TINYGLTF_IMPLEMENTATION
-#define TINYGLTF_NO_FS
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#include <tiny_gltf.h>
-
 #include "common/transform_math.h"
-#include "loading/gltf_json.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
 namespace {
 
-using nlohmann::json;
-
 Error fail(ErrorCode code, std::string message) { return Error{code, std::move(message), {}}; }
 
-bool isNumberArray(const json& value, std::size_t length) {
+bool isNumberArray(const TypedValue& value, std::size_t length) {
   if (!value.is_array() || value.size() != length) return false;
-  for (const json& v : value) {
+  for (const TypedValue& v : value) {
     // Stored as float: a double beyond float range would become infinity.
     if (!v.is_number() || !(std::fabs(v.get<double>()) <= std::numeric_limits<float>::max())) {
       return false;
@@ -58,7 +34,7 @@ bool isNumberArray(const json& value, std::size_t length) {
 
 // The types of the fields we use. tinygltf's node reader skips a field of the wrong type without
 // a word, which would leave the node at the origin.
-Error checkNode(const json& node, std::size_t index) {
+Error checkNode(const TypedValue& node, std::size_t index) {
   const std::string where = "node " + std::to_string(index);
   if (!node.is_object()) return fail(ErrorCode::kGltfInvalid, where + " is not an object");
   if (auto it = node.find("name"); it != node.end() && !it->is_string()) {
@@ -66,7 +42,7 @@ Error checkNode(const json& node, std::size_t index) {
   }
   if (auto it = node.find("children"); it != node.end()) {
     if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, where + ": children is not an array");
-    for (const json& c : *it) {
+    for (const TypedValue& c : *it) {
       // Bounded here because tinygltf and the skeleton store indices as int.
       if (!c.is_number_integer() || c.get<std::int64_t>() < 0 ||
           c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
@@ -187,21 +163,35 @@ Transform restTransform(const double* matrix, const double* translation, const d
   return t;
 }
 
-// The message tinygltf gives for a document without a string `asset.version`, kept word for word.
+// The message a document without a string `asset.version` has always had (tinygltf's, word for
+// word, when tinygltf read the nodes).
 constexpr const char* kAssetMissing = "\"asset\" object not found in .gltf or not an object type\n";
 
-SkeletonNode skeletonNode(tinygltf::Node& node) {
+// The numbers of a field checked by checkNode, or null when the node does not have it.
+const double* numbers(const TypedValue& node, const char* field, double* storage) {
+  auto it = node.find(field);
+  if (it == node.end()) return nullptr;
+  for (std::size_t i = 0; i < it->size(); ++i) storage[i] = (*it)[i].number();
+  return storage;
+}
+
+SkeletonNode skeletonNode(const TypedValue& node) {
   SkeletonNode out;
-  out.name = std::move(node.name);
-  out.children = std::move(node.children);
-  auto present = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
-  out.rest_local = restTransform(present(node.matrix), present(node.translation), present(node.rotation),
-                                 present(node.scale));
+  if (auto name = node.find("name"); name != node.end()) out.name = name->get<std::string>();
+  if (auto children = node.find("children"); children != node.end()) {
+    out.children.reserve(children->size());
+    for (const TypedValue& c : *children) out.children.push_back(c.get<int>());
+  }
+  double matrix[16], translation[3], rotation[4], scale[3];
+  out.rest_local = restTransform(numbers(node, "matrix", matrix), numbers(node, "translation", translation),
+                                 numbers(node, "rotation", rotation), numbers(node, "scale", scale));
   return out;
 }
 
-// Stages 3 and 4 on the parsed document (see the top of the file).
-Error readDocument(json& doc, Skeleton& skeleton) {
+}  // namespace
+
+Error readGltfDocument(const TypedValue& doc, Skeleton& out) {
+  out = Skeleton{};
   if (!doc.is_object()) return fail(ErrorCode::kGltfInvalid, "glTF JSON is not an object");
   auto nodes = doc.find("nodes");
   if (nodes != doc.end()) {
@@ -219,48 +209,14 @@ Error readDocument(json& doc, Skeleton& skeleton) {
   if (asset == doc.end() || !asset->is_object() || version == asset->end() || !version->is_string()) {
     return fail(ErrorCode::kGltfInvalid, std::string("not a valid glTF: ") + kAssetMissing);
   }
-  if (nodes == doc.end()) return linkHierarchy(skeleton);
-  skeleton.nodes.reserve(nodes->size());
-  std::string ignored;  // the node reader reports only missing required fields, and a node has none
-  for (json& node : *nodes) {
-    node.erase("extras");
-    node.erase("extensions");
-    tinygltf::Node read;
-    tinygltf::ParseNode(&read, &ignored, node, /*store_original_json_for_extras_and_extensions=*/false);
-    skeleton.nodes.push_back(skeletonNode(read));
+  Skeleton skeleton;
+  if (nodes != doc.end()) {
+    skeleton.nodes.reserve(nodes->size());
+    for (const TypedValue& node : *nodes) skeleton.nodes.push_back(skeletonNode(node));
   }
-  return linkHierarchy(skeleton);
-}
-
-}  // namespace
-
-Error loadSkeletonAndExtensions(const std::uint8_t* data, std::size_t size, Skeleton& out,
-                                json* extensions) {
-  out = Skeleton{};
-  if (extensions != nullptr) *extensions = nullptr;
-  const char* json_begin = nullptr;
-  std::size_t json_size = 0;
-  if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
-  try {
-    // No parser callback: nlohmann's callback parser scans a container's elements each time one of
-    // them ends, which is quadratic in the length of an array or object.
-    json doc = json::parse(json_begin, json_begin + json_size);
-    Skeleton skeleton;
-    if (Error e = readDocument(doc, skeleton)) return e;
-    if (extensions != nullptr) {
-      if (auto it = doc.find("extensions"); it != doc.end()) *extensions = std::move(*it);
-    }
-    out = std::move(skeleton);
-  } catch (const json::exception& ex) {
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what());
-  } catch (const std::exception& ex) {  // allocation failure on an absurd document
-    return fail(ErrorCode::kGltfBadJson, std::string("glTF JSON could not be read: ") + ex.what());
-  }
+  if (Error e = linkHierarchy(skeleton)) return e;
+  out = std::move(skeleton);
   return {};
-}
-
-Error loadSkeleton(const std::uint8_t* data, std::size_t size, Skeleton& out) {
-  return loadSkeletonAndExtensions(data, size, out, nullptr);
 }
 
 }  // namespace springbones

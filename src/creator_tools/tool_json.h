@@ -1,7 +1,9 @@
-// The boundary's JSON on nlohmann-json, for the core's own text entry points (springbones/boundary.h,
-// springbones/creator_tools.h): reading an argument's text, and the creator tools' results.
+// The creator tools' JSON texts on nlohmann-json (springbones/creator_tools.h): reading an
+// argument's text, and writing their results.
 #pragma once
 
+#include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +15,17 @@
 #include "springbones/boundary.h"
 
 namespace springbones {
+
+/// A JSON value whose numbers with a fraction are floats: the values the simulation uses, dumped
+/// as the shortest text that reads back as the same float (0.4f as 0.4, not 0.4000000059604645).
+using FloatJson = nlohmann::basic_json<std::map, std::vector, std::string, bool, std::int64_t, std::uint64_t, float>;
+
+/// dump() of a value holding strings from untrusted input: bytes that are not UTF-8 become U+FFFD
+/// instead of an exception.
+template <typename Json>
+std::string dumpReplacingInvalidUtf8(const Json& value) {
+  return value.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
 
 /// Parses an argument's JSON text; a failure "<what>-bad-json" when it does not parse.
 ApiFailure parseArgument(std::string_view text, const char* what, nlohmann::json& out);
