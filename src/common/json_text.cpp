@@ -2,32 +2,74 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace springbones {
 namespace {
 
-// The shortest %g text of `v` that reads back as `v` in its own type.
-template <typename T>
-void appendShortest(std::string& out, T v, int max_digits) {
+// The decimal text %g wrote, read back as a float. Exact for what the loop below asks about (at
+// most 9 significant digits, a power of ten within double's exact range): one correctly rounded
+// double operation, then the float. Beyond that range it answers false and the caller keeps its
+// 9 digits, which always read back. Ours rather than strtod, which would bring its long-double
+// arithmetic into the runtime for this one use.
+bool readsBackAs(const char* text, float v) {
+  static const double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                  1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const char* c = text;
+  const bool negative = *c == '-';
+  if (negative) ++c;
+  std::uint64_t mantissa = 0;
+  int exponent = 0;
+  for (; *c >= '0' && *c <= '9'; ++c) mantissa = mantissa * 10 + std::uint64_t(*c - '0');
+  if (*c == '.') {
+    for (++c; *c >= '0' && *c <= '9'; ++c) {
+      mantissa = mantissa * 10 + std::uint64_t(*c - '0');
+      --exponent;
+    }
+  }
+  if (*c == 'e') {
+    ++c;
+    const bool minus = *c == '-';
+    if (*c == '-' || *c == '+') ++c;
+    int e = 0;
+    for (; *c >= '0' && *c <= '9'; ++c) e = e * 10 + (*c - '0');
+    exponent += minus ? -e : e;
+  }
+  if (exponent < -22 || exponent > 22) return false;
+  double value = double(mantissa);
+  value = exponent >= 0 ? value * kPow10[exponent] : value / kPow10[-exponent];
+  return static_cast<float>(negative ? -value : value) == v;
+}
+
+// The shortest %g text of a float that reads back as the same float.
+void appendShortest(std::string& out, float v) {
   char buffer[32];
-  for (int digits = 1; digits <= max_digits; ++digits) {
+  for (int digits = 1; digits <= 9; ++digits) {
     std::snprintf(buffer, sizeof buffer, "%.*g", digits, static_cast<double>(v));
-    const double back = std::strtod(buffer, nullptr);
-    if (static_cast<T>(back) == v) break;
+    if (readsBackAs(buffer, v)) break;
   }
   out += buffer;
 }
 
+// A double with the digits a person typed (15 significant digits read back as what was written).
+void appendDouble(std::string& out, double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.15g", v);
+  out += buffer;
+}
+
 template <typename T>
-void appendNumber(std::string& out, T v, int max_digits) {
+void appendNumber(std::string& out, T v) {
   if (!std::isfinite(v)) {
     out += "null";
   } else if (v == std::trunc(v) && std::fabs(v) < 1e15) {
     out += std::to_string(static_cast<long long>(v));
+  } else if constexpr (std::is_same_v<T, float>) {
+    appendShortest(out, v);
   } else {
-    appendShortest(out, v, max_digits);
+    appendDouble(out, v);
   }
 }
 
@@ -147,13 +189,13 @@ JsonText& JsonText::value(std::string_view v) {
 
 JsonText& JsonText::value(float v) {
   separate();
-  appendNumber(out_, v, 9);
+  appendNumber(out_, v);
   return *this;
 }
 
 JsonText& JsonText::value(double v) {
   separate();
-  appendNumber(out_, v, 17);
+  appendNumber(out_, v);
   return *this;
 }
 
@@ -201,7 +243,7 @@ std::string quoteValue(const TypedValue& value, std::size_t max_chars) {
         } else if (std::isinf(n)) {
           out += n > 0 ? "Infinity" : "-Infinity";
         } else {
-          appendNumber(out, n, 17);
+          appendNumber(out, n);
         }
         break;
       }

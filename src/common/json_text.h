@@ -1,7 +1,8 @@
 // JSON text out of the runtime (the rig description, errors, limits), written by hand: the runtime
 // reads no JSON text and carries no JSON library, and what it writes is a few flat shapes.
-// Numbers are written as the shortest text that reads back as the same value (a float's as a
-// float: 0.4f as 0.4), non-finite ones as null, and strings that are not UTF-8 with U+FFFD in
+// A float is written as the shortest text that reads back as the same float (0.4f as 0.4), a
+// double with 15 significant digits (what a person typed reads back as typed), integers exactly,
+// non-finite numbers as null, and strings that are not UTF-8 with U+FFFD in
 // place of each bad byte, so JSON.parse on the JavaScript side always succeeds.
 #pragma once
 

@@ -82,7 +82,7 @@ Error TypedDocument::decode(const std::uint8_t* data, std::size_t size) {
       Frame& frame = open.back();
       Node& container = nodes_[frame.node];
       if (container.type == TypedValue::Type::kObject) {
-        std::stable_sort(frame.children.begin(), frame.children.end(), [&](std::uint32_t a, std::uint32_t b) {
+        std::sort(frame.children.begin(), frame.children.end(), [&](std::uint32_t a, std::uint32_t b) {
           const Node& x = nodes_[a];
           const Node& y = nodes_[b];
           return std::string_view(reinterpret_cast<const char*>(data_ + x.key), x.key_size) <

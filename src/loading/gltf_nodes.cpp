@@ -32,7 +32,7 @@ bool isNumberArray(const TypedValue& value, std::size_t length) {
   return true;
 }
 
-// The types of the fields we use. tinygltf's node reader skips a field of the wrong type without
+// The types of the fields we use: a field of the wrong type is an error, never skipped without
 // a word, which would leave the node at the origin.
 Error checkNode(const TypedValue& node, std::size_t index) {
   const std::string where = "node " + std::to_string(index);
@@ -43,7 +43,7 @@ Error checkNode(const TypedValue& node, std::size_t index) {
   if (auto it = node.find("children"); it != node.end()) {
     if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, where + ": children is not an array");
     for (const TypedValue& c : *it) {
-      // Bounded here because tinygltf and the skeleton store indices as int.
+      // Bounded here because the skeleton stores indices as int.
       if (!c.is_number_integer() || c.get<std::int64_t>() < 0 ||
           c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
         return fail(ErrorCode::kGltfInvalid, where + ": a child index is not a node index");

@@ -499,10 +499,10 @@ TEST(GlbLoader, RejectsChildIndexThatIsNotAnInteger) {
   EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {0.5}}}, node("B")})),
             ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
-  // 1.0 is a number with a fraction part in JSON text: not an integer index.
+  // 1.0 is the number 1: a page's JSON.parse cannot tell them apart, so neither does the reader
+  // (as JSON Schema since draft 6 counts 1.0 an integer).
   EXPECT_EQ(loadCode(std::string(R"({"asset":{"version":"2.0"},"nodes":[{"children":[1.0]},{}]})")),
-            ErrorCode::kGltfInvalid);
-  EXPECT_TRUE(lastMessageMentions("child"));
+            ErrorCode::kOk);
   EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {"1"}}}, node("B")})),
             ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
