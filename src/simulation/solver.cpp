@@ -582,7 +582,12 @@ void Instance::stepAll(Instance* const* instances, std::size_t count, double dt)
 // Takes over a previous instance's motion after an edit of the rig (springbones.h). The joints are
 // matched by node rather than by index, because added or removed chains renumber them; the tail
 // state is carried rather than recomputed from the previous rotations because it holds the
-// velocity too, so a chain that keeps its entries keeps swinging through the edit.
+// velocity too, so a chain that keeps its entries keeps swinging through the edit. It runs once
+// per edit, not per frame: optimised for size, as the rest of the module off the per-frame path
+// (this file is built at -O3 for the step).
+#if defined(__clang__)
+__attribute__((minsize))
+#endif
 void Instance::carryFrom(const Instance& previous) {
   if (&previous == this) return;
   const State& from = *previous.state_;
@@ -612,17 +617,11 @@ void Instance::carryFrom(const Instance& previous) {
     s.previous_tail[j] = before;
     if (s.lanes) s.lanes->setTailState(s.lane_copy, j, now, before);
   };
-  const auto seedAtRest = [&s] {
-    s.currentPoses().read(s.driver_input.data(), s.previousPoses());
-    s.holdPoses();
-    s.fast_path = s.lanes && s.driversAreSimilarities();
-    s.prepareDrivers(1.0f);
-    s.run(0.0f, /*seed_only=*/true);
-  };
-
   // Joints new to this rig start at rest, moving as the avatar moved over the previous instance's
-  // last frame (as a chain that had hung there would): seeded once under the drivers of the frame
-  // before, when the previous instance had every driver of this rig, for the velocity.
+  // last frame (as a chain that had hung there would): seeded first under the drivers of the frame
+  // before, when the previous instance had every driver of this rig, for the velocity; then, as a
+  // first frame seeds, under the drivers the caller wrote, which become every pose of the history
+  // so the next frame interpolates from there.
   std::vector<int> old_driver(rig.drivers.size(), -1);
   bool drivers_known = true;
   for (std::size_t d = 0; d < rig.drivers.size(); ++d) {
@@ -631,23 +630,29 @@ void Instance::carryFrom(const Instance& previous) {
     }
     drivers_known = drivers_known && old_driver[d] >= 0;
   }
+  const bool with_earlier = drivers_known && from.frame_steps > 0;
   std::vector<glm::vec3> earlier_rest;
-  if (drivers_known && from.frame_steps > 0) {
-    const std::vector<float> input = s.driver_input;
+  std::vector<float> input;
+  if (with_earlier) {
+    input = s.driver_input;
     for (std::size_t d = 0; d < rig.drivers.size(); ++d) {
       const glm::mat4 m = from.olderPoses().matrix(static_cast<std::size_t>(old_driver[d]));
       std::memcpy(s.driver_input.data() + 16 * d, &m[0][0], sizeof(float) * 16);
     }
-    seedAtRest();
-    earlier_rest.resize(rig.joints.size());
-    glm::vec3 unused;
-    for (std::size_t j = 0; j < rig.joints.size(); ++j) tailOf(s, j, earlier_rest[j], unused);
-    s.driver_input = input;
   }
-
-  // Seed at rest under the drivers the caller wrote, as a first frame does: every pose is this
-  // one, so the next frame interpolates from here and new joints start where they are drawn.
-  seedAtRest();
+  for (int pass = with_earlier ? 0 : 1; pass < 2; ++pass) {
+    s.currentPoses().read(s.driver_input.data(), s.previousPoses());
+    s.holdPoses();
+    s.fast_path = s.lanes && s.driversAreSimilarities();
+    s.prepareDrivers(1.0f);
+    s.run(0.0f, /*seed_only=*/true);
+    if (pass == 0) {
+      earlier_rest.resize(rig.joints.size());
+      glm::vec3 unused;
+      for (std::size_t j = 0; j < rig.joints.size(); ++j) tailOf(s, j, earlier_rest[j], unused);
+      s.driver_input = input;
+    }
+  }
   s.seeded = true;
   s.accumulator = from.accumulator;
   s.wind = from.wind;

@@ -286,6 +286,18 @@ for (const which of kBabylonVersions) {
         simulation.dispose(scene);
       });
 
+      test('a promise of something that is not the module', async () => {
+        const simulation = new SpringBoneSimulation(Promise.resolve({ version: '0.2.0' }));
+        const scene = kit.scene();
+        const warnings = await consoleWarnings(async () => {
+          await previewScene({ simulation, scene });
+          await assert.rejects(simulation.ready, TypeError);
+        });
+        assert.equal(warnings.length, 1, warnings.join('\n'));
+        assert.match(warnings[0], /module-load-failed.*expected the springbones module/);
+        simulation.dispose(scene);
+      });
+
       test('an entry whose springbone nodes have no isRoot (the preview\'s class would move them)', async () => {
         const noRoots = Object.fromEntries(Object.entries(entry).map(([name, e]) => {
           const { isRoot, ...rest } = e;

@@ -332,6 +332,8 @@ class FrameCopies {
 const isThenable = (value) => value !== null && (typeof value === 'object' || typeof value === 'function') && typeof value.then === 'function';
 
 const kGravitySpaces = ['gltf', 'scene'];
+const kNotAModule = 'SpringBoneSimulation: expected the springbones module (createSpringBones()) or a promise of it';
+const isModule = (sb) => typeof sb?.loadRig === 'function' && typeof sb?.createScene === 'function';
 
 export class SpringBoneSimulation {
   /**
@@ -350,7 +352,7 @@ export class SpringBoneSimulation {
     }
     this._gravityInScene = space === 'scene';
     this._wearables = new Map();  // itemId -> RegisteredWearable
-    this._stray = new Map();  // itemId -> warning, for calls naming no registered wearable
+    this._stray = new Map();  // code + itemId -> warning, for calls naming no registered wearable
     this._copies = new FrameCopies();
     this._sb = null;
     this._moduleError = null;
@@ -373,7 +375,9 @@ export class SpringBoneSimulation {
        * Resolves once the module is there and every wearable registered so far has its rig;
        * rejects when the module fails to load (each wearable also warns, see `warnings`).
        */
-      this.ready = Promise.resolve(module).then((m) => this._useModule(m), (error) => this._moduleFailed(error));
+      this.ready = Promise.resolve(module).then(
+        (m) => (isModule(m) ? this._useModule(m) : this._moduleFailed(new TypeError(kNotAModule))),
+        (error) => this._moduleFailed(error));
       this.ready.catch(() => {});  // a page that never awaits it gets no unhandled rejection
     } else {
       this._useModule(module);
@@ -399,9 +403,7 @@ export class SpringBoneSimulation {
   }
 
   _useModule(sb) {
-    if (typeof sb?.loadRig !== 'function' || typeof sb?.createScene !== 'function') {
-      throw new TypeError('SpringBoneSimulation: expected the springbones module (createSpringBones()) or a promise of it');
-    }
+    if (!isModule(sb)) throw new TypeError(kNotAModule);
     this._sb = sb;
     for (const wearable of this._wearables.values()) this._build(wearable);
     this._membersChanged();
