@@ -251,6 +251,29 @@ for (const which of kBabylonVersions) {
       assert.match(afterDispose[0], /unknown-item/);
     });
 
+    test('registering an id again mid-swing takes the rest pose, not the swung one, and clears its unknown-item warning', async () => {
+      const { simulation, scene, container, frame, springs, rest } = await previewScene({ itemId: 'first' });
+      const warned = await consoleWarnings(() => simulation.updateParams(urn, entry));  // not registered yet
+      assert.equal(warned.length, 1);
+      for (let f = 0; f < 40; f++) frame(f);
+      assert.ok(springs.some((n) => turn(quaternionOf(n), rest.get(n)) > 0.01), 'swinging');
+      simulation.registerWearable(scene, container, 'first', entry);  // the same container again
+      // A new instance starts at the rig's rest rotations: the first rest pose, not the swung one.
+      const rig = simulation.rigOf('first');
+      const probe = rig.createInstance();
+      for (const n of springs) {
+        const j = rig.joints.findIndex((joint) => joint.name === n.name);
+        if (j < 0) continue;
+        assert.ok(turn(Array.from(probe.rotations.subarray(4 * j, 4 * j + 4)), rest.get(n)) < 1e-6, n.name);
+      }
+      probe.dispose();
+      simulation.registerWearable(scene, container, urn, entry);
+      assert.deepEqual(simulation.warnings, [], 'the unknown-item warning went with the registration');
+      for (let f = 40; f < 60; f++) frame(f);
+      simulation.dispose(scene);
+      for (const n of springs) assert.deepEqual(quaternionOf(n), rest.get(n), `${n.name}: back at the first rest pose`);
+    });
+
     test('dispose, then registerWearable and start again: it simulates', async () => {
       const simulation = new SpringBoneSimulation(sb);
       const first = await previewScene({ simulation });

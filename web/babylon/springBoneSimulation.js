@@ -455,14 +455,14 @@ export class SpringBoneSimulation {
     const metadata = springBonesParams === undefined && loaded?.metadata
       ? { springBones: loaded.metadata.springBones, options: { ...loaded.metadata.options }, key: loaded.metadata.options.contentHash ?? null }
       : resolveMetadata(itemId, springBonesParams);
-    const skeleton = loaded ? { nodes: loaded.nodes, gltfText: loaded.gltfText } : readWearableSkeleton(container);
     const earlier = this._wearables.get(itemId);
     if (earlier) {
-      earlier.dispose();
+      earlier.dispose();  // first, so its joints are back at rest when the container is read
       this._wearables.delete(itemId);
       this._membersChanged();
     }
-    this._stray.delete(itemId);
+    const skeleton = loaded ? { nodes: loaded.nodes, gltfText: loaded.gltfText } : readWearableSkeleton(container);
+    for (const [key, warning] of this._stray) if (warning.itemId === itemId) this._stray.delete(key);
     const wearable = new RegisteredWearable(this, scene, container, itemId, skeleton, metadata);
     if (metadata.problem) wearable.report(metadata.problem.code, metadata.problem.message);
     if (this._sb) {
