@@ -13,7 +13,7 @@
 //  - three.min.js: the three.js adapter and loader plugin (web/three/index.js; `three` stays an
 //    import of the page's);
 //  - babylon.min.js: the Babylon.js drop-in and loader extension (web/babylon/index.js; it imports
-//    nothing of Babylon's: the page hands its objects in);
+//    nothing of Babylon's: the page hands its objects in; it imports springbones.min.js);
 //  - inline.min.js: `springbones/inline`, the API with the runtime module inlined as base64
 //    (web/inline.js over springbones.min.js);
 //  - springbones_wasm_base64.js: that base64 as a module (what web/inline.js imports from source).
@@ -75,7 +75,9 @@ await build({
   splitting: true,
   entryNames: '[name].min',
   chunkNames: '[name].min',
-  plugins: [distRelativeUrls],
+  // The Babylon drop-in starts the module itself when given none: it imports the API's own
+  // bundle, so a page has one copy of it (and one module per page) whichever entry it imports.
+  plugins: [importsOf('../springbones.js', './springbones.min.js'), distRelativeUrls],
 });
 
 // springbones/inline: the runtime module inlined, the API imported from springbones.min.js.

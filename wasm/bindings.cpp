@@ -317,6 +317,17 @@ int jumps(int instance) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Edits: an instance of a rebuilt rig takes over the previous instance's motion (Instance::carryFrom)
+
+/// False when either handle is not a live instance.
+bool carryFrom(int instance, int previous) {
+  Instance* i = findInstance(instance);
+  const Instance* p = findInstance(previous);
+  if (i != nullptr && p != nullptr) i->carryFrom(*p);
+  return i != nullptr && p != nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
 
 Wind windOf(float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
@@ -384,4 +395,5 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("setJumpThresholds", &setJumpThresholds);
   emscripten::function("jump", &jump);
   emscripten::function("jumps", &jumps);
+  emscripten::function("carryFrom", &carryFrom);
 }

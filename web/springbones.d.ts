@@ -455,6 +455,17 @@ export interface Instance {
    * a scene's setWind is called again. TypeError / RangeError for a bad argument.
    */
   setWind(wind: WindOptions | null): void;
+  /**
+   * Takes over the motion of `previous`, an instance of another rig read from the same skeleton
+   * (the rig rebuilt with edited parameters or chains), so the edit neither pops nor restarts the
+   * chains. Call it after writing this instance's driverMatrices with the pose `previous` last
+   * stepped under, before this instance's first step. Joints of both rigs (same node and tail)
+   * keep their tail state (position and velocity) and rotation; joints new to this rig start at
+   * rest; the step clock and wind carry over. Nothing happens when `previous` never stepped.
+   * TypeError for a value that is not an Instance of this module; SpringBonesError 'disposed'
+   * when either is disposed of.
+   */
+  carryFrom(previous: Instance): void;
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   readonly jumps: number;
   /**

@@ -426,6 +426,20 @@ class Instance {
     this.#m.setWind(this.#live(), ...windArguments('setWind', wind, this.#limits));
   }
 
+  /**
+   * Takes over the motion of `previous`, an instance of another rig of the same skeleton (the rig
+   * rebuilt with edited parameters), with no pop: call it after writing this instance's
+   * driverMatrices with the pose `previous` last stepped under, before this instance's first step.
+   * Joints both rigs have keep their tail state (position and velocity) and rotation, new joints
+   * start at rest; the step clock and wind carry over. `previous` is left as it is.
+   */
+  carryFrom(previous) {
+    if (!(previous instanceof Instance)) throw new TypeError('carryFrom: previous must be an instance from rig.createInstance()');
+    if (previous.#m !== this.#m) throw new TypeError('carryFrom: previous belongs to another springbones module');
+    if (previous.#handle === 0) throw disposedError('instance');
+    this.#m.carryFrom(this.#live(), previous.#handle);
+  }
+
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   get jumps() {
     return this.#m.jumps(this.#live());

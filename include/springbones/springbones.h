@@ -306,6 +306,17 @@ class Instance {
   void jump();
   /// Discontinuities carried so far (jump() calls that reached a step and detected jumps).
   int jumps() const;
+  /// Takes over the motion of `previous`, an instance of another rig read from the same skeleton
+  /// (the rig rebuilt with edited parameters or chains), so that the edit neither pops nor
+  /// restarts the chains. Call it after writing this instance's driver matrices with the pose the
+  /// previous instance last stepped under, before this instance's first step. This instance is
+  /// seeded at rest under those drivers; then every joint that was a joint of `previous` (the same
+  /// node, name and tail node) takes its tail state over (position and velocity, moved into this
+  /// joint's center space when the center changed) and its last rotation; the step clock (the
+  /// time left over, the wind's time and wind) carries over. Joints new to this rig start at rest.
+  /// Nothing happens when `previous` has never stepped (this instance then seeds on its first step)
+  /// or is this instance.
+  void carryFrom(const Instance& previous);
   /// Changes the thresholds of jump detection (the options' rules); a NaN keeps that one as it is.
   void setJumpThresholds(float distance, float angle);
   /// Sets the wind on this instance, from its next step on (a Scene's setWind sets it on every

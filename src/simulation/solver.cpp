@@ -579,4 +579,131 @@ void Instance::stepAll(Instance* const* instances, std::size_t count, double dt)
   }
 }
 
+// Takes over a previous instance's motion after an edit of the rig (springbones.h). The joints are
+// matched by node rather than by index, because added or removed chains renumber them; the tail
+// state is carried rather than recomputed from the previous rotations because it holds the
+// velocity too, so a chain that keeps its entries keeps swinging through the edit. It runs once
+// per edit, not per frame: optimised for size, as the rest of the module off the per-frame path
+// (this file is built at -O3 for the step).
+#if defined(__clang__)
+__attribute__((minsize))
+#endif
+void Instance::carryFrom(const Instance& previous) {
+  if (&previous == this) return;
+  const State& from = *previous.state_;
+  if (!from.seeded) return;
+  State& s = *state_;
+  const Rig& old_rig = *from.rig;
+  const Rig& rig = *s.rig;
+
+  // A tail state as an instance last left it: its XPBD solver, its lane copy when the last run
+  // took the fast path (world_from_similarity), else its general-path vectors.
+  const auto tailOf = [](const State& st, std::size_t j, glm::vec3& now, glm::vec3& before) {
+    if (st.xpbd) {
+      st.xpbd->tailState(j, now, before);
+    } else if (st.world_from_similarity && st.lanes) {
+      st.lanes->tailState(st.lane_copy, j, now, before);
+    } else {
+      now = st.current_tail[j];
+      before = st.previous_tail[j];
+    }
+  };
+  const auto setTail = [&s](std::size_t j, const glm::vec3& now, const glm::vec3& before) {
+    if (s.xpbd) {
+      s.xpbd->setTailState(j, now, before);
+      return;
+    }
+    s.current_tail[j] = now;
+    s.previous_tail[j] = before;
+    if (s.lanes) s.lanes->setTailState(s.lane_copy, j, now, before);
+  };
+  // Joints new to this rig start at rest, moving as the avatar moved over the previous instance's
+  // last frame (as a chain that had hung there would): seeded first under the drivers of the frame
+  // before, when the previous instance had every driver of this rig, for the velocity; then, as a
+  // first frame seeds, under the drivers the caller wrote, which become every pose of the history
+  // so the next frame interpolates from there.
+  std::vector<int> old_driver(rig.drivers.size(), -1);
+  bool drivers_known = true;
+  for (std::size_t d = 0; d < rig.drivers.size(); ++d) {
+    for (std::size_t o = 0; o < old_rig.drivers.size() && old_driver[d] < 0; ++o) {
+      if (old_rig.drivers[o].name == rig.drivers[d].name) old_driver[d] = static_cast<int>(o);
+    }
+    drivers_known = drivers_known && old_driver[d] >= 0;
+  }
+  const bool with_earlier = drivers_known && from.frame_steps > 0;
+  std::vector<glm::vec3> earlier_rest;
+  std::vector<float> input;
+  if (with_earlier) {
+    input = s.driver_input;
+    for (std::size_t d = 0; d < rig.drivers.size(); ++d) {
+      const glm::mat4 m = from.olderPoses().matrix(static_cast<std::size_t>(old_driver[d]));
+      std::memcpy(s.driver_input.data() + 16 * d, &m[0][0], sizeof(float) * 16);
+    }
+  }
+  for (int pass = with_earlier ? 0 : 1; pass < 2; ++pass) {
+    s.currentPoses().read(s.driver_input.data(), s.previousPoses());
+    s.holdPoses();
+    s.fast_path = s.lanes && s.driversAreSimilarities();
+    s.prepareDrivers(1.0f);
+    s.run(0.0f, /*seed_only=*/true);
+    if (pass == 0) {
+      earlier_rest.resize(rig.joints.size());
+      glm::vec3 unused;
+      for (std::size_t j = 0; j < rig.joints.size(); ++j) tailOf(s, j, earlier_rest[j], unused);
+      s.driver_input = input;
+    }
+  }
+  s.seeded = true;
+  s.accumulator = from.accumulator;
+  s.wind = from.wind;
+  s.wind_steps = from.wind_steps;
+  s.jump_requested = false;
+
+  // A driver's name, for comparing centers across the two rigs' driver lists.
+  const auto driverName = [](const Rig& r, int d) -> const std::string* {
+    return d >= 0 ? &r.drivers[static_cast<std::size_t>(d)].name : nullptr;
+  };
+  std::vector<int> old_joint_of_node(old_rig.skeleton.nodes.size(), -1);
+  for (std::size_t j = 0; j < old_rig.joints.size(); ++j) {
+    const int node = old_rig.joints[j].node;
+    if (node >= 0 && static_cast<std::size_t>(node) < old_joint_of_node.size()) old_joint_of_node[node] = static_cast<int>(j);
+  }
+  // Per step, as the tails move: the previous instance's last frame may have run several steps.
+  const float per_step = 1.0f / static_cast<float>(std::max(1, from.frame_steps));
+  for (std::size_t j = 0; j < rig.joints.size(); ++j) {
+    const Joint& joint = rig.joints[j];
+    const bool in_range = joint.node >= 0 && static_cast<std::size_t>(joint.node) < old_joint_of_node.size();
+    const int o = in_range ? old_joint_of_node[joint.node] : -1;
+    const Joint* old_joint = o >= 0 ? &old_rig.joints[static_cast<std::size_t>(o)] : nullptr;
+    if (old_joint == nullptr || old_joint->tail_node != joint.tail_node ||
+        old_rig.skeleton.nodes[joint.node].name != rig.skeleton.nodes[joint.node].name) {
+      if (earlier_rest.empty()) continue;  // at rest, still
+      glm::vec3 now, unused;
+      tailOf(s, j, now, unused);
+      const glm::vec3 before = now - (now - earlier_rest[j]) * per_step;
+      if (std::isfinite(before.x + before.y + before.z)) setTail(j, now, before);
+      continue;
+    }
+    glm::vec3 now, before;
+    tailOf(from, static_cast<std::size_t>(o), now, before);
+    const std::string* old_center = driverName(old_rig, old_joint->center_driver);
+    const std::string* new_center = driverName(rig, joint.center_driver);
+    const bool same_center = old_center == nullptr ? new_center == nullptr : new_center != nullptr && *old_center == *new_center;
+    if (!same_center) {
+      // Through world space: the old center as it last stepped, the new one as just read.
+      glm::mat4 to_world(1.0f), to_center(1.0f);
+      if (old_joint->center_driver >= 0) to_world = from.previousPoses().matrix(static_cast<std::size_t>(old_joint->center_driver));
+      if (joint.center_driver >= 0) {
+        glm::mat4 inverse;
+        if (affineInverse(s.currentPoses().matrix(static_cast<std::size_t>(joint.center_driver)), inverse)) to_center = inverse;
+      }
+      now = glm::vec3(to_center * (to_world * glm::vec4(now, 1.0f)));
+      before = glm::vec3(to_center * (to_world * glm::vec4(before, 1.0f)));
+    }
+    if (!std::isfinite(now.x + now.y + now.z + before.x + before.y + before.z)) continue;  // keep the rest seed
+    setTail(j, now, before);
+    std::memcpy(s.rotations.data() + 4 * j, from.rotations.data() + 4 * static_cast<std::size_t>(o), 4 * sizeof(float));
+  }
+}
+
 }  // namespace springbones

@@ -1,7 +1,8 @@
 // The npm package as its users take it: scripts/package packs the tarball, and throwaway projects
 // outside the repository install it with npm and use it (a Node test suite, a Vite app and an
 // esbuild bundle opened in Debian's Chromium, a strict TypeScript check, the Node suite again
-// under the lowest `three` of the peer range, and springbones/babylon with Babylon 4.2 and 9.x). Nothing here imports the checkout's web/: the
+// under the lowest `three` of the peer range, and springbones/babylon with Babylon 4.2 and 9.x, and
+// bundled with the preview's @babylonjs/core 4.2.2). Nothing here imports the checkout's web/: the
 // consumers' files are in tests/package/consumer/, copied into each project.
 //
 // Needs npm and the registry (the projects install pinned versions), /usr/bin/chromium (or
@@ -35,6 +36,9 @@ const kBabylon = {
   '4.2': { babylonjs: '4.2.2', 'babylonjs-loaders': '4.2.2' },
   current: { '@babylonjs/core': '9.28.0', '@babylonjs/loaders': '9.28.0' },
 };
+// What Decentraland's wearable-preview itself depends on: Babylon 4.2 as ES modules, which it
+// bundles (so does the test, with esbuild: unbundled they do not load in Node).
+const kPreviewBabylon = { '@babylonjs/core': '4.2.2', '@babylonjs/loaders': '4.2.2' };
 
 /** Runs a command; on failure the assertion shows its output. */
 function run(command, args, cwd, env = {}) {
@@ -219,7 +223,8 @@ describe('the tarball', () => {
     assert.equal(repoPackage.devDependencies.three, kThreeHighest, 'the repository tests the highest too');
     // Babylon: optional peers whose ranges hold the versions tested below, as the repository pins them.
     assert.equal(pkg.peerDependencies.babylonjs, '>=4.2.0 <4.3.0');
-    assert.equal(pkg.peerDependencies['@babylonjs/core'], `>=${kBabylon.current['@babylonjs/core']} <10.0.0`);
+    assert.equal(pkg.peerDependencies['@babylonjs/core'],
+      `>=${kPreviewBabylon['@babylonjs/core'].replace(/\.\d+$/, '.0')} <4.3.0 || >=${kBabylon.current['@babylonjs/core']} <10.0.0`);
     for (const name of ['babylonjs', '@babylonjs/core']) assert.equal(pkg.peerDependenciesMeta[name].optional, true);
     for (const deps of Object.values(kBabylon)) {
       for (const [name, version] of Object.entries(deps)) assert.equal(repoPackage.devDependencies[name], version, name);
@@ -324,3 +329,26 @@ for (const [which, babylon] of Object.entries(kBabylon)) {
     }
   });
 }
+
+describe(`the preview's Babylon: @babylonjs/core ${kPreviewBabylon['@babylonjs/core']} (ES modules), installed, type-checked, bundled and run`, () => {
+  let project;
+  before(() => {
+    // npm's peer check is part of the test: no --legacy-peer-deps (makeProject runs a plain install).
+    project = makeProject('babylon-preview', { springbones: `file:${tarball}`, ...kPreviewBabylon },
+      { esbuild: kTools.esbuild, typescript: kTools.typescript });
+  });
+  after(() => removeProject(project));
+
+  test('TypeScript: the preview\'s calls type-check against @babylonjs/core 4.2 with tsc --noEmit --strict', () => {
+    run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', 'ts/tsconfig.babylon42.json'], project);
+  });
+
+  test('esbuild: the preview\'s flow bundled with @babylonjs/core 4.2, run in Node: the class starts the module itself, the hair swings', () => {
+    const dist = join(project, 'babylon-dist');
+    run(bin(project, 'esbuild'), ['babylon/preview42.spec.mjs', '--bundle', '--platform=node', '--format=esm',
+      '--log-level=warning', `--outdir=${dist}`], project);
+    // Where a page serves it: beside the bundle (esbuild copies no file named by new URL()).
+    cpSync(join(project, 'node_modules', 'springbones', 'web', 'dist', 'springbones_wasm.wasm'), join(dist, 'springbones_wasm.wasm'));
+    run(process.execPath, ['--test', join(dist, 'preview42.spec.js')], project);
+  });
+});

@@ -103,10 +103,21 @@ for (const which of kBabylonVersions) {
       assert.ok(told < untold / 3, `told: ${told} rad against ${untold} untold`);
     });
 
-    test('reset() and jump() name a wearable or take all; an unknown one is an error', async () => {
+    test('reset() and jump() name a wearable or take all; an unknown one does nothing and warns once', async () => {
       const simulation = new SpringBoneSimulation(sb);
-      assert.throws(() => simulation.reset('nothing'), /no wearable registered/);
-      assert.throws(() => simulation.jump('nothing'), /no wearable registered/);
+      const warn = console.warn;
+      const warned = [];
+      console.warn = (message) => warned.push(message);
+      try {
+        simulation.reset('nothing');
+        simulation.jump('nothing');
+        simulation.jump('nothing');
+      } finally {
+        console.warn = warn;
+      }
+      assert.equal(warned.length, 1, warned.join('\n'));
+      assert.match(warned[0], /unknown-item.*reset: no wearable is registered as "nothing"/);
+      assert.deepEqual(simulation.warnings.map((w) => [w.code, w.itemId]), [['unknown-item', 'nothing']]);
       simulation.reset();
       simulation.jump();
       simulation.dispose();

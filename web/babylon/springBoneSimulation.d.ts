@@ -34,24 +34,73 @@ export type SpringBonesWithHashOptions = {
   | { glb: Uint8Array | ArrayBuffer }
 );
 
+/** How gravityDir is read: the standard's glTF space (default) or the Babylon scene's axes (the preview's). */
+export type GravityDirSpace = 'gltf' | 'scene';
+
+export interface SpringBoneSimulationOptions {
+  /**
+   * 'gltf' (default): gravityDir in the glTF's space, as three.js and every springbones runtime
+   * read it; in a left-handed scene [1, 0, 0] leans toward the scene's -X. 'scene': in the
+   * Babylon scene's own axes, as Decentraland's preview reads it ([1, 0, 0] leans toward +X).
+   */
+  gravityDirSpace?: GravityDirSpace;
+}
+
+/** Why a registered wearable's hair (or part of it) stays still, or a call named no wearable. */
+export type SpringBoneSimulationWarningCode =
+  | 'module-load-failed'     // the springbones module did not load: every wearable stays at rest
+  | 'no-root'                // springbone entries without isRoot: true (the preview's class moves them)
+  | 'model-not-found'        // the springBones has no entry for the item's hash
+  | 'springbones-ambiguous'  // the whole springBones with several models, none under the item id
+  | 'entry-not-matched'      // none of the entry's names is a node of the wearable
+  | 'driver-not-found'       // a bone the chains hang from or collide with is in neither the container nor the scene
+  | 'unknown-item'           // updateParams / reset / jump named an id not registered (or after dispose)
+  | 'metadata-invalid'       // metadata the core rejects (a SpringBonesError's code); the wearable stays at rest
+  | (string & {});
+
+export interface SpringBoneSimulationWarning {
+  readonly code: SpringBoneSimulationWarningCode;
+  /** The item id the warning is about (registerWearable's, or the one a call named). */
+  readonly itemId: string;
+  /** What happened and the fix. */
+  readonly message: string;
+}
+
 /**
  * The spring bones of every registered wearable, stepped before each render of the scene, all in
- * one scene.step of springbones: the surface of Decentraland's wearable-preview class.
+ * one scene.step of springbones: the surface of Decentraland's wearable-preview class. None of
+ * the preview's four methods throws for metadata or ids: what leaves hair still is one console
+ * warning per wearable and an entry in `warnings`.
  */
 export class SpringBoneSimulation {
   /**
-   * @param sb the springbones module, or a promise of it (wearables registered before it resolves
-   *   stay at rest until it does)
+   * @param sb the springbones module, a promise of it, or nothing (null / undefined): the
+   *   simulation then starts the module itself (createSpringBones()), once per page, shared by
+   *   every simulation constructed without one. Wearables registered before the module is there
+   *   stay at rest until it is.
+   * @throws TypeError for a value that is not the module; RangeError for a bad gravityDirSpace
    */
-  constructor(sb: SpringBones | PromiseLike<SpringBones>);
-  /** Resolves once the module is there and every wearable registered so far has its rig. */
+  constructor(sb?: SpringBones | PromiseLike<SpringBones> | null, options?: SpringBoneSimulationOptions);
+  /**
+   * Resolves once the module is there and every wearable registered so far has its rig; rejects
+   * when the module fails to load (each wearable also warns `module-load-failed`).
+   */
   readonly ready: Promise<void>;
+  /** The springbones module once it is there, else null. */
+  readonly springBones: SpringBones | null;
+  /**
+   * What leaves registered wearables' hair still, and calls that named no registered wearable,
+   * each with its fix; each was also one console warning. Read anew on each access.
+   */
+  readonly warnings: readonly SpringBoneSimulationWarning[];
   /**
    * Registers a wearable's container (after addAllToScene, before its animation moves it: the
-   * current pose is the rest pose). `springBonesParams`: the models entry, the whole springBones
-   * (the entry under itemId) or the springBones with hash options; left out: no chains until
-   * updateParams. Registering an itemId again replaces it.
-   * @throws TypeError for arguments of the wrong kind; SpringBonesError for metadata the core rejects
+   * current pose is the rest pose). `itemId`: any non-empty string (the preview passes the
+   * wearable's URN). `springBonesParams`: the models entry (as the preview passes it); the whole
+   * springBones (its entry under itemId, else its only entry, else the warning
+   * `springbones-ambiguous`); or the springBones with hash options; left out: the loader
+   * extension's, else no chains until updateParams. Registering an itemId again replaces it.
+   * @throws TypeError for arguments of the wrong kind (metadata the core rejects is a warning)
    */
   registerWearable(
     scene: BabylonSceneLike,
@@ -60,14 +109,20 @@ export class SpringBoneSimulation {
     springBonesParams?: SpringBonesModelEntry | SpringBonesData | SpringBonesWithHashOptions | null,
   ): void;
   /**
-   * The Builder's live tuning: `params` becomes the wearable's models entry at once (added chains
-   * start, removed ones go back to rest; the chains restart from rest).
-   * @throws Error for an itemId never registered; TypeError for params that are not an object
+   * The Builder's live tuning: `params` (the whole entry) becomes the wearable's models entry,
+   * each name's fields merged over its previous ones. The chains keep their motion (joints that
+   * stay simulated carry their state over); an added chain starts from the pose it is drawn in; a
+   * removed chain goes back to rest before the next frame. An itemId not registered (or after
+   * dispose) does nothing and warns once (`unknown-item`).
+   * @throws TypeError for params that are not an object
    */
   updateParams(itemId: string, params: SpringBonesModelEntry): void;
   /** Steps every registered wearable before each render of `scene`. Idempotent. */
   start(scene: BabylonSceneLike): void;
-  /** Stops, puts the joints back at rest, frees every rig and instance. */
+  /**
+   * Stops, puts the joints back at rest, frees every rig and instance. The simulation can be
+   * registered and started again afterwards.
+   */
   dispose(scene?: BabylonSceneLike): void;
   /** Forgets the motion of every wearable (or itemId's): the next frame starts at rest. */
   reset(itemId?: string): void;

@@ -1,14 +1,14 @@
 // springbones for Babylon.js: a drop-in for the `SpringBoneSimulation` class of Decentraland's
-// wearable preview (the same four methods with the same arguments), constructed with the
-// springbones module (or a promise of it), with the standard's rules from the core: roots by
-// isRoot, branches, member overrides, tips, defaults and clamps, centers, colliders, fixed steps.
+// wearable preview (the same four methods with the same arguments, constructed with no argument),
+// with the standard's rules from the core: roots by isRoot, branches, member overrides, tips,
+// defaults and clamps, centers, colliders, fixed steps.
 //
-//   const simulation = new SpringBoneSimulation(sb);          // or createSpringBones() unresolved
+//   const simulation = new SpringBoneSimulation();             // or (sb), or (createSpringBones())
 //   container.addAllToScene();
-//   simulation.registerWearable(scene, container, itemHash, springBones.models[itemHash]);
+//   simulation.registerWearable(scene, container, urn, springBones.models[hash]);
 //   simulation.start(scene);                                   // one before-render step per frame
-//   simulation.updateParams(itemHash, editedEntry);            // the Builder's live tuning
-//   simulation.dispose(scene);
+//   simulation.updateParams(urn, editedEntry);                 // the Builder's live tuning
+//   simulation.dispose(scene);                                 // and register + start again later
 //
 // A wearable is read from its container (wearableSkeleton.js): the glTF nodes Babylon's loader
 // made, their rest transforms, in the glTF's space (handedness.js). Per frame, in the scene's
@@ -17,8 +17,14 @@
 // space), one scene.step(dt) steps every registered wearable, and each joint's rotation goes
 // into its rotationQuaternion. No allocation per frame.
 //
+// A page that drops this in changes its import line only, so nothing that leaves hair still may
+// pass silently: each such case (the module failing to load, an entry without isRoot, a hash or
+// id that matches nothing, a driver bone not found) is one console warning per wearable and an
+// entry in `warnings`, never a throw from the preview's four methods.
+//
 // Babylon itself is never imported: everything comes from the scene and containers passed in,
-// so the same file serves Babylon 4.2 (its UMD build) and the current @babylonjs/core.
+// so the same file serves Babylon 4.2 (`babylonjs` and `@babylonjs/core`) and the current major.
+import { createSpringBones } from '../springbones.js';
 import { nodesToRecompute } from './currentWorldMatrices.js';
 import { copyWorldMatrix, isMirroredScene } from './handedness.js';
 import { entryAsSpringBones, resolveMetadata, rigOptions } from './wearableMetadata.js';
@@ -36,37 +42,127 @@ export function carryAcrossJump(instance) {
   instance.jump();
 }
 
+/** The page's springbones module for simulations constructed without one: started once, shared. */
+let pageModule = null;
+
+function sharedModule() {
+  if (pageModule === null) {
+    pageModule = createSpringBones();
+    // A failed start is not kept: the next simulation constructed without a module tries again.
+    pageModule.catch(() => {
+      pageModule = null;
+    });
+  }
+  return pageModule;
+}
+
+const kMaxNamesListed = 6;
+const listNames = (names) => {
+  const shown = names.slice(0, kMaxNamesListed).map((n) => JSON.stringify(n)).join(', ');
+  return names.length > kMaxNamesListed ? `${shown} and ${names.length - kMaxNamesListed} more` : shown;
+};
+const isSpringBoneName = (name) => /springbone/i.test(name);
+const isObject = (value) => value !== null && typeof value === 'object' && !Array.isArray(value);
+
+/**
+ * The models entry `params` merged over `previous`, as the preview's live tuning merges: every
+ * name of `params`, its fields over the previous entry's; a non-finite number keeps the previous
+ * value (the core would otherwise put the default in its place).
+ */
+function mergeEntry(previous, params) {
+  const merged = {};
+  for (const [name, entry] of Object.entries(params)) {
+    const before = isObject(previous?.[name]) ? previous[name] : null;
+    if (!isObject(entry) || before === null) {
+      merged[name] = entry;
+      continue;
+    }
+    const out = { ...before };
+    for (const [field, value] of Object.entries(entry)) {
+      if (typeof value === 'number' && !Number.isFinite(value) && before[field] !== undefined) continue;
+      out[field] = value;
+    }
+    merged[name] = out;
+  }
+  return merged;
+}
+
+/** springBones with every entry's gravityDir read in a left-handed scene's space (x mirrored). */
+function mirroredGravity(springBones) {
+  if (!isObject(springBones) || !isObject(springBones.models)) return springBones;
+  const models = {};
+  for (const [key, model] of Object.entries(springBones.models)) {
+    if (!isObject(model)) {
+      models[key] = model;
+      continue;
+    }
+    models[key] = Object.fromEntries(Object.entries(model).map(([name, entry]) => {
+      const g = entry?.gravityDir;
+      const mirror = isObject(entry) && Array.isArray(g) && g.length === 3 && typeof g[0] === 'number';
+      return [name, mirror ? { ...entry, gravityDir: [-g[0], g[1], g[2]] } : entry];
+    }));
+  }
+  return { ...springBones, models };
+}
+
 /** One registered wearable: its container's nodes, its rig and instance once the module is there. */
 class RegisteredWearable {
-  constructor(scene, container, itemId, skeleton, metadata) {
+  constructor(simulation, scene, container, itemId, skeleton, metadata) {
+    this.simulation = simulation;
     this.scene = scene;
     this.container = container;
     this.itemId = itemId;
     this.nodes = skeleton.nodes;
     this.gltfBytes = new TextEncoder().encode(skeleton.gltfText);
-    this.metadata = metadata;  // { springBones, options, key } (wearableMetadata.js)
+    this.metadata = metadata;  // { springBones, options, key, problem? } (wearableMetadata.js)
     this.rig = null;
     this.instance = null;
     this.jointNodes = [];
     this.driverNodes = [];
     this.restRotations = new Map();  // joint node -> [x, y, z, w] as registered
     this.error = null;
+    this.problems = new Map();  // code -> warning: what leaves this wearable's hair still, now
+    this.warned = new Set();    // codes already on the console for this registration
+  }
+
+  /** Records a problem (code, message with its fix): in `warnings`, and once on the console. */
+  report(code, message) {
+    const warning = Object.freeze({ code, itemId: this.itemId, message });
+    this.problems.set(code, warning);
+    if (this.warned.has(code)) return;
+    this.warned.add(code);
+    console.warn(`[springbones] ${code} (${this.itemId}): ${message}`);
   }
 
   /** The Babylon node of each rig driver: by glTF index, or by name for a node outside the GLB. */
   findDriver(driver) {
     if (driver.node >= 0) return this.nodes[driver.node] ?? null;
-    const own = this.nodes.find((n) => n.name === driver.name);
+    const own = this.nodes.find((n) => n?.name === driver.name);
     return own ?? this.scene.getTransformNodeByName?.(driver.name) ?? null;
   }
 
+  /** The springBones as the core is to read it (gravityDir in the scene's space when asked). */
+  springBonesForCore() {
+    const { springBones } = this.metadata;
+    return this.simulation._gravityInScene && isMirroredScene(this.scene) ? mirroredGravity(springBones) : springBones;
+  }
+
+  /** The models entry the rig read (node name -> parameters), or null. */
+  entry() {
+    const models = this.metadata.springBones?.models;
+    const key = this.rig?.contentHash ?? this.metadata.key;
+    return isObject(models) && key !== null && isObject(models[key]) ? models[key] : null;
+  }
+
   /**
-   * Builds a rig from the rest skeleton and the springBones at hand, and a new instance of it
-   * (which starts at rest under the current drivers). Joints the previous rig moved and this one
-   * does not go back to their rest rotation. Throws what loadRig throws, before changing anything.
+   * Builds a rig from the rest skeleton and the current metadata, and a new instance of it. With
+   * `carry`, the new instance takes the previous one's motion over (instance.carryFrom: the
+   * joints both rigs have keep moving, new ones start from where they are drawn) instead of
+   * starting at rest. Joints the previous rig moved and this one does not go back to their rest
+   * rotation. Throws what loadRig throws, before changing anything.
    */
-  build(sb, springBones, options) {
-    const rig = sb.loadRig(this.gltfBytes, springBones, rigOptions(sb, options));
+  build(sb, { carry = false } = {}) {
+    const rig = sb.loadRig(this.gltfBytes, this.springBonesForCore(), rigOptions(sb, this.metadata.options));
     let instance;
     try {
       instance = rig.createInstance();
@@ -75,9 +171,11 @@ class RegisteredWearable {
       throw error;
     }
     const previous = this.jointNodes;
-    this.release();
+    const previousInstance = this.instance;
+    const previousRig = this.rig;
     this.rig = rig;
     this.instance = instance;
+    this.error = null;
     if (rig.contentHash) this.metadata.key = rig.contentHash;
     this.jointNodes = rig.joints.map((j) => this.nodes[j.node] ?? null);
     this.driverNodes = rig.drivers.map((d) => this.findDriver(d));
@@ -87,9 +185,70 @@ class RegisteredWearable {
       const q = node.rotationQuaternion;
       this.restRotations.set(node, [q.x, q.y, q.z, q.w]);
     }
+    if (carry && previousInstance && !previousInstance.disposed) {
+      this.writeDrivers();
+      instance.carryFrom(previousInstance);
+    }
+    previousInstance?.dispose();
+    previousRig?.dispose();
     const current = new Set(this.jointNodes);
     for (const node of previous) {
       if (node && !current.has(node)) this.restoreRest(node);
+    }
+    this.diagnose();
+  }
+
+  /** The drivers' current world matrices into the instance (what the last frame stepped under). */
+  writeDrivers() {
+    const { nodes, force } = nodesToRecompute(this.driverNodes);
+    for (const node of nodes) node.computeWorldMatrix(force);
+    const view = this.instance.driverMatrices;
+    const mirrored = isMirroredScene(this.scene);
+    this.driverNodes.forEach((node, d) => {
+      if (node !== null) copyWorldMatrix(node.getWorldMatrix().m, view, 16 * d, mirrored);
+    });
+  }
+
+  /**
+   * Finds what leaves hair still although the page meant it to move, after a build: the ADR's
+   * rules read the entry differently from the preview's class, or the entry is not this GLB's.
+   */
+  diagnose() {
+    for (const code of ['model-not-found', 'entry-not-matched', 'no-root', 'driver-not-found']) this.problems.delete(code);
+    const rig = this.rig;
+    const notFound = rig.warnings.find((w) => w.code === 'model-not-found' || w.code === 'models-missing');
+    if (notFound && !this.problems.has('springbones-ambiguous')) {
+      this.report('model-not-found', `${notFound.message}: nothing moves. Fix: pass the entry, springBones.models[hash] with hash the last segment of the main file's URL (as Decentraland's preview does), or { springBones, contentHash }.`);
+    }
+    const entry = this.entry();
+    if (entry !== null) {
+      const names = Object.keys(entry);
+      const byName = new Map();
+      for (const node of this.nodes) if (node && !byName.has(node.name)) byName.set(node.name, node);
+      if (names.length > 0 && names.every((name) => !byName.has(name))) {
+        this.report('entry-not-matched', `none of the entry's ${names.length} names (${listNames(names)}) is a node of this wearable, so nothing moves: the entry is another file's. Fix: pass springBones.models[hash] with hash the content hash of this wearable's GLB (the last segment of its URL).`);
+      }
+      const joints = new Set(rig.joints.map((j) => j.name));
+      const own = new Set(this.nodes);
+      const unrooted = names.filter((name) => {
+        const node = byName.get(name);
+        if (!node || !isSpringBoneName(name) || joints.has(name) || entry[name]?.isRoot === true) return false;
+        return node.getChildren(undefined, true).some((child) => own.has(child));  // a bone, not a tip
+      });
+      // A member below another unrooted name joins that chain once it has its root.
+      const unrootedNodes = new Set(unrooted.map((name) => byName.get(name)));
+      const below = (node) => {
+        for (let up = node.parent; up; up = up.parent) if (unrootedNodes.has(up)) return true;
+        return false;
+      };
+      unrooted.splice(0, unrooted.length, ...unrooted.filter((name) => !below(byName.get(name))));
+      if (unrooted.length > 0) {
+        this.report('no-root', `no isRoot: add "isRoot": true to ${listNames(unrooted)} in the models entry. springbones starts a chain only at an entry with isRoot: true (the standard), where Decentraland's preview class starts one at every springbone entry; these bones stay still.`);
+      }
+    }
+    const missing = rig.drivers.filter((d, i) => this.driverNodes[i] === null).map((d) => d.name);
+    if (missing.length > 0) {
+      this.report('driver-not-found', `the avatar bones ${listNames(missing)} are neither in this wearable's container nor nodes of the scene (by name), so what hangs from or collides with them does not follow the avatar. Fix: add the avatar's container to the scene before registerWearable, or name colliders after bones the wearable's GLB has.`);
     }
   }
 
@@ -172,15 +331,31 @@ class FrameCopies {
 
 const isThenable = (value) => value !== null && (typeof value === 'object' || typeof value === 'function') && typeof value.then === 'function';
 
+const kGravitySpaces = ['gltf', 'scene'];
+const kNotAModule = 'SpringBoneSimulation: expected the springbones module (createSpringBones()) or a promise of it';
+const isModule = (sb) => typeof sb?.loadRig === 'function' && typeof sb?.createScene === 'function';
+
 export class SpringBoneSimulation {
   /**
-   * @param sb the springbones module (createSpringBones()), or a promise of it: wearables
-   *   registered before it resolves stay at rest until it does, then their springs start.
+   * @param sb the springbones module (createSpringBones()), a promise of it, or nothing: the
+   *   simulation then starts the module itself, once per page, shared by every simulation
+   *   constructed without one. Wearables registered before it is there stay at rest until it is.
+   * @param options { gravityDirSpace: 'gltf' (default, the standard's reading, as three.js and
+   *   every other runtime of springbones) | 'scene' (Decentraland's preview's: gravityDir in the
+   *   Babylon scene's own axes) }
    */
-  constructor(sb) {
+  constructor(sb, options = {}) {
+    if (options === null || typeof options !== 'object') throw new TypeError('SpringBoneSimulation: options must be an object');
+    const space = options.gravityDirSpace ?? 'gltf';
+    if (!kGravitySpaces.includes(space)) {
+      throw new RangeError(`SpringBoneSimulation: gravityDirSpace must be one of ${kGravitySpaces.join(', ')}, got ${JSON.stringify(space)}`);
+    }
+    this._gravityInScene = space === 'scene';
     this._wearables = new Map();  // itemId -> RegisteredWearable
+    this._stray = new Map();  // code + itemId -> warning, for calls naming no registered wearable
     this._copies = new FrameCopies();
     this._sb = null;
+    this._moduleError = null;
     this._sbScene = null;
     this._scene = null;  // the Babylon scene start() hooked
     this._observer = null;
@@ -193,49 +368,83 @@ export class SpringBoneSimulation {
     this._onGroupPlay = () => {
       this._jumpPending = true;
     };
-    this._disposed = false;
     this._frame = () => this._step();
-    if (isThenable(sb)) {
-      /** Resolves once the module is there and every wearable registered so far has its rig. */
-      this.ready = Promise.resolve(sb).then((module) => this._useModule(module));
+    const module = sb ?? sharedModule();
+    if (isThenable(module)) {
+      /**
+       * Resolves once the module is there and every wearable registered so far has its rig;
+       * rejects when the module fails to load (each wearable also warns, see `warnings`).
+       */
+      this.ready = Promise.resolve(module).then(
+        (m) => (isModule(m) ? this._useModule(m) : this._moduleFailed(new TypeError(kNotAModule))),
+        (error) => this._moduleFailed(error));
       this.ready.catch(() => {});  // a page that never awaits it gets no unhandled rejection
     } else {
-      this._useModule(sb);
+      this._useModule(module);
       this.ready = Promise.resolve();
     }
   }
 
+  /** The springbones module once it is there, else null. */
+  get springBones() {
+    return this._sb;
+  }
+
+  /**
+   * Every problem that leaves a registered wearable's hair still (or part of it), and every call
+   * that named no registered wearable: { code, itemId, message } with the fix in the message.
+   * Each is also one console warning per wearable. Rebuilt on each read.
+   */
+  get warnings() {
+    const out = [];
+    for (const wearable of this._wearables.values()) out.push(...wearable.problems.values());
+    out.push(...this._stray.values());
+    return out;
+  }
+
   _useModule(sb) {
-    if (typeof sb?.loadRig !== 'function' || typeof sb?.createScene !== 'function') {
-      throw new TypeError('SpringBoneSimulation: expected the springbones module (createSpringBones()) or a promise of it');
-    }
-    if (this._disposed) return;
+    if (!isModule(sb)) throw new TypeError(kNotAModule);
     this._sb = sb;
-    this._sbScene = sb.createScene();
-    for (const wearable of this._wearables.values()) {
-      try {
-        wearable.build(sb, wearable.metadata.springBones, wearable.metadata.options);
-      } catch (error) {
-        wearable.error = error;  // registered before the module: reported here and on ready
-        console.warn(`[springbones] ${wearable.itemId}: ${error.message}`);
-      }
-    }
+    for (const wearable of this._wearables.values()) this._build(wearable);
     this._membersChanged();
-    if (this._wind !== undefined) this._sbScene.setWind(this._wind);  // set before the module came
+  }
+
+  _moduleFailed(error) {
+    this._moduleError = error;
+    for (const wearable of this._wearables.values()) this._reportModuleError(wearable);
+    throw error;
+  }
+
+  _reportModuleError(wearable) {
+    const error = this._moduleError;
+    const reason = error?.message ?? String(error);
+    wearable.report('module-load-failed', `the springbones module did not load (${reason}), so this wearable stays at rest. Fix: let the page fetch springbones_wasm.wasm beside the package's JavaScript (the springbones/wasm export), or start the module yourself, createSpringBones({ wasm | wasmBinary | wasmUrl }), and pass it to the constructor.`);
+  }
+
+  /** Builds a wearable's rig; what the core rejects becomes a warning, the wearable stays at rest. */
+  _build(wearable, options) {
+    try {
+      wearable.build(this._sb, options);
+      return true;
+    } catch (error) {
+      wearable.error = error;
+      wearable.report(error?.code ?? 'rig-load-failed', `${error?.message ?? error}; this wearable stays at rest.`);
+      return false;
+    }
   }
 
   /**
    * Registers a wearable's container (after container.addAllToScene(), before its animation
-   * starts: its current pose is taken as the rest pose). `springBonesParams`: the models entry
-   * (node name -> parameters), the whole springBones (the entry under itemId), or
-   * { springBones, entity, bodyShape } / { springBones, contentHash } / { springBones, glb };
-   * left out, the springBones the loader extension was given for this file, else no chains until
-   * updateParams gives it some. A container loaded with the extension is read by the file's own
-   * node list rather than from its Babylon nodes. Registering an itemId
-   * again replaces the earlier registration.
-   * @throws TypeError for arguments of the wrong kind; SpringBonesError for metadata the core
-   *   rejects (registered before the module is there: a console warning, and the wearable stays
-   *   at rest)
+   * starts: its current pose is taken as the rest pose). `itemId` is any string (the preview
+   * passes the wearable's URN). `springBonesParams`: the models entry (node name -> parameters),
+   * as the preview passes it; the whole springBones (the entry under itemId, else its only
+   * entry, else a `springbones-ambiguous` warning); or { springBones, entity, bodyShape } /
+   * { springBones, contentHash } / { springBones, glb }; left out, the springBones the loader
+   * extension was given for this file, else no chains until updateParams gives it some. A
+   * container loaded with the extension is read by the file's own node list rather than from its
+   * Babylon nodes. Registering an itemId again replaces the earlier registration. Metadata the
+   * core rejects is a warning (see `warnings`), never a throw.
+   * @throws TypeError for arguments of the wrong kind
    */
   registerWearable(scene, container, itemId, springBonesParams) {
     if (scene === null || typeof scene !== 'object' || typeof scene.getEngine !== 'function') {
@@ -253,36 +462,59 @@ export class SpringBoneSimulation {
       this._membersChanged();
     }
     const skeleton = loaded ? { nodes: loaded.nodes, gltfText: loaded.gltfText } : readWearableSkeleton(container);
-    const wearable = new RegisteredWearable(scene, container, itemId, skeleton, metadata);
-    if (this._sb) wearable.build(this._sb, metadata.springBones, metadata.options);
+    for (const [key, warning] of this._stray) if (warning.itemId === itemId) this._stray.delete(key);
+    const wearable = new RegisteredWearable(this, scene, container, itemId, skeleton, metadata);
+    if (metadata.problem) wearable.report(metadata.problem.code, metadata.problem.message);
+    if (this._sb) {
+      this._build(wearable);
+    } else if (this._moduleError) {
+      this._reportModuleError(wearable);
+    }
     this._wearables.set(itemId, wearable);
     this._membersChanged();
   }
 
   /**
-   * The Builder's live tuning: `params` (node name -> parameters) becomes the wearable's models
-   * entry. An added entry takes effect at once (by the standard's rules: a chain starts at an entry
-   * with isRoot), a removed chain goes back to its rest pose; the chains restart from rest.
-   * @throws Error for an itemId that was never registered; SpringBonesError for an entry the core rejects
+   * The Builder's live tuning: `params` (node name -> parameters, the whole entry) becomes the
+   * wearable's models entry, each name's fields merged over its previous ones. The chains keep
+   * their motion through it: joints that stay simulated carry their state over
+   * (instance.carryFrom), an added chain starts from the pose it is drawn in, a removed chain
+   * goes back to its rest rotation before the next frame. By the standard's rules an entry starts
+   * a chain only with isRoot: true. An itemId that is not registered (never, or no longer after
+   * dispose) does nothing and warns once (`unknown-item`).
+   * @throws TypeError for params that are not an object
    */
   updateParams(itemId, params) {
-    const wearable = this._wearables.get(itemId);
-    if (!wearable) throw new Error(`updateParams: no wearable registered as ${JSON.stringify(itemId)}`);
     if (params === null || typeof params !== 'object' || Array.isArray(params)) {
       throw new TypeError('updateParams: params must be an object of node name -> parameters');
     }
+    const wearable = this._wearables.get(itemId);
+    if (!wearable) {
+      this._reportStray(itemId, 'unknown-item', `updateParams: no wearable is registered as ${JSON.stringify(itemId)}, so nothing changed. Fix: registerWearable(scene, container, ${JSON.stringify(itemId)}, entry) first (and again after dispose), with the same id.`);
+      return;
+    }
     const key = wearable.metadata.key ?? String(itemId);
-    const springBones = entryAsSpringBones(key, params);
+    const previousEntry = wearable.entry() ?? (isObject(wearable.metadata.springBones?.models?.[key]) ? wearable.metadata.springBones.models[key] : null);
+    const springBones = entryAsSpringBones(key, mergeEntry(previousEntry, params));
     const options = { ...wearable.metadata.options, contentHash: key };
     delete options.entity;
     delete options.bodyShape;
     delete options.glb;
+    const before = wearable.metadata;
     wearable.metadata = { springBones, options, key };
-    if (this._sb) {
-      wearable.build(this._sb, springBones, options);
-      wearable.error = null;
-      this._membersChanged();
+    wearable.problems.delete('springbones-ambiguous');  // the entry is named now
+    if (this._sb && !this._build(wearable, { carry: true })) {
+      wearable.metadata = before;  // the previous rig keeps running
+      return;
     }
+    this._membersChanged();
+  }
+
+  _reportStray(itemId, code, message) {
+    const key = `${code}\n${itemId}`;
+    if (this._stray.has(key)) return;
+    this._stray.set(key, Object.freeze({ code, itemId: String(itemId), message }));
+    console.warn(`[springbones] ${code} (${itemId}): ${message}`);
   }
 
   /** Steps every registered wearable once per frame, before each render of `scene`. Idempotent. */
@@ -301,7 +533,7 @@ export class SpringBoneSimulation {
    * current drivers. For an avatar swap.
    */
   reset(itemId) {
-    for (const wearable of this._selected(itemId)) wearable.instance?.reset();
+    for (const wearable of this._selected(itemId, 'reset')) wearable.instance?.reset();
   }
 
   /**
@@ -310,7 +542,7 @@ export class SpringBoneSimulation {
    * whipping after it. An animation group starting to play does this by itself.
    */
   jump(itemId) {
-    for (const wearable of this._selected(itemId)) if (wearable.instance) carryAcrossJump(wearable.instance);
+    for (const wearable of this._selected(itemId, 'jump')) if (wearable.instance) carryAcrossJump(wearable.instance);
   }
 
   /**
@@ -320,9 +552,7 @@ export class SpringBoneSimulation {
    * @throws TypeError / RangeError for a bad wind once the module is there
    */
   setWind(wind) {
-    if (this._sbScene) {
-      this._sbScene.setWind(wind);
-    }
+    if (this._sb) this._sceneFor().setWind(wind);
     this._wind = wind;
   }
 
@@ -331,7 +561,10 @@ export class SpringBoneSimulation {
     return this._wearables.get(itemId)?.rig ?? null;
   }
 
-  /** Stops stepping, puts the joints back at rest and frees every rig and instance. */
+  /**
+   * Stops stepping, puts the joints back at rest and frees every rig and instance. The simulation
+   * can be registered and started again afterwards (the preview disposes on every wearable swap).
+   */
   dispose(scene) {
     const hooked = scene ?? this._scene;
     if (this._observer && hooked) hooked.onBeforeRenderObservable.remove(this._observer);
@@ -340,27 +573,40 @@ export class SpringBoneSimulation {
     for (const group of this._watchedGroups) group.onAnimationGroupPlayObservable.removeCallback(this._onGroupPlay);
     this._watchedGroups.clear();
     this._watchedGroupCount = -1;
+    this._jumpPending = false;
     for (const wearable of this._wearables.values()) wearable.dispose();
     this._wearables.clear();
+    this._stray.clear();
     this._copies.set([]);
     this._sbScene?.dispose();
-    this._sbScene = null;
-    this._disposed = true;
+    this._sbScene = null;  // made again by the next registration
   }
 
-  _selected(itemId) {
+  /** Every wearable, or itemId's; an id not registered warns once (`unknown-item`) and selects none. */
+  _selected(itemId, where) {
     if (itemId === undefined) return [...this._wearables.values()];
     const wearable = this._wearables.get(itemId);
-    if (!wearable) throw new Error(`no wearable registered as ${JSON.stringify(itemId)}`);
-    return [wearable];
+    if (wearable) return [wearable];
+    this._reportStray(itemId, 'unknown-item', `${where}: no wearable is registered as ${JSON.stringify(itemId)}, so nothing changed. Fix: pass the id given to registerWearable (register again after dispose).`);
+    return [];
   }
 
   /** Rebuilds the springbones scene's members and the flat per-frame arrays. */
   _membersChanged() {
-    if (!this._sbScene) return;
+    if (!this._sb) return;
+    const scene = this._sceneFor();
     const members = [...this._wearables.values()].filter((w) => w.instance);
-    for (const w of members) this._sbScene.add(w.instance);  // disposed instances left by themselves
+    for (const w of members) scene.add(w.instance);  // disposed instances left by themselves
     this._copies.set(members);
+  }
+
+  /** The springbones scene, made when first needed (and again after dispose), with the wind set. */
+  _sceneFor() {
+    if (this._sbScene === null) {
+      this._sbScene = this._sb.createScene();
+      if (this._wind !== undefined) this._sbScene.setWind(this._wind);
+    }
+    return this._sbScene;
   }
 
   /**

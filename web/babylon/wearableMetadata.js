@@ -5,16 +5,20 @@
 //
 // 1. a models entry, node name -> { stiffness, gravityPower, gravityDir, drag, center, isRoot }:
 //    what Decentraland's preview resolves and passes (`springBones.models[hash]`);
-// 2. the whole `data.springBones` ({ version, models }): the entry under `itemId`, which is what
-//    the preview's item id is (the content hash of the representation's main file);
+// 2. the whole `data.springBones` ({ version, models }), which a page may pass by mistake for the
+//    entry: the entry under `itemId` when there is one (an item id that is the content hash of
+//    the main file), else its only entry; with several entries and none under `itemId` (the
+//    preview's item id is a URN) the container alone cannot tell which is this GLB's, so no entry
+//    is taken and the result carries a `springbones-ambiguous` problem that says so;
 // 3. { springBones, entity, bodyShape } | { springBones, contentHash } | { springBones, glb }
 //    (plus loadRig's `colliders` and `hitRadius`): loadRig's own choice of entry, as the
 //    three.js loader plugin takes it. `glb` is kept as it is: the rig is read from the container's
 //    nodes, not from the bytes, so the simulation hashes them (sb.contentHash) once the module is
 //    there (rigOptions below).
 //
-// Every shape ends as { springBones, options, key }: `key` is the models key the rig reads, under
-// which updateParams later writes its entries.
+// Every shape ends as { springBones, options, key, problem? }: `key` is the models key the rig
+// reads, under which updateParams later writes its entries; `problem` ({ code, message }) is what
+// the simulation reports for a shape it could not resolve.
 
 const kWholeKeys = ['models', 'version'];
 const kOptionKeys = ['entity', 'contentHash', 'glb'];
@@ -59,6 +63,26 @@ export function resolveMetadata(itemId, input) {
     }
     return { springBones: input.springBones ?? null, options, key: options.contentHash ?? null };
   }
-  if (kWholeKeys.some((k) => has(input, k))) return { springBones: input, options: { contentHash: key }, key };
+  if (kWholeKeys.some((k) => has(input, k))) return resolveWhole(key, input);
   return { springBones: entryAsSpringBones(key, input), options: { contentHash: key }, key };
+}
+
+/** The whole springBones as registerWearable's argument: its entry under itemId, or its only one. */
+function resolveWhole(itemId, springBones) {
+  const models = springBones.models;
+  // Not an object: loadRig's own error (metadata-invalid) or warning (models-missing) says so.
+  if (!isObject(models) || has(models, itemId)) return { springBones, options: { contentHash: itemId }, key: itemId };
+  const keys = Object.keys(models);
+  if (keys.length === 1) return { springBones, options: { contentHash: keys[0] }, key: keys[0] };
+  if (keys.length === 0) return { springBones, options: { contentHash: itemId }, key: itemId };
+  const shown = keys.slice(0, 4).map((k) => JSON.stringify(k)).join(', ') + (keys.length > 4 ? ', ...' : '');
+  return {
+    springBones: null,
+    options: { contentHash: itemId },
+    key: itemId,
+    problem: {
+      code: 'springbones-ambiguous',
+      message: `the whole springBones was passed with ${keys.length} models (${shown}) and none is keyed by the item id, so no entry is taken and nothing moves. Fix: pass the entry, springBones.models[hash] with hash the last segment of the main file's URL (as Decentraland's preview does), or { springBones, contentHash: hash }.`,
+    },
+  };
 }

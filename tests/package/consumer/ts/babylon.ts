@@ -31,6 +31,10 @@ export async function preview(scene: Scene, url: string, entity: object, itemHas
   simulation.updateParams(3, {});
   // @ts-expect-error a parameter is a number, not a string
   simulation.updateParams(itemHash, { SpringBone_hair: { stiffness: 'stiff' } });
-  // @ts-expect-error the module is required
-  new SpringBoneSimulation();
+  // The preview's own call: no module (the class starts it), and what it says when hair stays still.
+  const dropIn = new SpringBoneSimulation();
+  const codes: string[] = dropIn.warnings.map((w) => `${w.code} ${w.itemId}: ${w.message}`);
+  console.log(codes, new SpringBoneSimulation(null, { gravityDirSpace: 'scene' }).springBones);
+  // @ts-expect-error gravityDirSpace is 'gltf' or 'scene'
+  new SpringBoneSimulation(null, { gravityDirSpace: 'babylon' });
 }
