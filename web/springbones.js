@@ -154,7 +154,8 @@ class SpringBones {
       }
       return { typed: this.#readers.readGltf(bytes, withExtensions), bytes };
     }
-    if (value === null || typeof value !== 'object' || Array.isArray(value)) {
+    if (value === null || typeof value !== 'object' || Array.isArray(value) || ArrayBuffer.isView(value) ||
+        (value.asset === undefined && value.nodes === undefined)) {
       throw new TypeError(`${where}: the glTF must be the parsed glTF JSON (an object with asset and nodes), ` +
                           'a Uint8Array or an ArrayBuffer');
     }

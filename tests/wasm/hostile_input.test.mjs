@@ -225,9 +225,10 @@ describe('names', () => {
       });
   });
 
-  test('a lone surrogate in metadata is metadata-bad-json (JSON text cannot carry it as UTF-8)', () => {
-    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, { version: 1, models: { [kHash]: { 'springbone_\ud800': {} } } }, { contentHash: kHash }));
-    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, `{"version":1,"models":{"${kHash}":{"springbone_\ud800":{}}}}`, { contentHash: kHash }));
+  test('a lone surrogate in metadata is a TypeError that says where (typed input carries UTF-8 only)', () => {
+    const refused = (e) => e instanceof TypeError && /"springbone_\\ud800" has a lone surrogate/.test(e.message);
+    assert.throws(() => sb.loadRig(hairGlb, { version: 1, models: { [kHash]: { 'springbone_\ud800': {} } } }, { contentHash: kHash }), refused);
+    assert.throws(() => sb.loadRig(hairGlb, `{"version":1,"models":{"${kHash}":{"springbone_\ud800":{}}}}`, { contentHash: kHash }), refused);
   });
 });
 
@@ -277,9 +278,9 @@ describe('metadata', () => {
         stepAndCheck(inst, 20);
       });
     }
-    // NaN and Infinity have no JSON form: JSON.stringify writes null, read as not a number.
+    // NaN and Infinity cross as numbers (typed input), and are named: not finite, the default.
     withRig(hairGlb, hairMetadata(entry(NaN, Infinity, [0, -1, 0], -Infinity)), (rig, inst) => {
-      assert.equal(rig.warnings.filter((w) => w.code === 'param-not-number').length, 3);
+      assert.equal(rig.warnings.filter((w) => w.code === 'param-not-finite').length, 3);
       const p = rig.joints[0].params;
       assert.deepEqual([p.stiffness, p.gravityPower, p.drag], defaults);
       stepAndCheck(inst);
@@ -347,9 +348,11 @@ describe('Builder edits', () => {
     const deep = deepArrays(200000);
     const springBones = { version: 1, models: { [kHash]: { springbone_a: { stiffness: 1, custom: deep } } } };
     const entity = { content: [{ file: 'a.glb', hash: kHash }], deep };
+    // loadRig serializes nothing: its typed input is written without recursion, at any depth.
+    withRig(hairGlb, springBones, (rig) => assert.ok(rig.warnings.length > 0));
+    assert.throws(() => sb.loadRig(hairGlb, null, { entity, bodyShape: 'BaseMale' }),
+                  (e) => e instanceof SpringBonesError && e.code === 'invalid-argument' && /no data.representations/.test(e.message));
     const calls = [
-      ['loadRig: springBones', () => sb.loadRig(hairGlb, springBones, { contentHash: kHash })],
-      ['loadRig: entity', () => sb.loadRig(hairGlb, null, { entity, bodyShape: 'BaseMale' })],
       ['detectSpringBones: springBones', () => tools.detectSpringBones(hairGlb, springBones, { contentHash: kHash })],
       ['validateSpringBones: entity', () => tools.validateSpringBones(entity)],
     ];
@@ -365,7 +368,7 @@ describe('Builder edits', () => {
     const own = new RangeError('from a getter');
     const getter = { version: 1, models: { get [kHash]() { throw own; } } };
     assert.throws(() => sb.loadRig(hairGlb, getter, { contentHash: kHash }), (e) => e === own);
-    // A value 1,000 levels deep still serializes, and goes to the core as text.
+    // A value 1,000 levels deep goes to the core as it is.
     withRig(hairGlb, { version: 1, models: { [kHash]: { SpringBone_hair: { ...entry(1, 1, [0, -1, 0], 0.5), custom: deepArrays(1000) } } } },
       (rig) => assert.equal(rig.joints.length, 2));
   });

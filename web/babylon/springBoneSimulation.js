@@ -113,7 +113,7 @@ class RegisteredWearable {
     this.container = container;
     this.itemId = itemId;
     this.nodes = skeleton.nodes;
-    this.gltfBytes = new TextEncoder().encode(skeleton.gltfText);
+    this.gltf = skeleton.gltf;  // the nodes as a glTF document, handed to loadRig as it is
     this.metadata = metadata;  // { springBones, options, key, problem? } (wearableMetadata.js)
     this.rig = null;
     this.instance = null;
@@ -162,7 +162,7 @@ class RegisteredWearable {
    * rotation. Throws what loadRig throws, before changing anything.
    */
   build(sb, { carry = false } = {}) {
-    const rig = sb.loadRig(this.gltfBytes, this.springBonesForCore(), rigOptions(sb, this.metadata.options));
+    const rig = sb.loadRig(this.gltf, this.springBonesForCore(), rigOptions(sb, this.metadata.options));
     let instance;
     try {
       instance = rig.createInstance();
@@ -461,7 +461,7 @@ export class SpringBoneSimulation {
       this._wearables.delete(itemId);
       this._membersChanged();
     }
-    const skeleton = loaded ? { nodes: loaded.nodes, gltfText: loaded.gltfText } : readWearableSkeleton(container);
+    const skeleton = loaded ? { nodes: loaded.nodes, gltf: loaded.gltf } : readWearableSkeleton(container);
     for (const [key, warning] of this._stray) if (warning.itemId === itemId) this._stray.delete(key);
     const wearable = new RegisteredWearable(this, scene, container, itemId, skeleton, metadata);
     if (metadata.problem) wearable.report(metadata.problem.code, metadata.problem.message);

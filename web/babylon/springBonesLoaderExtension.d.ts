@@ -30,7 +30,9 @@ export interface BabylonGLTFLoaderClassLike {
 export class SpringBonesLoadedWearable {
   /** The Babylon node of each glTF node index (null where the loader made none). */
   readonly nodes: readonly unknown[];
-  /** The file's nodes as a glTF JSON text. */
+  /** The file's nodes as a glTF document ({asset, scene, scenes, nodes}): what loadRig reads. */
+  readonly gltf: { asset: { version: string }; nodes: object[]; [key: string]: unknown };
+  /** `gltf` as JSON text, made when read. */
   readonly gltfText: string;
   /** The rig, when springBones was given and loaded; the caller disposes of it. */
   readonly rig: Rig | null;

@@ -26,17 +26,22 @@ const kNodeFields = ['name', 'children', 'translation', 'rotation', 'scale', 'ma
 
 /** What the extension puts on a loaded file: see springBonesOf. */
 export class SpringBonesLoadedWearable {
-  constructor(nodes, gltfText) {
+  constructor(nodes, gltf) {
     /** The Babylon node of each glTF node index (null where the loader made none). */
     this.nodes = nodes;
-    /** The file's nodes as a glTF JSON text (no meshes, accessors or buffers). */
-    this.gltfText = gltfText;
+    /** The file's nodes as a glTF document (no meshes, accessors or buffers): what loadRig reads. */
+    this.gltf = gltf;
     /** The rig, when springBones was given; the caller disposes of it. */
     this.rig = null;
     /** loadRig's error, when it threw (the file itself loaded). */
     this.error = null;
     /** The springBones and hash options the rig was loaded with (null without springBones). */
     this.metadata = null;
+  }
+
+  /** `gltf` as JSON text, made when read. */
+  get gltfText() {
+    return JSON.stringify(this.gltf);
   }
 
   /** The rig's warnings (an empty list without a rig). */
@@ -65,13 +70,13 @@ export class SpringBonesLoaderExtension {
     if (!gltf || !root) return;
     const gltfNodes = gltf.nodes ?? [];
     const nodes = gltfNodes.map((node) => node._babylonTransformNode ?? null);
-    const text = JSON.stringify({
+    const document = {
       asset: { version: '2.0' },
       scene: gltf.scene ?? 0,
       scenes: (gltf.scenes ?? []).map((scene) => ({ nodes: scene.nodes ?? [] })),
       nodes: gltfNodes.map((node) => Object.fromEntries(kNodeFields.filter((k) => node[k] !== undefined).map((k) => [k, node[k]]))),
-    });
-    const wearable = new SpringBonesLoadedWearable(nodes, text);
+    };
+    const wearable = new SpringBonesLoadedWearable(nodes, document);
     const options = { ...this._options, ...(loader.parent?.extensionOptions?.[kSpringBonesExtensionName] ?? {}) };
     const { sb, springBones, ...hashOptions } = options;
     delete hashOptions.enabled;
@@ -79,7 +84,7 @@ export class SpringBonesLoaderExtension {
       wearable.metadata = { springBones, options: hashOptions };
       try {
         if (typeof sb?.loadRig !== 'function') throw new TypeError('springbones loader extension: options.sb must be the springbones module');
-        wearable.rig = sb.loadRig(new TextEncoder().encode(text), springBones, rigOptions(sb, hashOptions));
+        wearable.rig = sb.loadRig(document, springBones, rigOptions(sb, hashOptions));
       } catch (error) {
         wearable.error = error;
       }
@@ -116,7 +121,7 @@ export function springBonesOf(containerOrRoot) {
   const candidates = containerOrRoot?.meshes ?? [containerOrRoot];
   for (const node of candidates) {
     const found = node?.metadata?.springBones;
-    if (found && Array.isArray(found.nodes) && typeof found.gltfText === 'string') return found;
+    if (found && Array.isArray(found.nodes) && typeof found.gltf === 'object') return found;
   }
   return null;
 }

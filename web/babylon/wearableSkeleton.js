@@ -1,6 +1,6 @@
 // What springbones needs from a Babylon.js AssetContainer: its nodes (names, hierarchy, rest
-// transforms) written as a glTF JSON text that sb.loadRig reads like the file itself, and the
-// Babylon node behind each glTF node index of that text.
+// transforms) as a glTF document that sb.loadRig reads like the file itself (handed over as an
+// object: nothing is stringified), and the Babylon node behind each glTF node index of it.
 //
 // Babylon's glTF loader gives every glTF node a TransformNode (a Mesh for a node with a mesh)
 // whose position / rotationQuaternion / scaling are the file's own local values: the conversion
@@ -8,9 +8,9 @@
 // it puts above the file's scene. So the local transforms read here are the glTF's, and the
 // glTF's world space is the Babylon world seen through that conversion (see handedness.js).
 //
-// The text is written once, at registration, while the wearable is in its rest pose (as loaded,
+// The document is made once, at registration, while the wearable is in its rest pose (as loaded,
 // before an animation moves it); every later rig of the same wearable (updateParams) is built from
-// that same text, so an edit never takes the animated pose for the rest pose.
+// that same document, so an edit never takes the animated pose for the rest pose.
 
 /** Every TransformNode of the container (meshes included), each once, in the container's order. */
 function containerNodes(container) {
@@ -36,8 +36,8 @@ function localRotation(node) {
 const finiteOr = (values, fallback) => (values.every(Number.isFinite) ? values : fallback);
 
 /**
- * Reads the container's node hierarchy. Returns { nodes, gltfText }: nodes[i] is the Babylon node
- * of glTF node i of gltfText (a complete glTF JSON text with only nodes and one scene). A node
+ * Reads the container's node hierarchy. Returns { nodes, gltf }: nodes[i] is the Babylon node
+ * of glTF node i of gltf (a glTF document with only nodes and one scene). A node
  * whose parent is outside the container (the loader's `__root__` has none) is a top-level node
  * of the text, with an identity transform: its world matrix is what the simulation reads each
  * frame (as a driver), never its rest values.
@@ -70,5 +70,5 @@ export function readWearableSkeleton(container) {
     if (!index.has(node.parent)) roots.push(i);
   });
   const gltf = { asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: roots }], nodes: gltfNodes };
-  return { nodes, gltfText: JSON.stringify(gltf) };
+  return { nodes, gltf };
 }
