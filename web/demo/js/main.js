@@ -189,7 +189,15 @@ class Preview {
       old.rig.dispose();
       disposeGltf(old.gltf);
     }
-    this.wearable = { gltf, rig, label };
+    // Why the hair would stay at rest (the adapter's warnings): said once per wearable, not once
+    // per avatar of the crowd; the creator panel lists them too.
+    const said = new Set();
+    const onWarning = (w) => {
+      if (said.has(w.code)) return;
+      said.add(w.code);
+      console.warn(`springbones demo [${w.code}] ${label}: ${w.message} Fix: ${w.fix}`);
+    };
+    this.wearable = { gltf, rig, label, onWarning };
     for (const a of this.avatars) this.wear(a);
     this.restartReadout();
   }
@@ -214,10 +222,10 @@ class Preview {
   }
 
   wear(avatar) {
-    const { gltf, rig } = this.wearable;
+    const { gltf, rig, onWarning } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
-      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator }, onWarning,
       mixer: avatar.mixer,  // a clip starting is a jump: the hair is carried, not whipped
     });
     avatar.wearableRoot = clone;
@@ -244,7 +252,9 @@ class Preview {
     });
     const handled = new Set(avatar.extraDrivers.map((d) => attachment.rig.drivers[d.index].name));
     for (const w of attachment.warnings) {
-      if (!handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
+      // The adapter said the static-hair reasons itself (once); a node without an object is the
+      // demo's to say, unless it found the avatar's bone of that name above.
+      if (w.code === 'node-not-found' && !handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
     }
     // The head sphere of the body colliders, kept for headClearance when they are switched off.
     const head = attachment.rig.colliders.find((c) => c.shape === 'sphere' && c.node === 'Avatar_Head');
