@@ -176,7 +176,9 @@ describe('the tarball', () => {
       'package/CHANGELOG.md',
       'package/LICENSE',
       'package/README.md',
+      'package/bin/springbones-cli.mjs',
       'package/package.json',
+      'package/scripts/lib/sway.mjs',
       'package/web/babylon/README.md',
       'package/web/babylon/index.d.ts',
       'package/web/babylon/springBoneSimulation.d.ts',
@@ -212,6 +214,13 @@ describe('the tarball', () => {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
     }
+    // The command line is the package's bin, under a file name other than the library's.
+    assert.deepEqual(pkg.bin, { springbones: './bin/springbones-cli.mjs' });
+    // The README's relative links resolve on the registry through the repository.
+    assert.match(pkg.repository.url, /^git\+https:\/\/github\.com\/[\w.-]+\/[\w.-]+\.git$/);
+    const repository = pkg.repository.url.replace(/^git\+/, '').replace(/\.git$/, '');
+    assert.equal(pkg.homepage, `${repository}#readme`);
+    assert.equal(pkg.bugs.url, `${repository}/issues`);
     assert.equal(pkg.peerDependenciesMeta.three.optional, true);
     // The peer range is what this file tests: from kThreeLowest up to kThreeHighest's minor.
     const next = `0.${Number(kThreeHighest.split('.')[1]) + 1}.0`;
@@ -237,6 +246,21 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
   test('Node: node --test loads the sample, steps and reads rotations from the installed package', () => {
     run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs',
       'node/inline.spec.mjs'], project, { SPRINGBONES_THREE_REVISION: kThreeHighest.split('.')[1] });
+  });
+
+  test('the CLI: npx springbones hash | validate | inspect | simulate runs the installed bin', () => {
+    const manifest = JSON.parse(readFileSync(join(root, 'web', 'demo', 'assets', 'manifest.json'), 'utf8'));
+    const npx = (...args) => run('npx', ['--no-install', 'springbones', ...args], project);
+    assert.equal(npx('hash', 'assets/hair_wearable.glb').trim(), manifest.files['hair_wearable.glb'].contentHash);
+    assert.match(npx('validate', 'assets/hair_wearable.entity.json'), /hair_wearable\.entity\.json: valid$/m);
+    const inspected = npx('inspect', 'assets/hair_wearable.glb', '--metadata', 'assets/hair_wearable.entity.json', '--body-shape', 'BaseMale');
+    assert.match(inspected, /15 simulated joints/);
+    const frames = npx('simulate', 'assets/hair_wearable.glb', '--metadata', 'assets/hair_wearable.metadata.json', '--frames', '3', '--drive', 'sway')
+      .trim().split('\n').map((line) => JSON.parse(line));
+    assert.equal(frames.length, 3);
+    const usage = spawnSync(bin(project, 'springbones'), [], { cwd: project, encoding: 'utf8' });
+    assert.equal(usage.status, 2);
+    assert.match(usage.stderr, /^usage: springbones <command>/);
   });
 
   test('TypeScript: tsc --noEmit --strict on a consumer of both .d.ts (bundler and NodeNext resolution)', () => {
