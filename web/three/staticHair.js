@@ -29,7 +29,7 @@ export function consoleReporter(label) {
   return (warning) => {
     if (said.has(warning.code)) return;
     said.add(warning.code);
-    console.warn(`springbones [${warning.code}] ${label()}: ${warning.message} The spring bones stay at rest. Fix: ${warning.fix}`);
+    console.warn(`springbones [${warning.code}] ${label()}: ${warning.message}; the spring bones stay at rest. Fix: ${warning.fix}`);
   };
 }
 
@@ -37,18 +37,10 @@ export function consoleReporter(label) {
 export function failureWarning(error, stage = null) {
   const code = stage ?? (['module-load-failed', 'module-not-found'].includes(error?.code) ? 'module-failed' : 'rig-failed');
   const what = `${error?.name ?? 'Error'}${error?.code ? ` [${error.code}]` : ''}: ${error?.message ?? String(error)}`;
-  if (code === 'module-failed') {
-    return {
-      code, path: '',
-      message: `the springbones module did not load (${what}).`,
-      fix: 'make the .wasm reachable (Node: the installed package; a bundler: README "Finding the .wasm", or createSpringBones({ wasmUrl })), or use springbones/inline.',
-    };
-  }
-  return {
-    code, path: error?.path ?? '',
-    message: `the rig could not be loaded (${what}).`,
-    fix: 'correct the options or metadata the error names; the error is also on ready (rejected) and .error.',
-  };
+  // The texts are short on purpose: they ship in every preview (three.min.js).
+  return code === 'module-failed'
+    ? { code, path: '', message: `the springbones module did not load (${what})`, fix: 'serve the .wasm (README, "Finding the .wasm") or use springbones/inline.' }
+    : { code, path: error?.path ?? '', message: `loadRig failed (${what})`, fix: 'correct what the error names (also on ready and .error).' };
 }
 
 /**
@@ -59,28 +51,23 @@ export function failureWarning(error, stage = null) {
 export function rigWarnings(rig, { entry = null, springNodeNames = [] } = {}) {
   const out = [];
   for (const w of rig.warnings ?? []) {
-    if (w.code === 'model-not-found') {
-      out.push({
-        code: w.code, path: w.path, message: `${w.message}.`,
-        fix: 'name this GLB\'s models key: entity + bodyShape (the representation whose main file this GLB is), contentHash, or glb (the bytes, which loadRig hashes).',
-      });
-    } else if (w.code === 'models-missing') {
-      out.push({ code: w.code, path: w.path, message: `${w.message}.`, fix: 'pass the wearable\'s data.springBones ({ version, models }), e.g. entity.metadata.data.springBones.' });
-    }
+    const fix = w.code === 'model-not-found' ? 'pass this GLB\'s models key: entity + bodyShape, contentHash or glb.'
+      : w.code === 'models-missing' ? 'pass the wearable\'s data.springBones ({ version, models }).' : null;
+    if (fix) out.push({ code: w.code, path: w.path, message: w.message, fix });
   }
   if (out.length > 0 || rig.joints.length > 0) return out;
   const entryNodes = entry !== null && typeof entry === 'object' ? Object.keys(entry).filter((name) => kSpringBoneName.test(name)) : [];
   if (entryNodes.length > 0) {
     out.push({
       code: 'no-chain-root', path: `/models/${rig.contentHash}`,
-      message: `the models entry for ${rig.contentHash} has ${entryNodes.length} spring bone${entryNodes.length === 1 ? '' : 's'} (${list(entryNodes)}) but none with isRoot: true, so no chain starts.`,
-      fix: `set "isRoot": true on the top spring bone of each chain (e.g. ${entryNodes[0]}), as the Builder's "root" toggle does.`,
+      message: `no spring bone of the models entry (${list(entryNodes)}) has isRoot: true`,
+      fix: `set "isRoot": true on each chain's top spring bone (e.g. ${entryNodes[0]}).`,
     });
   } else if (springNodeNames.length > 0) {
     out.push({
       code: 'no-chains', path: '',
-      message: `the rig simulates no joint although the GLB has ${springNodeNames.length} spring-bone node${springNodeNames.length === 1 ? '' : 's'} (${list(springNodeNames)}).`,
-      fix: 'pass the wearable\'s springBones with a models entry for this GLB\'s hash that marks each chain\'s top spring bone isRoot: true.',
+      message: `no chain, though the GLB has spring bones (${list(springNodeNames)})`,
+      fix: 'pass springBones with an entry for this GLB\'s hash, isRoot: true on each chain\'s top spring bone.',
     });
   }
   return out;
@@ -90,8 +77,8 @@ export function rigWarnings(rig, { entry = null, springNodeNames = [] } = {}) {
 export function unmatchedWarning(names) {
   return {
     code: 'bone-not-matched', path: '',
-    message: `the avatar has no bone named ${list(names)}, which the chains hang from: they follow the avatar root, not a bone.`,
-    fix: 'wear it on an avatar whose armature has bones of those names (Decentraland\'s armature: Avatar_Head, ...), loaded with GLTFLoader, which keeps the glTF names in userData.name.',
+    message: `the avatar has no bone named ${list(names)}, which the chains hang from`,
+    fix: 'wear it on an avatar with bones of those names (Decentraland\'s armature).',
   };
 }
 
