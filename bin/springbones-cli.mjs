@@ -23,10 +23,15 @@ import { basename } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { parseArgs } from 'node:util';
 
-// The package by its own name (Node resolves a package's self-reference through its exports): the
-// minified library that ships, in the repository and installed alike.
-import { createSpringBones, SpringBonesError } from 'springbones';
 import { swayDrivers } from '../scripts/lib/sway.mjs';
+
+// The package by its own name (Node resolves a package's self-reference through its exports): the
+// minified library that ships, in the repository and installed alike. This process is ours, so
+// its stack traces go through the library's source maps (web/*.js); a map is read when its module
+// loads, hence the import after turning them on.
+const isMain = Boolean(process.argv[1]) && fileURLToPath(import.meta.url) === realpathSync(process.argv[1]);
+if (isMain) process.setSourceMapsEnabled?.(true);
+const { createSpringBones, SpringBonesError } = await import('springbones');
 
 class UsageError extends Error {}
 class LoadError extends Error {}
@@ -395,7 +400,7 @@ export async function main(argv, out = process.stdout, err = process.stderr) {
   }
 }
 
-if (process.argv[1] && fileURLToPath(import.meta.url) === realpathSync(process.argv[1])) {
+if (isMain) {
   // `simulate | head` closes the pipe early: that is not an error.
   process.stdout.on('error', (error) => {
     if (error.code === 'EPIPE') process.exit(0);

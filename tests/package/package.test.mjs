@@ -170,7 +170,7 @@ before(() => {
 });
 
 describe('the tarball', () => {
-  test('holds what runs: the minified API, adapter and glue, both modules, the inline entry, their types, the READMEs, CHANGELOG, LICENSE', () => {
+  test('holds what runs: the minified API, adapter and glue (with their source maps), both modules, the inline entry, their types, the CLI, the READMEs, CHANGELOG, LICENSE', () => {
     const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
     assert.deepEqual(files, [
       'package/CHANGELOG.md',
@@ -184,15 +184,22 @@ describe('the tarball', () => {
       'package/web/babylon/springBoneSimulation.d.ts',
       'package/web/babylon/springBonesLoaderExtension.d.ts',
       'package/web/dist/babylon.min.js',
+      'package/web/dist/babylon.min.js.map',
       'package/web/dist/chunk.min.js',
+      'package/web/dist/chunk.min.js.map',
       'package/web/dist/creator_tools.min.js',
+      'package/web/dist/creator_tools.min.js.map',
       'package/web/dist/inline.min.js',
       'package/web/dist/springbones.min.js',
+      'package/web/dist/springbones.min.js.map',
       'package/web/dist/springbones_creator_tools.min.js',
+      'package/web/dist/springbones_creator_tools.min.js.map',
       'package/web/dist/springbones_creator_tools.wasm',
       'package/web/dist/springbones_wasm.min.js',
+      'package/web/dist/springbones_wasm.min.js.map',
       'package/web/dist/springbones_wasm.wasm',
       'package/web/dist/three.min.js',
+      'package/web/dist/three.min.js.map',
       'package/web/inline.d.ts',
       'package/web/springbones.d.ts',
       'package/web/three/README.md',
