@@ -201,6 +201,9 @@ describe('the static-hair cases say why, once per wearable', () => {
     assert.deepEqual(codes(received), ['no-chains']);
     for (const w of result) assertExplained(w.warnings, 'no-chains');
     for (const w of result) w.dispose();
+    const copy = SkeletonUtils.clone(wearableGltf.scene);
+    assert.throws(() => attachWearable(SkeletonUtils.clone(avatarGltf.scene), copy, rig, { nodes: wearableNodes(wearableGltf, copy), onWarning: 'log' }),
+        (error) => error instanceof TypeError && /onWarning must be a function/.test(error.message));
     rig.dispose();
   });
 });

@@ -170,7 +170,7 @@ export class SpringBonesAttachment {
  * A wearable's objects can be worn once: for several avatars, attach SkeletonUtils clones.
  * `rig` may be a promise of the rig (e.g. `sbPromise.then((sb) => sb.loadRig(...))`): the wearable
  * is worn now and simulated from the first update after it resolves (see SpringBonesAttachment).
- * @throws TypeError for arguments of the wrong kind
+ * @throws TypeError for arguments of the wrong kind (an onWarning that is not a function too)
  */
 export function attachWearable(
   avatarRoot: Object3D,

@@ -556,6 +556,9 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   if (!isThenable(rig) && (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers))) {
     throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers) or a promise of one');
   }
+  if (options.onWarning !== undefined && typeof options.onWarning !== 'function') {
+    throw new TypeError('attachWearable: options.onWarning must be a function (it receives each warning)');
+  }
   const wearableRoot = wearable?.isObject3D ? wearable : wearable?.scene;
   if (!wearableRoot?.isObject3D) throw new TypeError('attachWearable: wearable must be a GLTF result or an Object3D');
   const original = options.nodes ?? (wearable.parser ? wearableNodes(wearable) : null);
