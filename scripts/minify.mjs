@@ -16,7 +16,8 @@
 //    nothing of Babylon's: the page hands its objects in; it imports springbones.min.js);
 //  - inline.min.js: `springbones/inline`, the API with the runtime module inlined as base64
 //    (web/inline.js over springbones.min.js);
-//  - springbones_wasm_base64.js: that base64 as a module (what web/inline.js imports from source).
+//  - springbones_wasm_base64.js: that base64 as a module (what web/inline.js imports from source);
+//  - <file>.map beside each bundle but inline.min.js: source maps with the sources in them.
 //
 // The sources name the modules' files as './dist/<file>' relative to web/; the bundles live in
 // web/dist/, so `new URL('./dist/...', import.meta.url)` becomes `new URL('./...', ...)`.
@@ -58,6 +59,10 @@ const importsOf = (specifier, replacement) => ({
 const common = {
   bundle: true, format: 'esm', minify: true, target: 'es2022', platform: 'neutral',
   outdir: dist, logLevel: 'warning', legalComments: 'none',
+  // Readable errors (issue 31): no line longer than about 500 characters (Node prints the line an
+  // uncaught error was thrown on), and source maps with the sources in them, shipped beside each
+  // file: browsers' devtools and `node --enable-source-maps` then show web/*.js.
+  lineLimit: 500, sourcemap: 'linked', sourcesContent: true,
   external: ['three', 'three/*', 'node:*'],
 };
 
@@ -80,9 +85,11 @@ await build({
   plugins: [importsOf('../springbones.js', './springbones.min.js'), distRelativeUrls],
 });
 
-// springbones/inline: the runtime module inlined, the API imported from springbones.min.js.
+// springbones/inline: the runtime module inlined, the API imported from springbones.min.js. No
+// source map: its own code is a few lines, and one would repeat the 700 KB of base64 in it.
 await build({
   ...common,
+  sourcemap: false,
   entryPoints: { inline: join(web, 'inline.js') },
   entryNames: '[name].min',
   plugins: [importsOf('./springbones.js', './springbones.min.js'), distRelativeUrls],

@@ -3,6 +3,10 @@
 
 /** Every failure the library reports, apart from TypeError/RangeError for bad arguments. */
 export class SpringBonesError extends Error {
+  // The class's own name, stated: the minified bundles rename the class (to a letter), and Node
+  // prints an error as `<constructor name> [<error name>]` when the two differ.
+  static name = 'SpringBonesError';
+
   /**
    * @param {string} code stable identifier ("glb-truncated", "metadata-bad-json", "disposed", ...)
    * @param {string} message human-readable description

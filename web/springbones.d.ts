@@ -97,7 +97,9 @@ export type HashOptions =
 
 /**
  * A collision shape on a node, in that node's space: a sphere, a capsule (offset to tail, swept by
- * radius) or a plane (through offset, facing normal). Without `shape`, a collider with a `tail` is
+ * radius) or a plane (through offset, facing normal). Node units, not metres: on Decentraland's
+ * armature, scaled 0.01, a bone's units are centimetres (a 9.5 cm head sphere on Avatar_Head is
+ * radius 9.5); the 'dcl-body' preset is sized from the armature itself. Without `shape`, a collider with a `tail` is
  * a capsule and one without a sphere. `node` is a GLB node, or an avatar bone the GLB does not
  * have (e.g. 'Avatar_Head'), which then becomes a driver (node -1) whose world matrix the caller
  * writes. A key that does not belong to the shape (a sphere's `tail`, a plane's `radius`) is a

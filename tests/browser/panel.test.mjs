@@ -44,10 +44,14 @@ test('an inherited member gets its own entry from a number box, and loses it aga
   const entry = (await demo(() => window.springbonesDemo.entries())).SpringBone_ponytail_2;
   assert.deepEqual(entry, { isRoot: false, stiffness: 1.2, gravityPower: 0.4, gravityDir: [0, -1, 0], drag: 0.9 }, 'complete, from what it ran with');
 
-  // A number box clamps to the schema range.
+  // A number box clamps to the schema range, and says so on the control.
   await typeNumber('#param-stiffness-num', 7);
   assert.equal(await page.locator('#param-stiffness-num').inputValue(), '4');
   assert.equal((await joint('SpringBone_ponytail_2')).params.stiffness, 4);
+  assert.equal(await page.locator('#param-stiffness-note').textContent(), '7 is outside [0, 4]: set to 4.');
+  assert.equal(await page.locator('#param-stiffness-num.clamped').count(), 1);
+  await typeNumber('#param-stiffness-num', 3);
+  assert.equal(await page.locator('#param-stiffness-note').isVisible(), false, 'a value in range: no note');
   // Garbage is reverted, not applied.
   await typeNumber('#param-gravityPower-num', '');
   assert.equal(await page.locator('#param-gravityPower-num').inputValue(), '0.4');
@@ -255,5 +259,82 @@ test('chain lines, colliders and the readout', { skip }, async () => {
   assert.match(await page.locator('#readout-solver').textContent(), /^\d+\.\d{3}$/);
   assert.match(await page.locator('#readout-per-joint').textContent(), /^\(\d+ ns\/joint\)$/);
   await page.locator('#integrator').selectOption('vrm');
+  assert.deepEqual(consoleErrors, []);
+});
+
+test('a GLB without spring bones never shows a pass', { skip }, async () => {
+  const avatar = readFileSync(join(root, 'web/demo/assets/avatar.glb'));
+  await page.locator('#file-glb').setInputFiles({ name: 'avatar.glb', mimeType: 'model/gltf-binary', buffer: avatar });
+  await page.waitForFunction(() => window.springbonesDemo.state().messages.some((m) => /no node whose name contains "springbone"/.test(m.text)));
+  const { validation } = await state();
+  assert.deepEqual(validation.errors, []);
+  assert.equal(validation.passed, false);
+  assert.equal(await page.locator('#validation li.ok').count(), 0, 'no green line');
+  assert.match(await page.locator('#validation li.warning').first().textContent(), /No spring bones in this GLB/);
+
+  // Spring bones that pass but of which none is simulated (no isRoot) are no pass either.
+  await page.locator('#load-sample').click();
+  await page.waitForFunction(() => window.springbonesDemo.state().validation.passed === true);
+  for (const root of ['SpringBone_ponytail', 'hair_springbone_l', 'hair_springbone_r', 'springbone_earring_l', 'springbone_earring_r']) {
+    await select(root);
+    await page.locator('#param-isRoot').uncheck();
+  }
+  assert.equal((await state()).joints, 0);
+  assert.equal((await state()).validation.passed, false);
+  assert.equal(await page.locator('#validation li.ok').count(), 0);
+  assert.match(await page.locator('#validation li.warning').first().textContent(), /nothing is simulated/);
+  await page.locator('#load-sample').click();
+  await page.waitForFunction(() => window.springbonesDemo.state().validation.passed === true);
+  assert.deepEqual(consoleErrors, []);
+});
+
+test('clamped and replaced values say so on their controls; NaN and Infinity are named; paths keep whole segments', { skip }, async () => {
+  // drag 3 is clamped to 1; 1e999 parses as Infinity, which JSON (and so the core and the
+  // catalyst's check) sees as null.
+  const text = readFileSync(join(root, 'web/demo/assets/hair_wearable.metadata.json'), 'utf8');
+  const metadata = JSON.parse(text);
+  metadata.models[sampleHash].SpringBone_ponytail.drag = 3;
+  const edited = JSON.stringify(metadata).replace('"stiffness":1.2', '"stiffness":1e999');
+  assert.notEqual(edited, JSON.stringify(metadata), 'the ponytail\'s stiffness was replaced');
+  await page.locator('#file-json').setInputFiles({ name: 'odd.json', mimeType: 'application/json', buffer: Buffer.from(edited) });
+  await page.waitForFunction(() => window.springbonesDemo.state().validation.errors.length > 0);
+  await select('SpringBone_ponytail');
+  assert.equal(await page.locator('#param-drag-note').textContent(), 'drag 3 is outside [0, 1]; clamped to 1');
+  assert.equal(await page.locator('#param-stiffness-note').textContent(), 'stiffness is Infinity, not a finite number; using the default 2');
+  assert.equal(await page.locator('#param-drag-num.clamped').count(), 1);
+  assert.equal(await page.locator('#param-gravityPower-note').isVisible(), false);
+  // A member that inherits the root's entry says where the clamp comes from.
+  await select('SpringBone_ponytail_1');
+  assert.equal(await page.locator('#param-drag-note').textContent(), 'inherited from SpringBone_ponytail: drag 3 is outside [0, 1]; clamped to 1');
+
+  const { messages, validation } = await state();
+  assert.ok(messages.some((m) => m.text.startsWith('SpringBone_ponytail: stiffness is Infinity as read')), JSON.stringify(messages));
+  const stiffnessError = validation.errors.find((e) => e.path.endsWith('/SpringBone_ponytail/stiffness'));
+  assert.ok(stiffnessError, 'the catalyst rejects it');
+  const shown = await page.locator('#validation li').allTextContents();
+  assert.ok(shown.some((t) => /stiffness must be number \(it is Infinity, which JSON writes as null\)/.test(t)), shown.join('\n'));
+  assert.ok(shown.some((t) => /stiffness is Infinity, not a finite number/.test(t)), shown.join('\n'));
+  assert.ok(!shown.some((t) => /stiffness is null/.test(t)), 'never "null" for Infinity');
+
+  // Every path is its full path (the title) with whole segments dropped for one '…', and wraps
+  // only between segments.
+  const paths = await page.locator('#validation .path').evaluateAll((spans) => spans.map((s) => ({
+    full: s.title, text: s.textContent, wordBreak: getComputedStyle(s).wordBreak,
+  })));
+  assert.ok(paths.length >= 3);
+  assert.ok(paths.some((p) => p.text.includes('…')), 'a long path is shortened');
+  for (const p of paths) {
+    const full = p.full.split('/');
+    const segments = p.text.split('/');
+    assert.equal(segments[0], '');
+    assert.ok(segments.every((segment) => segment === '…' || full.includes(segment)), `${p.text} keeps whole segments of ${p.full}`);
+    assert.equal(segments.at(-1), full.at(-1));
+    assert.equal(p.wordBreak, 'keep-all');
+  }
+
+  await page.locator('#export').click();
+  assert.match(await page.locator('#export-note').textContent(), /Written as null, since JSON has no NaN or Infinity: SpringBone_ponytail\.stiffness \(Infinity\)/);
+  await page.locator('#load-sample').click();
+  await page.waitForFunction(() => window.springbonesDemo.state().validation.passed === true && window.springbonesDemo.state().messages.length === 0);
   assert.deepEqual(consoleErrors, []);
 });

@@ -183,8 +183,8 @@ test('several avatars; per-frame cost; screenshot', { skip }, async (t) => {
   await page.locator('#load-sample').click();  // a clean panel for the picture
   await page.waitForFunction(() => window.springbonesDemo.state().messages.length === 0);
   await page.locator('#show-chains').check();
-  // Turned towards the camera, so the face and both earrings show.
-  await demo(() => { window.springbonesDemo.setPaused(false); window.springbonesDemo.setYaw(15); });
+  // Turned towards the camera (which looks from the avatar's right), so the face and both earrings show.
+  await demo(() => { window.springbonesDemo.setPaused(false); window.springbonesDemo.setYaw(45); });
   await page.waitForTimeout(1500);
   mkdirSync(artifacts, { recursive: true });
   await page.screenshot({ path: join(artifacts, 'preview-body.png') });

@@ -174,27 +174,36 @@ before(() => {
 });
 
 describe('the tarball', () => {
-  test('holds what runs: the minified API, adapter and glue, both modules, the inline entry, their types, the READMEs, CHANGELOG, LICENSE', () => {
+  test('holds what runs: the minified API, adapter and glue (with their source maps), both modules, the inline entry, their types, the CLI, the READMEs, CHANGELOG, LICENSE', () => {
     const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
     assert.deepEqual(files, [
       'package/CHANGELOG.md',
       'package/LICENSE',
       'package/README.md',
+      'package/bin/springbones-cli.mjs',
       'package/package.json',
+      'package/scripts/lib/sway.mjs',
       'package/web/babylon/README.md',
       'package/web/babylon/index.d.ts',
       'package/web/babylon/springBoneSimulation.d.ts',
       'package/web/babylon/springBonesLoaderExtension.d.ts',
       'package/web/dist/babylon.min.js',
+      'package/web/dist/babylon.min.js.map',
       'package/web/dist/chunk.min.js',
+      'package/web/dist/chunk.min.js.map',
       'package/web/dist/creator_tools.min.js',
+      'package/web/dist/creator_tools.min.js.map',
       'package/web/dist/inline.min.js',
       'package/web/dist/springbones.min.js',
+      'package/web/dist/springbones.min.js.map',
       'package/web/dist/springbones_creator_tools.min.js',
+      'package/web/dist/springbones_creator_tools.min.js.map',
       'package/web/dist/springbones_creator_tools.wasm',
       'package/web/dist/springbones_wasm.min.js',
+      'package/web/dist/springbones_wasm.min.js.map',
       'package/web/dist/springbones_wasm.wasm',
       'package/web/dist/three.min.js',
+      'package/web/dist/three.min.js.map',
       'package/web/inline.d.ts',
       'package/web/springbones.d.ts',
       'package/web/three/README.md',
@@ -216,6 +225,13 @@ describe('the tarball', () => {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
     }
+    // The command line is the package's bin, under a file name other than the library's.
+    assert.deepEqual(pkg.bin, { springbones: './bin/springbones-cli.mjs' });
+    // The README's relative links resolve on the registry through the repository.
+    assert.match(pkg.repository.url, /^git\+https:\/\/github\.com\/[\w.-]+\/[\w.-]+\.git$/);
+    const repository = pkg.repository.url.replace(/^git\+/, '').replace(/\.git$/, '');
+    assert.equal(pkg.homepage, `${repository}#readme`);
+    assert.equal(pkg.bugs.url, `${repository}/issues`);
     assert.equal(pkg.peerDependenciesMeta.three.optional, true);
     // The peer range is what this file tests: from kThreeLowest up to kThreeHighest's minor.
     const next = `0.${Number(kThreeHighest.split('.')[1]) + 1}.0`;
@@ -242,6 +258,21 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
   test('Node: node --test loads the sample, steps and reads rotations from the installed package', () => {
     run(process.execPath, ['--test', 'node/sample.spec.mjs', 'node/loader_plugin.spec.mjs', 'node/three_internals.spec.mjs',
       'node/inline.spec.mjs'], project, { SPRINGBONES_THREE_REVISION: kThreeHighest.split('.')[1] });
+  });
+
+  test('the CLI: npx springbones hash | validate | inspect | simulate runs the installed bin', () => {
+    const manifest = JSON.parse(readFileSync(join(root, 'web', 'demo', 'assets', 'manifest.json'), 'utf8'));
+    const npx = (...args) => run('npx', ['--no-install', 'springbones', ...args], project);
+    assert.equal(npx('hash', 'assets/hair_wearable.glb').trim(), manifest.files['hair_wearable.glb'].contentHash);
+    assert.match(npx('validate', 'assets/hair_wearable.entity.json'), /hair_wearable\.entity\.json: valid$/m);
+    const inspected = npx('inspect', 'assets/hair_wearable.glb', '--metadata', 'assets/hair_wearable.entity.json', '--body-shape', 'BaseMale');
+    assert.match(inspected, /15 simulated joints/);
+    const frames = npx('simulate', 'assets/hair_wearable.glb', '--metadata', 'assets/hair_wearable.metadata.json', '--frames', '3', '--drive', 'sway')
+      .trim().split('\n').map((line) => JSON.parse(line));
+    assert.equal(frames.length, 3);
+    const usage = spawnSync(bin(project, 'springbones'), [], { cwd: project, encoding: 'utf8' });
+    assert.equal(usage.status, 2);
+    assert.match(usage.stderr, /^usage: springbones <command>/);
   });
 
   test('TypeScript: tsc --noEmit --strict on a consumer of both .d.ts (bundler and NodeNext resolution)', () => {

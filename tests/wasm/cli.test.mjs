@@ -1,4 +1,4 @@
-// scripts/springbones.mjs: output of inspect and simulate, metadata file shapes, exit codes.
+// bin/springbones-cli.mjs (the package's `springbones` bin): output of inspect and simulate, metadata file shapes, exit codes.
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
@@ -6,10 +6,10 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { splitMetadata } from '../../scripts/springbones.mjs';
+import { splitMetadata } from '../../bin/springbones-cli.mjs';
 import { contentHashOf, fixture, fixturesDir, metadataKeyOf, root } from './helpers.mjs';
 
-const cli = join(root, 'scripts', 'springbones.mjs');
+const cli = join(root, 'bin', 'springbones-cli.mjs');
 const hairGlb = join(fixturesDir, 'avatar_hair.glb');
 const hairMetadata = join(fixturesDir, 'avatar_hair.metadata.json');
 
@@ -289,7 +289,7 @@ describe('exit codes', () => {
   const usage = (...args) => {
     const { code, stderr } = run(...args);
     assert.equal(code, 2, `${args.join(' ')}: ${stderr}`);
-    assert.match(stderr, /usage: node scripts\/springbones\.mjs/);
+    assert.match(stderr, /usage: springbones <command>/);
   };
   test('2 for usage errors, with the usage text', () => {
     usage();

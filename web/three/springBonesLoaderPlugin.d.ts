@@ -2,7 +2,7 @@
 import type { Object3D } from 'three';
 import type { GLTF, GLTFLoaderPlugin, GLTFParser } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import type { LoadOptions, Rig, SpringBones, Warning } from '../springbones.js';
-import type { AttachOptions, SpringBonesAttachment } from './springBonesThree.js';
+import type { AttachOptions, SpringBonesAttachment, StaticHairWarning } from './springBonesThree.js';
 
 /** sb.loadRig's options (which models entry, colliders, hitRadius) and these. */
 export type SpringBonesLoaderPluginOptions = LoadOptions & {
@@ -19,6 +19,11 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
    * entity + bodyShape the rig is read from the parser's glTF JSON and the bytes are not needed.
    */
   glb?: Uint8Array | ArrayBuffer;
+  /**
+   * Receives each reason the wearable's spring bones stay at rest, instead of the console.
+   * Default: console.warn once per code for the wearable, however many avatars wear it.
+   */
+  onWarning?: (warning: StaticHairWarning) => void;
 };
 
 /**
@@ -53,9 +58,18 @@ export class SpringBonesWearable {
    * promise it is null until `ready` resolves.
    */
   readonly rig: Rig;
-  /** The rig's warnings; none before it loads. */
-  readonly warnings: readonly Warning[];
-  /** Resolves to this wearable once its rig is loaded; rejects, once, with the module's or loadRig's error. */
+  /**
+   * The rig's warnings, then the reasons the spring bones stay at rest that the rig does not list
+   * itself (`no-chain-root`, `no-chains`, `module-failed`, `rig-failed`). Each of those reasons
+   * (the rig's `model-not-found` and `models-missing` too) is written to the console once per
+   * wearable (see the plugin's onWarning). None before the rig loads.
+   */
+  readonly warnings: readonly (Warning | StaticHairWarning)[];
+  /**
+   * Resolves to this wearable once its rig is loaded; rejects, once, with the module's or
+   * loadRig's error (also written to the console, so leaving it uncaught is no unhandled
+   * rejection).
+   */
   readonly ready: Promise<SpringBonesWearable>;
   /** What loading the rig failed with (sb given as a promise), else null. */
   readonly error: unknown;

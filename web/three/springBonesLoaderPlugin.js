@@ -20,10 +20,11 @@
 
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { attachWearable, isThenable, wearableNodes } from './springBonesThree.js';
+import { consoleReporter, failureWarning, kWearableContext, rigWarnings, springNodeNamesOf } from './staticHair.js';
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 const kRigOptions = [...kHashOptions, 'colliders', 'hitRadius'];
-const kOptions = ['sb', 'springBones', 'glb', ...kRigOptions];
+const kOptions = ['sb', 'springBones', 'glb', 'onWarning', ...kRigOptions];
 
 export class SpringBonesLoaderPlugin {
   /**
@@ -42,6 +43,9 @@ export class SpringBonesLoaderPlugin {
     }
     for (const key of Object.keys(options)) {
       if (!kOptions.includes(key)) throw new TypeError(`SpringBonesLoaderPlugin: unknown option ${key} (expected ${kOptions.join(', ')})`);
+    }
+    if (options.onWarning !== undefined && typeof options.onWarning !== 'function') {
+      throw new TypeError('SpringBonesLoaderPlugin: options.onWarning must be a function (it receives each warning)');
     }
     if (typeof options.sb?.loadRig !== 'function' && !isThenable(options.sb)) {
       throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module or its promise (the result of createSpringBones())');
@@ -73,10 +77,37 @@ export class SpringBonesLoaderPlugin {
       }
       return module.loadRig(json, springBones, rigOptions);
     };
-    // The module itself: the rig now (its errors reject the load). Its promise: the load goes on.
-    const rig = isThenable(sb) ? Promise.resolve(sb).then(load) : load(sb);
-    gltf.userData.springBones = new SpringBonesWearable(gltf, rig);
+    // The module itself: the rig now (its errors reject the load). Its promise: the load goes on,
+    // and a module that fails is told apart from a rig that fails (their fixes differ).
+    const rig = isThenable(sb)
+      ? Promise.resolve(sb).then(load, (error) => Promise.reject(new ModuleFailure(error)))
+      : load(sb);
+    const { entity, contentHash, onWarning } = this.options;
+    gltf.userData.springBones = new SpringBonesWearable(gltf, rig, {
+      springBones, onWarning, label: entity?.metadata?.id ?? entity?.id ?? contentHash ?? null,
+    });
   }
+}
+
+// The module's own error, marked as the module's (not loadRig's) on the way to the wearable.
+class ModuleFailure {
+  constructor(error) {
+    this.error = error;
+  }
+}
+
+/** springBones.models[hash] of the caller's springBones (an object or JSON text), or null. */
+function modelsEntry(springBones, hash) {
+  let value = springBones;
+  if (typeof value === 'string') {
+    try {
+      value = JSON.parse(value);
+    } catch {
+      return null;  // loadRig refused it already
+    }
+  }
+  const entry = value?.models?.[hash];
+  return entry !== null && typeof entry === 'object' && !Array.isArray(entry) ? entry : null;
 }
 
 /**
@@ -86,8 +117,15 @@ export class SpringBonesLoaderPlugin {
  */
 export class SpringBonesWearable {
   /** @private made by SpringBonesLoaderPlugin */
-  constructor(gltf, rig) {
+  constructor(gltf, rig, { springBones = null, label = null, onWarning = undefined } = {}) {
     this.gltf = gltf;
+    // Why the spring bones would stay at rest (staticHair.js), said once per wearable however
+    // many avatars wear it: the attachments wear() makes share this reporter.
+    this._staticHair = [];
+    this._failure = null;
+    this._springBones = springBones;
+    this._springNodeNames = springNodeNamesOf(gltf.parser?.json?.nodes);
+    this._report = onWarning ?? consoleReporter(() => `wearable ${label ?? this.rig?.contentHash ?? '(loading)'}`);
     /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. Null
      *  while the module given as a promise has not resolved. */
     this.rig = null;
@@ -99,24 +137,53 @@ export class SpringBonesWearable {
     if (isThenable(rig)) {
       this._rigPromise = rig.then((arrived) => {
         if (this._disposed) arrived.dispose();
-        else this.rig = arrived;
+        else this._arrived(arrived);
         return arrived;
+      }, (failure) => {
+        const error = failure instanceof ModuleFailure ? failure.error : failure;
+        this._failed(failureWarning(error, failure instanceof ModuleFailure ? 'module-failed' : null));
+        throw error;
       });
       /** Resolves to this wearable once its rig is loaded; rejects with the module's or loadRig's error. */
       this.ready = this._rigPromise.then(() => this, (error) => {
         this.error = error;
         throw error;
       });
+      // Both said on the console (_failed): an application that catches neither gets the warning,
+      // not an unhandled rejection (which ends a Node process).
+      this._rigPromise.catch(() => {});
+      this.ready.catch(() => {});
     } else {
-      this.rig = rig;
       this._rigPromise = null;
+      this._arrived(rig);
       this.ready = Promise.resolve(this);
     }
   }
 
-  /** The rig's warnings (clamped parameters, a models entry not found, ...); none before it loads. */
+  _arrived(rig) {
+    this.rig = rig;
+    const found = rigWarnings(rig, { entry: this._entryOf(rig), springNodeNames: this._springNodeNames });
+    for (const warning of found) this._report(warning);
+    this._staticHair = found.filter((w) => !rig.warnings.some((own) => own.code === w.code));  // the core's are listed already
+  }
+
+  _failed(warning) {
+    this._failure = warning;
+    this._staticHair = [warning];
+    this._report(warning);
+  }
+
+  _entryOf(rig) {
+    return rig.format === 'dcl' ? modelsEntry(this._springBones, rig.contentHash) : null;
+  }
+
+  /**
+   * The rig's warnings (clamped parameters, a models entry not found, ...), then the reasons the
+   * spring bones stay at rest that the rig does not list itself (no chain root, a module or rig
+   * that failed: web/three/staticHair.js, each with a `fix`). Empty before the rig loads.
+   */
   get warnings() {
-    return this.rig?.warnings ?? [];
+    return [...(this.rig?.warnings ?? []), ...this._staticHair];
   }
 
   /**
@@ -129,7 +196,16 @@ export class SpringBonesWearable {
     const copy = cloneWithSkeletons(this.gltf.scene);
     // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
     const rig = this.rig ?? this._rigPromise;
-    const attachment = attachWearable(avatarRoot, copy, rig, { ...options, nodes: wearableNodes(this.gltf, copy) });
+    const attachment = attachWearable(avatarRoot, copy, rig, {
+      ...options,
+      nodes: wearableNodes(this.gltf, copy),
+      [kWearableContext]: {
+        report: this._report,
+        springNodeNames: this._springNodeNames,
+        entryOf: (r) => this._entryOf(r),
+        failure: () => this._failure,  // the wearable's own reading of the failure (module or rig)
+      },
+    });
     this.attachments.push(attachment);
     return attachment;
   }

@@ -26,12 +26,43 @@ export interface AttachOptions {
   instance?: InstanceOptions;
   /** The avatar's AnimationMixer: an action starting is a jump (attachment.watchAnimations). */
   mixer?: AnimationMixer;
+  /**
+   * Receives each reason the spring bones stay at rest (a StaticHairWarning), instead of the
+   * console. Default: console.warn once per code for this attachment (once per wearable for the
+   * attachments a SpringBonesWearable's wear() makes).
+   */
+  onWarning?: (warning: StaticHairWarning) => void;
 }
 
-export interface AttachWarning {
+/**
+ * Why a worn wearable's spring bones stay at rest: each is written to the console once (see
+ * AttachOptions.onWarning) and listed in the attachment's and the loaded wearable's `warnings`.
+ * - `module-failed`: the springbones module did not load (given as a promise that rejected);
+ * - `rig-failed`: loadRig refused the metadata or options (e.g. `entity` without `bodyShape`);
+ * - `models-missing`, `model-not-found`: the rig's own warnings: no `models`, or no entry for
+ *   this GLB's hash;
+ * - `no-chain-root`: the models entry names spring bones, none with `isRoot: true`;
+ * - `no-chains`: the rig simulates nothing although the GLB has spring-bone nodes (the adapter
+ *   alone does not see the models entry to say more);
+ * - `bone-not-matched`: a bone the chains hang from (e.g. `Avatar_Head`) has no bone of that name
+ *   in the avatar, so they follow its parent or the avatar root instead.
+ */
+export interface StaticHairWarning {
+  readonly code: 'module-failed' | 'rig-failed' | 'models-missing' | 'model-not-found' | 'no-chain-root' | 'no-chains' | 'bone-not-matched';
+  readonly message: string;
+  /** What to change so that the spring bones move. */
+  readonly fix: string;
+  /** JSON pointer into springBones when the reason is in the metadata, else ''. */
+  readonly path: string;
+}
+
+/** A joint or driver of the rig without a three.js object: skipped, the others simulate. */
+export interface NodeNotFoundWarning {
   readonly code: 'node-not-found';
   readonly message: string;
 }
+
+export type AttachWarning = NodeNotFoundWarning | StaticHairWarning;
 
 /** Whether `value` is a promise (any thenable) rather than the thing itself. */
 export function isThenable(value: unknown): value is PromiseLike<unknown>;
@@ -49,6 +80,11 @@ export class SpringBonesAttachment {
   readonly nodes: ReadonlyArray<Object3D | undefined>;
   /** The wearable's skinned meshes, re-bound to the avatar's bones and moved into the avatar. */
   readonly meshes: readonly SkinnedMesh[];
+  /**
+   * Nodes without an object, and every reason the spring bones stay at rest (StaticHairWarning);
+   * rebuilt by setRig. An attachment whose rig promise rejected lists `module-failed` or
+   * `rig-failed`.
+   */
   readonly warnings: readonly AttachWarning[];
   /**
    * The rig. Typed for the attachment that simulates: made with a rig promise, it is null until
@@ -61,7 +97,9 @@ export class SpringBonesAttachment {
   readonly simulating: boolean;
   /**
    * Resolves to this attachment once it simulates (at once for a rig given directly); rejects,
-   * once, with what the rig promise rejected with. update() never throws that error.
+   * once, with what the rig promise rejected with. update() never throws that error. The failure
+   * is also written to the console (a StaticHairWarning), so an application that does not catch
+   * `ready` gets a warning, never an unhandled rejection.
    */
   readonly ready: Promise<SpringBonesAttachment>;
   /** What the rig promise rejected with (or setting the arrived rig threw), else null. */
@@ -132,7 +170,7 @@ export class SpringBonesAttachment {
  * A wearable's objects can be worn once: for several avatars, attach SkeletonUtils clones.
  * `rig` may be a promise of the rig (e.g. `sbPromise.then((sb) => sb.loadRig(...))`): the wearable
  * is worn now and simulated from the first update after it resolves (see SpringBonesAttachment).
- * @throws TypeError for arguments of the wrong kind
+ * @throws TypeError for arguments of the wrong kind (an onWarning that is not a function too)
  */
 export function attachWearable(
   avatarRoot: Object3D,

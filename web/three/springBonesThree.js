@@ -23,6 +23,7 @@
 // / step / rotations / reset / dispose), never the WebAssembly glue.
 import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Object3D, Skeleton } from 'three';
 import { AnimationStartWatch } from './animationStarts.js';
+import { consoleReporter, failureWarning, kWearableContext, rigWarnings, unmatchedWarning } from './staticHair.js';
 
 /** Whether `value` is a promise (or any thenable) rather than the thing itself. */
 export const isThenable = (value) => typeof value?.then === 'function';
@@ -172,7 +173,7 @@ class FrameCopies {
  */
 export class SpringBonesAttachment {
   /** @private use attachWearable */
-  constructor(avatarRoot, wearableRoot, nodeObjects, rig, options, meshes = [], moved = []) {
+  constructor(avatarRoot, wearableRoot, nodeObjects, rig, options, meshes = [], moved = [], armatureObjects = new Set(), unmatchedBones = new Set()) {
     this.avatarRoot = avatarRoot;
     this.wearableRoot = wearableRoot;
     /** Every glTF node of the wearable (index = glTF node index), after matching: a node the
@@ -180,8 +181,17 @@ export class SpringBonesAttachment {
     this.nodes = nodeObjects;
     /** The wearable's skinned meshes, now bound to the avatar's bones. */
     this.meshes = meshes;
-    /** Problems found while attaching ({ code, message }); the attachment still works. */
+    /** Problems found while attaching ({ code, message, fix?, path? }): nodes without an
+     *  object, and every reason the spring bones stay at rest (web/three/staticHair.js). */
     this.warnings = [];  // rebuilt by setRig
+    // Static-hair warnings go to the console once per code: per wearable when wear() made this
+    // attachment (the wearable's reporter), else per attachment; options.onWarning replaces it.
+    const context = options[kWearableContext] ?? null;
+    this._context = context;
+    this._report = typeof options.onWarning === 'function' ? options.onWarning
+      : context?.report ?? consoleReporter(() => `wearable ${this.rig?.contentHash ?? (gltfName(wearableRoot) || '(unnamed)')}`);
+    this._armatureObjects = armatureObjects;  // the avatar's bones, for bone-not-matched
+    this._unmatchedBones = unmatchedBones;  // the wearable's bones no avatar bone matched
     this._moved = moved;  // [object, previous parent], for detach
     this._restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
     this._instanceOptions = options.instance;
@@ -208,11 +218,45 @@ export class SpringBonesAttachment {
         return this;
       }).catch((error) => {
         this.error = error;
+        const warning = this._context?.failure() ?? failureWarning(error);
+        this.warnings.push(warning);
+        this._report(warning);
         throw error;
       });
+      // Said on the console above: an application that does not catch `ready` gets the warning,
+      // not an unhandled rejection (which ends a Node process).
+      this.ready.catch(() => {});
     } else {
       this.setRig(rig);
       this.ready = Promise.resolve(this);
+    }
+  }
+
+  /**
+   * The reasons this rig leaves the spring bones at rest (staticHair.js): no models entry, no
+   * chain root, and drivers that no bone of the avatar matched (they hang from the avatar root).
+   */
+  _staticHairWarnings(rig) {
+    const springNodeNames = this._context?.springNodeNames
+      ?? this.nodes.map((o) => (o ? gltfName(o) : '')).filter((name) => /springbone/i.test(name));
+    const found = rigWarnings(rig, { entry: this._context?.entryOf(rig) ?? null, springNodeNames });
+    // A driver follows the avatar when the way up from it reaches an avatar bone through the
+    // wearable's own helper nodes only: a bone of the wearable's armature on that way had no avatar
+    // bone of its name (it follows its parent, not the avatar's bone), and reaching the avatar root
+    // means nothing of the avatar moves it.
+    const unmatched = new Set();
+    this.driverObjects.forEach((object, index) => {
+      if (!object || rig.joints.length === 0) return;
+      let o = object;
+      for (; o && o !== this.avatarRoot && !this._armatureObjects.has(o); o = o.parent) {
+        if (this._unmatchedBones.has(o)) unmatched.add(gltfName(o));
+      }
+      if (!o || o === this.avatarRoot) unmatched.add(rig.drivers[index].name);
+    });
+    if (unmatched.size > 0) found.push(unmatchedWarning([...unmatched]));
+    for (const warning of found) {
+      this.warnings.push(warning);
+      this._report(warning);
     }
   }
 
@@ -252,6 +296,7 @@ export class SpringBonesAttachment {
     this.jointObjects = rig.joints.map((j) => find(j.node, 'joint', j.name));
     this.tailObjects = rig.joints.map((j) => this.nodes[j.tailNode] ?? null);
     this.driverObjects = rig.drivers.map((d) => find(d.node, 'driver', d.name));
+    this._staticHairWarnings(rig);
     for (const object of this.jointObjects) {
       if (object && !this._restQuaternions.has(object)) {
         const q = object.quaternion;
@@ -495,7 +540,9 @@ export class SpringBonesGroup {
  *             `options.nodes` (glTF node index -> Object3D, see wearableNodes) — for a clone.
  * rig:        the springbones rig loaded from the same GLB bytes (and its metadata).
  * options:    { nodes?: Object3D[], instance?: options for rig.createInstance,
- *               mixer?: the avatar's AnimationMixer, whose action starts become jumps }.
+ *               mixer?: the avatar's AnimationMixer, whose action starts become jumps,
+ *               onWarning?: receives each reason the spring bones stay at rest, instead of the
+ *               console (staticHair.js) }.
  *
  * Matching, as Decentraland's armature does: a wearable node whose glTF name is a node of the
  * avatar's armature (avatarArmature) *is* that avatar node; every other node (spring bones,
@@ -508,6 +555,9 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   if (!avatarRoot?.isObject3D) throw new TypeError('attachWearable: avatarRoot must be an Object3D');
   if (!isThenable(rig) && (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers))) {
     throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers) or a promise of one');
+  }
+  if (options.onWarning !== undefined && typeof options.onWarning !== 'function') {
+    throw new TypeError('attachWearable: options.onWarning must be a function (it receives each warning)');
   }
   const wearableRoot = wearable?.isObject3D ? wearable : wearable?.scene;
   if (!wearableRoot?.isObject3D) throw new TypeError('attachWearable: wearable must be a GLTF result or an Object3D');
@@ -527,6 +577,16 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   });
   const skinned = [];
   wearableRoot.traverse((o) => { if (o.isSkinnedMesh) skinned.push(o); });
+  // The wearable's armature (its meshes' bones and their ancestors) that found no avatar bone of
+  // its name, spring bones aside (they are the wearable's own): for the bone-not-matched warning.
+  const unmatchedBones = new Set();
+  for (const mesh of skinned) {
+    for (const bone of mesh.skeleton.bones) {
+      for (let o = bone; o && o !== wearableRoot; o = o.parent) {
+        if (!counterpart(o) && !/springbone/i.test(gltfName(o) ?? '')) unmatchedBones.add(o);
+      }
+    }
+  }
 
   const moved = [];
   const visit = (node, target) => {
@@ -553,7 +613,7 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   }
 
   const nodes = original.map((o) => (o ? counterpart(o) ?? o : o));
-  const attachment = new SpringBonesAttachment(avatarRoot, wearableRoot, nodes, rig, options, skinned, moved);
+  const attachment = new SpringBonesAttachment(avatarRoot, wearableRoot, nodes, rig, options, skinned, moved, new Set(armature.values()), unmatchedBones);
   if (options.mixer) attachment.watchAnimations(options.mixer);
   return attachment;
 }

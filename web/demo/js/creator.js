@@ -37,6 +37,28 @@ const BUILDER_MAX_BONES = 12;
 const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
 const shortHash = (h) => (h && h.length > 16 ? `${h.slice(0, 10)}…${h.slice(-6)}` : h);
 
+/** A value as JavaScript writes it: NaN and Infinity by name, where JSON.stringify writes null. */
+const jsText = (v) => (typeof v === 'number' ? String(v) : Array.isArray(v) ? `[${v.map(jsText).join(', ')}]` : JSON.stringify(v));
+const hasNonFinite = (v) => (typeof v === 'number' && !Number.isFinite(v)) || (Array.isArray(v) && v.some(hasNonFinite));
+
+/** Longest path shown whole; a longer one loses whole segments after its first (the title has it all). */
+const kPathChars = 40;
+
+/**
+ * A JSON path (pointer) as a span that wraps only between segments (a <wbr> before each '/') and,
+ * when long, drops whole segments after the first for one '…' segment, never cutting a name.
+ */
+function pathElement(path) {
+  const segments = path.split('/').slice(1);
+  let shown = segments;
+  for (let drop = 1; shown.join('/').length + 1 > kPathChars && segments.length - drop >= 2; drop++) {
+    shown = [segments[0], '…', ...segments.slice(1 + drop)];
+  }
+  const span = element('span', { class: 'path', title: path });
+  for (const segment of shown) span.append(document.createElement('wbr'), `/${segment}`);
+  return span;
+}
+
 function element(tag, props = {}, ...children) {
   const e = document.createElement(tag);
   for (const [k, v] of Object.entries(props)) {
@@ -77,6 +99,7 @@ export class Creator {
     this.bodyShape = null;
     this.selected = -1;     // candidate slot shown in the editor
     this.messages = [];     // { level: 'error'|'warning'|'info', text }
+    this.inputNote = null;  // { field, text }: the last number typed was outside its control's range
     this.exportUrl = null;
     this.busy = Promise.resolve();
     this.wire();
@@ -189,6 +212,16 @@ export class Creator {
     const picked = this.pickEntries();
     this.entries = picked.entries;
     if (picked.note) messages.push({ level: picked.level ?? 'info', text: picked.note });
+    // JSON has no NaN or Infinity: a number too large for a double (1e999) parses as Infinity,
+    // and would be written back as null. Named here, not shown as "null".
+    for (const [node, entry] of Object.entries(this.entries)) {
+      if (!isObject(entry)) continue;
+      for (const [field, v] of Object.entries(entry)) {
+        if (hasNonFinite(v)) {
+          messages.push({ level: 'warning', text: `${node}: ${field} is ${jsText(v)} as read, not a finite number (JSON would write it as null); the runtime uses the default.` });
+        }
+      }
+    }
     this.messages = messages;
     this.selected = this.tree.candidates.findIndex((c) => this.entries[c.name]?.isRoot === true);
     if (this.selected < 0 && this.tree.candidates.length) this.selected = 0;
@@ -391,6 +424,7 @@ export class Creator {
 
   select(slot) {
     this.selected = slot;
+    this.inputNote = null;
     for (const row of $('tree').querySelectorAll('.node')) row.classList.toggle('selected', Number(row.dataset.slot) === slot);
     this.renderEditor();
   }
@@ -406,11 +440,19 @@ export class Creator {
       const slider = $(`param-${id}`);
       const box = $(`param-${id}-num`);
       const set = (v) => (typeof field === 'number' ? this.setDir(field, v) : this.setField(field, v));
-      slider.addEventListener('input', () => set(Number(slider.value)));
+      const noteField = typeof field === 'number' ? 'gravityDir' : field;
+      slider.addEventListener('input', () => {
+        this.inputNote = null;
+        set(Number(slider.value));
+      });
       box.addEventListener('change', () => {
         const v = Number(String(box.value).replace(',', '.'));
         if (box.value === '' || !Number.isFinite(v)) return this.renderEditor();  // revert
-        set(clamp(v, Number(box.min), Number(box.max)));
+        const clamped = clamp(v, Number(box.min), Number(box.max));
+        // Said on the control: the number typed is not the number kept.
+        this.inputNote = clamped === v ? null
+          : { field: noteField, text: `${v} is outside [${box.min}, ${box.max}]: set to ${clamped}.` };
+        set(clamped);
       });
     }
     $('param-override').addEventListener('change', (e) => {
@@ -527,6 +569,7 @@ export class Creator {
     show('gravityPower', params.gravityPower);
     show('drag', params.drag);
     params.gravityDir.forEach((v, k) => show(['gx', 'gy', 'gz'][k], v));
+    this.renderNotes(name);
     const center = $('param-center');
     const current = entry && typeof entry.center === 'string' ? entry.center : '';
     const options = [element('option', { value: '' }, entry?.isRoot === true ? 'none (world space)' : 'none (inherit / world space)')];
@@ -534,6 +577,34 @@ export class Creator {
     if (current && !this.tree.otherNodes.includes(current)) options.push(element('option', { value: current }, `${current} (not a non-spring node)`));
     center.replaceChildren(...options);
     center.value = current;
+  }
+
+  /**
+   * Under each control, what became of its value: the runtime clamped it or replaced it (the rig's
+   * warning on the entry the node runs with: its own, or the ancestor's it inherits), or the
+   * number typed was outside the control's range.
+   */
+  renderNotes(name) {
+    const from = this.entryFrom(this.selected);
+    const rigWarnings = this.preview.wearable?.rig.warnings ?? [];
+    const pointer = (node, field) => ['', 'models', this.hash, node, field].map((k) => k.replaceAll('~', '~0').replaceAll('/', '~1')).join('/');
+    const controls = { stiffness: ['stiffness'], gravityPower: ['gravityPower'], drag: ['drag'], gravityDir: ['gx', 'gy', 'gz'] };
+    for (const [field, ids] of Object.entries(controls)) {
+      const notes = [];
+      if (from) {
+        const at = pointer(from, field);
+        for (const w of rigWarnings) {
+          if (w.path === at || w.path.startsWith(`${at}/`)) {
+            notes.push(`${from === name ? '' : `inherited from ${from}: `}${this.nameNonFinite(w.message, w.path)}`);
+          }
+        }
+      }
+      if (this.inputNote?.field === field) notes.push(this.inputNote.text);
+      const note = $(`param-${field}-note`);
+      note.textContent = notes.join(' ');
+      note.hidden = notes.length === 0;
+      for (const id of ids) $(`param-${id}-num`).classList.toggle('clamped', notes.length > 0);
+    }
   }
 
   // ---- validation and export
@@ -576,7 +647,7 @@ export class Creator {
     const errors = this.validate(data);
     // The core's runtime warnings (clamps, missing nodes and centers, nested roots...), then the
     // Builder's two that are no rule of the core: its bone cap, and nothing marked as a root.
-    const warnings = (this.preview.wearable?.rig.warnings ?? []).map((w) => ({ text: w.message, path: w.path, code: w.code }));
+    const warnings = (this.preview.wearable?.rig.warnings ?? []).map((w) => ({ text: this.nameNonFinite(w.message, w.path), path: w.path, code: w.code }));
     const names = new Set(this.tree.candidates.map((c) => c.name));
     const configured = Object.keys(this.entries).filter((n) => names.has(n)).length;
     if (configured > BUILDER_MAX_BONES) warnings.push({ text: `${configured} configured bones: the Builder allows at most ${BUILDER_MAX_BONES}`, path: '' });
@@ -584,14 +655,33 @@ export class Creator {
     const shown = (path) => path.split(this.hash).join('<GLB hash>');  // the hash is 59 characters
     const items = [];
     for (const e of errors) {
-      items.push(element('li', { class: 'error' }, shown(e.message)));
+      // The catalyst's message starts with the path ("springBones/models/<hash>/node/field must
+      // be ..."): the path is shown as a path, then the rest.
+      const text = this.nameNonFinite(e.message, e.path);
+      const prefix = `springBones${e.path}`;
+      items.push(e.path && text.startsWith(prefix)
+        ? element('li', { class: 'error' }, pathElement(shown(e.path)), text.slice(prefix.length))
+        : element('li', { class: 'error' }, shown(text)));
     }
     for (const w of warnings) {
-      items.push(element('li', { class: 'warning' }, w.text, w.path ? ' ' : '', w.path ? element('span', { class: 'path' }, shown(w.path)) : null));
+      items.push(element('li', { class: 'warning' }, shown(w.text), w.path ? ' ' : '', w.path ? pathElement(shown(w.path)) : null));
     }
-    if (!errors.length) items.unshift(element('li', { class: 'ok' }, 'Passes the catalyst checks (SpringBonesData schema, models keys, bone names).'));
+    // Green only for spring bones that pass and move: a GLB without any, or a rig that simulates
+    // nothing, has nothing a pass could vouch for.
+    const simulated = this.preview.wearable?.rig.joints.length ?? 0;
+    let passed = false;
+    if (!errors.length) {
+      if (this.tree.candidates.length === 0) {
+        items.unshift(element('li', { class: 'warning empty' }, 'No spring bones in this GLB (no node name contains "springbone"): nothing to check or simulate.'));
+      } else if (simulated === 0) {
+        items.unshift(element('li', { class: 'warning empty' }, 'Passes the catalyst checks, but nothing is simulated (see the warnings).'));
+      } else {
+        passed = true;
+        items.unshift(element('li', { class: 'ok' }, 'Passes the catalyst checks (SpringBonesData schema, models keys, bone names).'));
+      }
+    }
     $('validation').replaceChildren(...items);
-    this.lastValidation = { errors, warnings };
+    this.lastValidation = { errors, warnings, passed };
   }
 
   messageList() {
@@ -599,7 +689,32 @@ export class Creator {
   }
 
   validationList() {
-    return structuredClone(this.lastValidation ?? { errors: [], warnings: [] });
+    return structuredClone(this.lastValidation ?? { errors: [], warnings: [], passed: false });
+  }
+
+  /** The value at a JSON pointer into { models: { [this GLB's hash]: the edited entries } }. */
+  valueAt(path) {
+    let value = { models: { [this.hash]: this.entries } };
+    for (const raw of path.split('/').slice(1)) {
+      const key = raw.replaceAll('~1', '/').replaceAll('~0', '~');
+      if (value === null || typeof value !== 'object' || !Object.hasOwn(value, key)) return undefined;
+      value = value[key];
+    }
+    return value;
+  }
+
+  /**
+   * A message of the core or the catalyst about the value at `path`, with a NaN or Infinity named:
+   * both saw it as JSON, where it is null ("stiffness is null, not a number").
+   */
+  nameNonFinite(text, path) {
+    if (!path) return text;
+    const value = this.valueAt(path);
+    if (!hasNonFinite(value)) return text;
+    const json = JSON.stringify(value);
+    let named = text.includes(json) ? text.split(json).join(jsText(value)) : text;
+    named = named.replace('not a number', 'not a finite number');
+    return named === text ? `${text} (it is ${jsText(value)}, which JSON writes as null)` : named;
   }
 
   showExport() {
@@ -618,6 +733,9 @@ export class Creator {
     if (dropped.length) notes.push(`Dropped ${dropped.length} stale entr${dropped.length === 1 ? 'y' : 'ies'}: ${dropped.map(shortHash).join(', ')}.`);
     const errors = this.lastValidation?.errors.length ?? 0;
     if (errors) notes.push(`${errors} validation error${errors === 1 ? '' : 's'}: the catalyst would reject this.`);
+    const nonFinite = Object.entries(this.entries).flatMap(([node, entry]) => (isObject(entry)
+      ? Object.entries(entry).filter(([, v]) => hasNonFinite(v)).map(([field, v]) => `${node}.${field} (${jsText(v)})`) : []));
+    if (nonFinite.length) notes.push(`Written as null, since JSON has no NaN or Infinity: ${nonFinite.join(', ')}.`);
     $('export-note').textContent = notes.join(' ');
   }
 

@@ -29,10 +29,12 @@ const kMaxFrameDt = 0.25;     // longer frames (hidden tab, debugger) are cut fo
 const kMaxDemoWind = 3;       // the wind slider's end: hair blown well back, not flat
 const kShakeScratch = { x: 0, y: 0, roll: 0 };  // the frame loop allocates nothing
 const kViewerScratch = new THREE.Vector3();      // the camera's world position, for the budget
-// Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long).
+// Camera presets: the whole avatar, or head and shoulders (the earrings are 3 cm long). Both look
+// from the avatar's right, about 60 degrees off its front, so that the ponytail, which hangs from
+// the back of the head, shows beside the head rather than behind it (tests/browser/view.test.mjs).
 const kViews = {
-  body: { position: [2.3, 1.55, 3.2], target: [0, 1.0, 0] },
-  head: { position: [0.5, 1.63, 1.25], target: [0, 1.55, 0] },
+  body: { position: [3.45, 1.55, 1.85], target: [0, 1.0, 0] },
+  head: { position: [1.1, 1.63, 0.75], target: [0, 1.55, 0] },
 };
 
 class Preview {
@@ -91,7 +93,8 @@ class Preview {
     grid.position.y = 0.001;
     this.scene.add(grid);
 
-    new ResizeObserver(() => this.resize()).observe(canvas.parentElement);
+    // The canvas's own box: in a narrow page (a marketplace iframe) the readout sits under it.
+    new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
 
     this.loader = new GLTFLoader();
@@ -111,9 +114,9 @@ class Preview {
   }
 
   resize() {
-    const parent = this.renderer.domElement.parentElement;
-    const w = Math.max(1, parent.clientWidth);
-    const h = Math.max(1, parent.clientHeight);
+    const canvas = this.renderer.domElement;
+    const w = Math.max(1, canvas.clientWidth);
+    const h = Math.max(1, canvas.clientHeight);
     this.renderer.setSize(w, h, false);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
@@ -189,7 +192,15 @@ class Preview {
       old.rig.dispose();
       disposeGltf(old.gltf);
     }
-    this.wearable = { gltf, rig, label };
+    // Why the hair would stay at rest (the adapter's warnings): said once per wearable, not once
+    // per avatar of the crowd; the creator panel lists them too.
+    const said = new Set();
+    const onWarning = (w) => {
+      if (said.has(w.code)) return;
+      said.add(w.code);
+      console.warn(`springbones demo [${w.code}] ${label}: ${w.message} Fix: ${w.fix}`);
+    };
+    this.wearable = { gltf, rig, label, onWarning };
     for (const a of this.avatars) this.wear(a);
     this.restartReadout();
   }
@@ -214,10 +225,10 @@ class Preview {
   }
 
   wear(avatar) {
-    const { gltf, rig } = this.wearable;
+    const { gltf, rig, onWarning } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
-      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator },
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator }, onWarning,
       mixer: avatar.mixer,  // a clip starting is a jump: the hair is carried, not whipped
     });
     avatar.wearableRoot = clone;
@@ -244,7 +255,9 @@ class Preview {
     });
     const handled = new Set(avatar.extraDrivers.map((d) => attachment.rig.drivers[d.index].name));
     for (const w of attachment.warnings) {
-      if (!handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
+      // The adapter said the static-hair reasons itself (once); a node without an object is the
+      // demo's to say, unless it found the avatar's bone of that name above.
+      if (w.code === 'node-not-found' && !handled.has(w.message.split(' ')[1])) console.warn(`springbones demo: ${w.message}`);
     }
     // The head sphere of the body colliders, kept for headClearance when they are switched off.
     const head = attachment.rig.colliders.find((c) => c.shape === 'sphere' && c.node === 'Avatar_Head');
@@ -634,6 +647,47 @@ function debugHook(preview, creator) {
     },
     setIntegrator: (name) => preview.setIntegrator(name),
     setView: (name) => preview.setView(name),
+    /**
+     * Where the first avatar is drawn: the screen rectangle (page CSS pixels) of its skinned
+     * meshes' bounds in the current pose, and per ponytail joint its normalised device
+     * coordinates and whether the head (a sphere 9 cm above the head bone, radius 9.5 cm, as the
+     * body colliders') hides it from the camera.
+     */
+    onScreen: () => {
+      const a = preview.avatars[0];
+      preview.scene.updateMatrixWorld();
+      preview.camera.updateMatrixWorld();
+      const box = new THREE.Box3();
+      a.root.traverse((o) => {
+        if (!o.isSkinnedMesh) return;
+        o.computeBoundingBox();  // in the current pose
+        box.union(o.boundingBox.clone().applyMatrix4(o.matrixWorld));
+      });
+      const canvas = preview.renderer.domElement.getBoundingClientRect();
+      const corners = [];
+      for (let i = 0; i < 8; i++) {
+        const p = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y, i & 4 ? box.max.z : box.min.z).project(preview.camera);
+        corners.push([canvas.left + (p.x + 1) / 2 * canvas.width, canvas.top + (1 - p.y) / 2 * canvas.height]);
+      }
+      const xs = corners.map((c) => c[0]);
+      const ys = corners.map((c) => c[1]);
+      const head = avatarArmature(a.root).get('Avatar_Head');
+      const centre = new THREE.Vector3(0, 9, 0).applyMatrix4(head.matrixWorld);
+      const radius = 0.095;
+      const eye = preview.camera.getWorldPosition(new THREE.Vector3());
+      const ponytail = (a.attachment?.jointObjects ?? []).filter((o) => o && /ponytail/i.test(o.name)).map((o) => {
+        const p = o.getWorldPosition(new THREE.Vector3());
+        // Hidden when the segment from the eye to the joint passes through the head sphere.
+        const ray = new THREE.Ray(eye, p.clone().sub(eye).normalize());
+        const hit = ray.intersectSphere(new THREE.Sphere(centre, radius), new THREE.Vector3());
+        return { name: o.name, ndc: p.clone().project(preview.camera).toArray(), hidden: hit !== null && hit.distanceTo(eye) < p.distanceTo(eye) };
+      });
+      return {
+        avatar: { left: Math.min(...xs), right: Math.max(...xs), top: Math.min(...ys), bottom: Math.max(...ys) },
+        canvas: { left: canvas.left, right: canvas.right, top: canvas.top, bottom: canvas.bottom },
+        ponytail,
+      };
+    },
     /** The parameters and center the first avatar's rig gives a joint (null if not simulated). */
     joint: (name) => {
       const rig = first()?.rig;

@@ -6,14 +6,16 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { createSpringBones, SpringBonesError, type CreatorTools, type Rig, type SpringBones, type ValidationError } from 'springbones';
 import { createSpringBones as createInlined } from 'springbones/inline';
 import {
-  SpringBonesGroup, SpringBonesLoaderPlugin, type SpringBonesAttachment, type SpringBonesWearable,
+  SpringBonesGroup, SpringBonesLoaderPlugin, type SpringBonesAttachment, type SpringBonesWearable, type StaticHairWarning,
 } from 'springbones/three';
 
 export async function preview(avatar: Object3D, url: string, entity: object): Promise<() => void> {
   const sb: SpringBones = await createSpringBones();
   const version: string = sb.version;
   const loader = new GLTFLoader();
-  loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones: null, entity, bodyShape: 'BaseMale' }));
+  const reasons: StaticHairWarning[] = [];
+  loader.register((parser) => new SpringBonesLoaderPlugin(parser,
+    { sb, springBones: null, entity, bodyShape: 'BaseMale', onWarning: (w) => reasons.push(w) }));
   const gltf = await loader.loadAsync(url);
   const wearable = gltf.userData.springBones as SpringBonesWearable;
   const rig: Rig = wearable.rig;
@@ -23,6 +25,10 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
   const mixer = new AnimationMixer(avatar);
   const q: Quaternion | undefined = worn.jointObjects[0]?.quaternion;
   console.log(version, rig.joints.length, q?.w, wearable.warnings.map((w) => w.code));
+  // An attachment's warnings: a node without an object, or a reason the hair stays at rest (with its fix).
+  const fixes: string[] = [];
+  for (const w of worn.warnings) if (w.code !== 'node-not-found') fixes.push(w.fix);
+  console.log(fixes, reasons.map((r) => r.path));
 
   // @ts-expect-error the plugin needs the springbones module
   new SpringBonesLoaderPlugin(loader as never, { springBones: null });

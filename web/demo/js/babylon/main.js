@@ -22,11 +22,28 @@ const engine = new BABYLON.Engine(canvas, true, { preserveDrawingBuffer: true, s
 const scene = new BABYLON.Scene(engine);
 scene.clearColor = new BABYLON.Color4(0.086, 0.094, 0.114, 1);
 // A three-quarter view from the avatar's front left: it faces the file's +Z, Babylon's +Z too.
-const camera = new BABYLON.ArcRotateCamera('camera', Math.PI / 2 - 0.8, Math.PI / 2.3, 2.6, new BABYLON.Vector3(0, 1.25, 0), scene);
+// Far enough for the whole avatar, and for the teleport (1 m away from the camera) to stay in frame.
+const camera = new BABYLON.ArcRotateCamera('camera', Math.PI / 2 - 0.8, Math.PI / 2.3, 4.2, new BABYLON.Vector3(0, 0.95, 0), scene);
 camera.minZ = 0.05;
 camera.attachControl(canvas, true);
 new BABYLON.HemisphericLight('sky', new BABYLON.Vector3(0.2, 1, -0.4), scene).intensity = 1.1;
 new BABYLON.DirectionalLight('sun', new BABYLON.Vector3(-0.4, -1, 0.6), scene).intensity = 1.6;
+
+// Ground under the avatar, as on the three.js page: a disc of 4 m with a 0.5 m grid.
+const ground = BABYLON.MeshBuilder.CreateDisc('ground', { radius: 4, tessellation: 64 }, scene);
+ground.rotation.x = Math.PI / 2;  // the disc is made in the XY plane, facing -Z
+const groundMaterial = new BABYLON.StandardMaterial('ground', scene);
+groundMaterial.diffuseColor = new BABYLON.Color3(0.18, 0.196, 0.235);
+groundMaterial.specularColor = BABYLON.Color3.Black();
+ground.material = groundMaterial;
+const gridLines = [];
+for (let k = -8; k <= 8; k++) {
+  const u = k * 0.5;
+  const v = Math.sqrt(16 - u * u);  // the lines end at the disc's rim
+  gridLines.push([new BABYLON.Vector3(u, 0.001, -v), new BABYLON.Vector3(u, 0.001, v)]);
+  gridLines.push([new BABYLON.Vector3(-v, 0.001, u), new BABYLON.Vector3(v, 0.001, u)]);
+}
+BABYLON.MeshBuilder.CreateLineSystem('grid', { lines: gridLines }, scene).color = new BABYLON.Color3(0.29, 0.31, 0.376);
 
 async function loadContainer(name) {
   const container = await BABYLON.SceneLoader.LoadAssetContainerAsync(ASSETS.href, name, scene);
@@ -67,10 +84,19 @@ function play(name) {
   playing?.play(true);
 }
 document.getElementById('animation').addEventListener('change', (event) => play(event.target.value));
-document.getElementById('teleport').addEventListener('click', () => {
-  avatarRoot.position.z = avatarRoot.position.z > 0.5 ? 0 : 1;
+// The teleport moves the avatar 1 m away from the camera, and back: it stays in frame however the
+// camera was orbited (moving sideways or towards the camera could leave the picture).
+function teleport() {
+  if (avatarRoot.position.lengthSquared() > 0.25) {
+    avatarRoot.position.setAll(0);
+  } else {
+    const away = avatarRoot.position.subtract(camera.position);
+    away.y = 0;
+    avatarRoot.position.addInPlace(away.normalize());
+  }
   simulation.jump();  // carried across the move: no whip
-});
+}
+document.getElementById('teleport').addEventListener('click', teleport);
 document.getElementById('reset').addEventListener('click', () => simulation.reset());
 document.getElementById('wind').addEventListener('input', (event) => {
   const strength = Number(event.target.value);
@@ -118,4 +144,35 @@ window.springbonesBabylonDemo = {
     return [q.x, q.y, q.z, q.w];
   }),
   entry: () => structuredClone(panel.entry),
+  /**
+   * Where the avatar is drawn: the screen rectangle (page CSS pixels) of its meshes' bounds in
+   * the current pose, the canvas's, and the ground's top and the avatar's lowest point (metres).
+   */
+  onScreen: () => {
+    scene.render();  // world matrices and bounds of this frame
+    const meshes = [...avatar.meshes, ...wearable.meshes].filter((m) => m.getTotalVertices() > 0);
+    const rect = canvas.getBoundingClientRect();
+    const viewport = camera.viewport.toGlobal(engine.getRenderWidth(), engine.getRenderHeight());
+    const transform = scene.getTransformMatrix();
+    const xs = [];
+    const ys = [];
+    let lowest = Infinity;
+    for (const mesh of meshes) {
+      mesh.refreshBoundingInfo(true);  // with the skeleton's current pose
+      for (const v of mesh.getBoundingInfo().boundingBox.vectorsWorld) {
+        const p = BABYLON.Vector3.Project(v, BABYLON.Matrix.IdentityReadOnly, transform, viewport);
+        xs.push(rect.left + p.x / engine.getRenderWidth() * rect.width);
+        ys.push(rect.top + p.y / engine.getRenderHeight() * rect.height);
+        lowest = Math.min(lowest, v.y);
+      }
+    }
+    return {
+      avatar: { left: Math.min(...xs), right: Math.max(...xs), top: Math.min(...ys), bottom: Math.max(...ys) },
+      canvas: { left: rect.left, right: rect.right, top: rect.top, bottom: rect.bottom },
+      ground: { y: ground.getBoundingInfo().boundingBox.maximumWorld.y, radius: 4, visible: ground.isEnabled() && ground.isVisible },
+      lowest,
+      position: avatarRoot.position.asArray(),
+    };
+  },
+  teleport,
 };

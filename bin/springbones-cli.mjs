@@ -1,16 +1,18 @@
 #!/usr/bin/env node
 // springbones command line: look at a wearable's spring bones and simulate them headless, through
-// the same WebAssembly module and JS API as the browser (web/springbones.js; build it first with
-// scripts/build wasm); check an entity before deploying it and compute content hashes.
+// the same WebAssembly module and JS API as the browser (the package's own `springbones` entry; in
+// this repository build it first with scripts/build wasm); check an entity before deploying it and
+// compute content hashes. Installed, it is the package's `bin`: `npx springbones <command>`. Its
+// file name is not the library's (web/springbones.js), so a stack trace never confuses the two.
 //
-//   node scripts/springbones.mjs inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]
-//   node scripts/springbones.mjs simulate <glb> --metadata f.json [--hash H | --body-shape S]
+//   springbones inspect <glb> [--metadata f.json] [--hash H | --body-shape S] [--json]
+//   springbones simulate <glb> --metadata f.json [--hash H | --body-shape S]
 //                                [--frames N] [--fps F] [--drive rest|sway] [--step-hz H] [--max-substeps N]
 //                                [--integrator vrm|xpbd]
 //   (a VRM avatar as <glb> brings its own spring bones: no --metadata, --hash, --body-shape; what a
 //   file is comes from its content, whatever its name ends in)
-//   node scripts/springbones.mjs validate <entity.json> [--json]
-//   node scripts/springbones.mjs hash <file>
+//   springbones validate <entity.json> [--json]
+//   springbones hash <file>
 //
 // Exit codes: 0 success (validate: the entity is valid), 1 the input could not be loaded (file
 // missing, bad GLB or metadata) or, for validate, the entity would be rejected, 2 usage error.
@@ -21,8 +23,15 @@ import { basename } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { parseArgs } from 'node:util';
 
-import { createSpringBones, SpringBonesError } from '../web/springbones.js';
-import { swayDrivers } from './lib/sway.mjs';
+import { swayDrivers } from '../scripts/lib/sway.mjs';
+
+// The package by its own name (Node resolves a package's self-reference through its exports): the
+// minified library that ships, in the repository and installed alike. This process is ours, so
+// its stack traces go through the library's source maps (web/*.js); a map is read when its module
+// loads, hence the import after turning them on.
+const isMain = Boolean(process.argv[1]) && fileURLToPath(import.meta.url) === realpathSync(process.argv[1]);
+if (isMain) process.setSourceMapsEnabled?.(true);
+const { createSpringBones, SpringBonesError } = await import('springbones');
 
 class UsageError extends Error {}
 class LoadError extends Error {}
@@ -73,7 +82,7 @@ const commands = {
   },
 };
 
-const kUsage = `usage: node scripts/springbones.mjs <command> [arguments]
+const kUsage = `usage: springbones <command> [arguments]   (npx springbones, or node bin/springbones-cli.mjs)
 
 commands:
 ${Object.entries(commands).map(([name, c]) => `  ${name.padEnd(9)} ${c.summary}`).join('\n')}
@@ -391,7 +400,7 @@ export async function main(argv, out = process.stdout, err = process.stderr) {
   }
 }
 
-if (process.argv[1] && fileURLToPath(import.meta.url) === realpathSync(process.argv[1])) {
+if (isMain) {
   // `simulate | head` closes the pipe early: that is not an error.
   process.stdout.on('error', (error) => {
     if (error.code === 'EPIPE') process.exit(0);
