@@ -115,7 +115,9 @@ function decodeNonFinite(value) {
 }
 
 // The angle in radians between the rotations of two quaternions (q and -q are the same rotation):
-// 2 atan2(|a - b|, |a + b|) with b on a's side, accurate for small angles.
+// with b on a's side, |a - b| = 2 sin(phi / 2) and |a + b| = 2 cos(phi / 2), phi being the angle
+// between them as 4-vectors and 2 phi the rotation's: 4 atan2(|a - b|, |a + b|), accurate for small
+// angles where acos of the dot product is not.
 function angleBetween(a, b) {
   const s = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] < 0 ? -1 : 1;
   let d = 0;
@@ -124,7 +126,7 @@ function angleBetween(a, b) {
     d += (a[i] - s * b[i]) ** 2;
     p += (a[i] + s * b[i]) ** 2;
   }
-  return 2 * Math.atan2(Math.sqrt(d), Math.sqrt(p));
+  return 4 * Math.atan2(Math.sqrt(d), Math.sqrt(p));
 }
 
 const sameList = (a, b) => a.length === b.length && a.every((v, i) => v === b[i]);
@@ -186,7 +188,7 @@ function replay(sb, file) {
           worst = Math.max(worst, miss);
           if (!(miss <= c.tolerance)) {
             misses.push(`frame ${k}, ${c.nodes[i]}: off by ${miss.toExponential(2)} rad (tolerance ${c.tolerance}); ` +
-              `got [${actual.map((v) => v.toFixed(7)).join(', ')}], expected [${frame.rotations[i].join(', ')}]`);
+              `got [${actual.map((v) => v.toFixed(9)).join(', ')}], expected [${frame.rotations[i].join(', ')}]`);
           }
         });
       });
