@@ -386,9 +386,10 @@ const cases = [
       hair_springbone_r: entry({ gravityDir: [0, nf('NaN'), 1] }),
       springbone_earring_r: entry({ stiffness: '1', gravityPower: null, drag: true }),
     }),
-    // JSON.stringify, which springbones' JavaScript API serializes objects with, writes NaN and
-    // the infinities as null: the core then reports them as not numbers.
-    warnings: ['param-not-number', 'param-not-vector'],
+    // springbones' JavaScript API hands the object over as typed input, NaN and the infinities
+    // as numbers: the core names them (param-not-finite), and the string, null and boolean as not
+    // numbers.
+    warnings: ['param-not-finite', 'param-not-number', 'param-not-vector'],
   },
   {
     name: 'center',
