@@ -5,10 +5,12 @@
 // object), so a stiffness given as a string still earns the core's warning and default.
 //
 // The value is seen as JSON.stringify sees it: toJSON() is called, members that are undefined,
-// functions or symbols are left out of objects and become null in arrays, boxed primitives are
-// unwrapped, and a cycle or a BigInt is a TypeError. Two things differ, on purpose: non-finite
-// numbers stay numbers (the core names them, where JSON would turn them into null), and a string
-// that is not well-formed Unicode (a lone surrogate) is a TypeError rather than a silent U+FFFD.
+// functions or symbols are left out of objects (functions and symbols become null in arrays),
+// boxed primitives are unwrapped, and a cycle or a BigInt is a TypeError. What differs, on
+// purpose: non-finite numbers stay numbers (the core names them, where JSON would turn them into
+// null), a hole or an undefined element of an array is a TypeError (not a silent null), and a
+// string that is not well-formed Unicode (a lone surrogate) is a RangeError rather than a silent
+// U+FFFD.
 // Iterative: a value nested any depth is written without recursion.
 
 const kNull = 0, kFalse = 1, kTrue = 2, kNumber = 3, kString = 4, kArray = 5, kObject = 6;
@@ -52,7 +54,7 @@ class Writer {
   // A u32 byte length, then the UTF-8 bytes (at most 3 per UTF-16 unit).
   sized(what, where, s) {
     if (!s.isWellFormed()) {
-      throw new TypeError(`${what}: the string ${where()} has a lone surrogate (not well-formed Unicode)`);
+      throw new RangeError(`${what}: the string ${where()} has a lone surrogate (not well-formed Unicode)`);
     }
     this.room(4 + 3 * s.length);
     const { written } = encoder.encodeInto(s, this.bytes.subarray(this.length + 4));
@@ -106,7 +108,12 @@ export function encodeTyped(what, value) {
       const isArray = Array.isArray(v);
       const children = [];
       if (isArray) {
-        for (let i = 0; i < v.length; ++i) children.push([i, jsonValue(v[i], String(i)) ?? null]);
+        for (let i = 0; i < v.length; ++i) {
+          if (!(i in v) || v[i] === undefined) {
+            throw new TypeError(`${what}: ${i in v ? 'an undefined element' : 'a hole'} at index ${i} ${where()}`);
+          }
+          children.push([i, jsonValue(v[i], String(i)) ?? null]);
+        }
       } else {
         for (const key of Object.keys(v)) {
           const child = jsonValue(v[key], key);

@@ -29,6 +29,7 @@
 #include "loading/entity.h"
 #include "readers/json_values.h"
 #include "springbones/readers.h"
+#include "springbones/typed_input.h"
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
 #if __has_include("simulation/xpbd_solver.h")
@@ -228,6 +229,48 @@ inline std::string runVrm(const std::uint8_t* data, std::size_t size) {
   return stepAtRest(instance);
 }
 #endif
+
+// ---------------------------------------------------------------------------------------------
+// (a'') typed input: the bytes a page's parse becomes (web/typed_value.js), as every typed entry
+// point of the runtime reads them: a glTF document (then a rig of its nodes, stepped), a VRM
+// document, data.springBones, an entity, the rig options.
+
+inline std::string runTyped(const std::uint8_t* data, std::size_t size) {
+  const TypedBytes typed{data, size};
+  Skeleton skeleton;
+  const Error nodes = loadSkeleton(typed, skeleton);
+  if (std::string f = checkError(nodes, "loadSkeleton(typed)"); !f.empty()) return f;
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  const Error meta = parseSpringBones(typed, "h", model, warnings);
+  if (std::string f = checkError(meta, "parseSpringBones(typed)"); !f.empty()) return f;
+  std::string hash;
+  const Error entity = mainFileHashFor(typed, "BaseMale", hash);
+  if (std::string f = checkError(entity, "mainFileHashFor(typed)"); !f.empty()) return f;
+  if (!entity && hash.empty()) return "mainFileHashFor(typed) succeeded without a hash";
+  RigOptions options;
+  if (const ApiFailure f = readRigOptions(typed, options); f && f.message.empty()) {
+    return "readRigOptions(typed): a failure without a message";
+  }
+  if (!nodes) {
+    const std::shared_ptr<const Rig> rig = buildRig(std::move(skeleton), model, std::move(warnings));
+    if (std::string f = checkRig(*rig); !f.empty()) return f;
+    Instance instance(rig);
+    if (std::string f = stepAtRest(instance); !f.empty()) return f;
+  }
+#ifdef SPRINGBONES_FUZZ_HAS_VRM
+  std::shared_ptr<const Rig> vrm;
+  const Error e = loadVrm(typed, vrm);
+  if (std::string f = checkError(e, "loadVrm(typed)"); !f.empty()) return f;
+  if (!e) {
+    if (!vrm) return "loadVrm(typed) succeeded without a rig";
+    if (std::string f = checkRig(*vrm); !f.empty()) return f;
+    Instance instance(vrm);
+    return stepAtRest(instance);
+  }
+#endif
+  return {};
+}
 
 // ---------------------------------------------------------------------------------------------
 // (b) metadata alone: the runtime reader (fixed hash and first key), the validator, Builder edits.

@@ -6,10 +6,13 @@
 //                  differential cases (tests/fixtures/validation_cases.json), at most 48
 //   simulation/    pseudo-random byte programs (the target builds everything from bytes)
 //   vrm/           the VRM fixtures (0.x, 1.0, 1.0 with extended colliders), both extensions in one file, glTF text
+//   typed/         typed input (web/typed_value.js) of the fixtures' glTF documents, metadata, the
+//                  sample's entity and rig options, and a few malformed encodings
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { glbOfJson, jsonChunkOf } from '../../scripts/lib/fixtures/glb.mjs';
+import { encodeGltf, encodeTyped } from '../../web/typed_value.js';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const fixtures = join(here, '..', 'fixtures');
@@ -128,4 +131,26 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
     '{"contents":[],"data":{"representations":[{"mainFile":"a.glb","bodyShapes":["BaseMale"]}]}}',
     '{"content":{"a.glb":"Qm"},"metadata":{"data":{"representations":[{"mainFile":"a.glb","bodyShapes":["BaseMale"]}]}}}'];
   refused.forEach((text, i) => writeFileSync(join(dir, `shape_${String(i).padStart(2, '0')}`), text));
+}
+
+// --- typed: what a page's parse becomes, for every typed entry point
+{
+  const dir = reset('typed');
+  const gltfOf = (name) => (name.endsWith('.gltf') ? JSON.parse(fixture(name).toString()) : JSON.parse(jsonChunkOf(fixture(name)).toString()));
+  for (const name of ['adr_example.glb', 'avatar_hair.glb', 'two_parents.gltf', 'cycle.gltf']) {
+    writeFileSync(join(dir, `gltf_${name.replace('.', '_')}`), encodeGltf('corpus', gltfOf(name), false));
+  }
+  for (const name of ['vrm0_springs.vrm', 'vrm10_springs.vrm', 'vrm10_extended_colliders.vrm']) {
+    writeFileSync(join(dir, `vrm_${name.replace('.', '_')}`), encodeGltf('corpus', gltfOf(name), true));
+  }
+  for (const name of ['adr_example.metadata.json', 'avatar_hair.metadata.json']) {
+    writeFileSync(join(dir, `metadata_${name.replace(/\./g, '_')}`), encodeTyped('corpus', JSON.parse(fixture(name).toString())));
+  }
+  const sample = readFileSync(join(here, '..', '..', 'web', 'demo', 'assets', 'hair_wearable.entity.json'));
+  writeFileSync(join(dir, 'entity_sample'), encodeTyped('corpus', JSON.parse(sample.toString())));
+  writeFileSync(join(dir, 'options_colliders'), encodeTyped('corpus',
+    { colliders: [{ node: 'Avatar_Head', offset: [0, 9, 0], radius: 9.5 }, { node: 'Avatar_Neck', offset: [0, 0, 0], tail: [0, 5, 0], radius: 4 }], hitRadius: 0.01 }));
+  writeFileSync(join(dir, 'options_preset'), encodeTyped('corpus', { preset: 'dcl-body' }));
+  const malformed = [[7], [5, 255, 255, 255, 255], [6, 1, 0, 0, 0, 9, 0, 0, 0], [3, 0, 0], [4, 3, 0, 0, 0, 0xff, 0xfe, 0x80], [0, 0]];
+  malformed.forEach((bytes, i) => writeFileSync(join(dir, `malformed_${String(i).padStart(2, '0')}`), Buffer.from(bytes)));
 }

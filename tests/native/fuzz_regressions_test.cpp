@@ -54,6 +54,10 @@ TEST(FuzzRegressions, MetadataInputsKeepEveryInvariant) {
   EXPECT_GT(replay("metadata", fuzz::runMetadata), 0u);
 }
 
+TEST(FuzzRegressions, TypedInputsKeepEveryInvariant) {
+  EXPECT_GT(replay("typed", fuzz::runTyped), 0u);
+}
+
 TEST(FuzzRegressions, SimulationInputsKeepEveryInvariant) {
   EXPECT_GT(replay("simulation", fuzz::runSimulation), 0u);
 }

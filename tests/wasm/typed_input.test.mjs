@@ -16,9 +16,15 @@ describe('encodeTyped', () => {
     assert.deepEqual(roundTrip(value), JSON.parse(JSON.stringify(value)));
   });
 
-  test('calls toJSON, leaves out undefined, functions and symbols, writes null for them in arrays', () => {
-    const value = { d: { toJSON: () => 'D' }, u: undefined, fn() {}, sym: Symbol('s'), arr: [undefined, () => 1, 3], boxed: new Number(7) };
+  test('calls toJSON, leaves out undefined, functions and symbols, writes null for functions in arrays', () => {
+    const value = { d: { toJSON: () => 'D' }, u: undefined, fn() {}, sym: Symbol('s'), arr: [() => 1, 3], boxed: new Number(7) };
     assert.deepEqual(roundTrip(value), JSON.parse(JSON.stringify(value)));
+  });
+
+  test('a hole or an undefined element of an array is a TypeError that names its index', () => {
+    // eslint-disable-next-line no-sparse-arrays
+    assert.throws(() => encodeTyped('arg', { dir: [0, , 1] }), (e) => e instanceof TypeError && /a hole at index 1/.test(e.message));
+    assert.throws(() => encodeTyped('arg', [1, undefined]), (e) => e instanceof TypeError && /undefined element at index 1/.test(e.message));
   });
 
   test('keeps NaN and the infinities as numbers', () => {
@@ -28,14 +34,14 @@ describe('encodeTyped', () => {
     assert.equal(back.c, -Infinity);
   });
 
-  test('refuses a cycle, a BigInt and a lone surrogate with a TypeError that says where', () => {
+  test('refuses a cycle and a BigInt with a TypeError, a lone surrogate with a RangeError, saying where', () => {
     const cyclic = { a: { b: {} } };
     cyclic.a.b.c = cyclic;
     assert.throws(() => encodeTyped('arg', cyclic), (e) => e instanceof TypeError && /circular/.test(e.message));
     assert.throws(() => encodeTyped('arg', { n: 1n }), (e) => e instanceof TypeError && /BigInt at "n"/.test(e.message));
     assert.throws(() => encodeTyped('arg', { models: { 'Hair_springbone\uD800': {} } }),
-                  (e) => e instanceof TypeError && /lone surrogate/.test(e.message));
-    assert.throws(() => encodeTyped('arg', ['ok', 'bad\uDC00']), (e) => e instanceof TypeError && /at "1"/.test(e.message));
+                  (e) => e instanceof RangeError && /lone surrogate/.test(e.message));
+    assert.throws(() => encodeTyped('arg', ['ok', 'bad\uDC00']), (e) => e instanceof RangeError && /at "1"/.test(e.message));
   });
 
   test('writes a value nested 100,000 deep without running out of stack', () => {
