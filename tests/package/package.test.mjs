@@ -174,7 +174,7 @@ before(() => {
 });
 
 describe('the tarball', () => {
-  test('holds what runs: the minified API, adapter and glue (with their source maps), both modules, the inline entry, their types, the CLI, the READMEs, CHANGELOG, LICENSE', () => {
+  test('holds what runs: the minified API, adapter and glue (with their source maps), the three modules, the inline entry, their types, the CLI, the READMEs, CHANGELOG, LICENSE', () => {
     const files = execFileSync('tar', ['-tzf', tarball], { encoding: 'utf8' }).trim().split('\n').sort();
     assert.deepEqual(files, [
       'package/CHANGELOG.md',
@@ -194,11 +194,16 @@ describe('the tarball', () => {
       'package/web/dist/creator_tools.min.js',
       'package/web/dist/creator_tools.min.js.map',
       'package/web/dist/inline.min.js',
+      'package/web/dist/readers.min.js',
+      'package/web/dist/readers.min.js.map',
       'package/web/dist/springbones.min.js',
       'package/web/dist/springbones.min.js.map',
       'package/web/dist/springbones_creator_tools.min.js',
       'package/web/dist/springbones_creator_tools.min.js.map',
       'package/web/dist/springbones_creator_tools.wasm',
+      'package/web/dist/springbones_readers.min.js',
+      'package/web/dist/springbones_readers.min.js.map',
+      'package/web/dist/springbones_readers.wasm',
       'package/web/dist/springbones_wasm.min.js',
       'package/web/dist/springbones_wasm.min.js.map',
       'package/web/dist/springbones_wasm.wasm',

@@ -108,15 +108,21 @@ export async function outOfMemoryScenario({ createSpringBones, wearable, vrm, he
       // Then instances, smaller still, until none fits.
       createInstance: failureOf(() => { for (let i = 0; i < 100_000; i++) instances.push(rigs[0].createInstance()); }),
       contentHash: failureOf(() => sb.contentHash(bigGlb)),
-      createScene: failureOf(() => {
-        const scene = sb.createScene();
-        try {
-          for (const inst of instances) scene.add(inst);
-          scene.step(kDt);
-        } finally {
-          scene.dispose();
-        }
-      }),
+      // Scenes of every instance, kept until one no longer fits (a failed allocation hands the
+      // core's reserve back, src/common/memory_reserve.cpp: one scene may still fit in it).
+      createScene: (() => {
+        const scenes = [];
+        const failure = failureOf(() => {
+          for (let i = 0; i < 10_000; i++) {
+            const scene = sb.createScene();
+            scenes.push(scene);
+            for (const inst of instances) scene.add(inst);
+            scene.step(kDt);
+          }
+        });
+        for (const scene of scenes) scene.dispose();
+        return failure;
+      })(),
     };
 
     // What the module held before it ran out still works: every instance steps to finite rotations.

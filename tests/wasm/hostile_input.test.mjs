@@ -285,7 +285,11 @@ describe('metadata', () => {
       assert.deepEqual([p.stiffness, p.gravityPower, p.drag], defaults);
       stepAndCheck(inst);
     });
-    expectCode('metadata-bad-json', () => sb.loadRig(hairGlb, JSON.stringify(hairMetadata(entry(1, 1, [0, -1, 0], 0.5))).replace('"stiffness":1', '"stiffness":1e309'), { contentHash: kHash }));
+    // 1e309 in JSON text is Infinity to JSON.parse: not finite, the default.
+    withRig(hairGlb, JSON.stringify(hairMetadata(entry(1, 1, [0, -1, 0], 0.5))).replace('"stiffness":1', '"stiffness":1e309'), (rig) => {
+      assert.deepEqual(rig.warnings.map((w) => w.code), ['param-not-finite']);
+      assert.equal(rig.joints[0].params.stiffness, 2);
+    });
   });
 
   test('gravityDir of length 2 or 4 (or zero, huge, not an array) falls back with a warning', () => {
