@@ -14,9 +14,9 @@
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
-import { checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes, toJsonText } from './arguments.js';
+import { checkDenseArray, checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes, toJsonText } from './arguments.js';
 import { SpringBonesError, call, takeError } from './errors.js';
-import { instantiateModule, loadFailed } from './module_loader.js';
+import { instantiateModule, loadFailed, moduleSource } from './module_loader.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
 import { withBytes, withRoomForStrings, withUtf8 } from './wasm_memory.js';
@@ -43,7 +43,7 @@ export async function createSpringBones(options = {}) {
     // use them, so the JS API never types a limit of its own.
     limits = deepFreeze(JSON.parse(module.limitsJson()));
   } catch (cause) {
-    throw loadFailed(kModuleUrl.href, cause);
+    throw loadFailed(moduleSource(module), cause);
   }
   const sb = new SpringBones(module, limits);
   warmUpWhenIdle(sb);
@@ -601,7 +601,7 @@ function rigOptionsJson(options) {
     out.preset = colliders;
   } else if (colliders !== undefined) {
     if (!Array.isArray(colliders)) throw new TypeError(`loadRig: colliders must be an array or '${kColliderPresets[0]}'`);
-    out.colliders = colliders.map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
+    out.colliders = checkDenseArray('loadRig: colliders', colliders).map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
   }
   return JSON.stringify(out);
 }
@@ -627,8 +627,9 @@ function colliderJson(where, c) {
   only('inside', ['sphere', 'capsule']);
   const collider = { node: c.node, offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset) };
   if (shape === 'plane') {
-    collider.normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
-    if (collider.normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);
+    const normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
+    if (normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);
+    collider.normal = scaledDirection(normal);
     return collider;
   }
   collider.radius = checkNonNegative(`${where}.radius`, c.radius);
@@ -656,10 +657,11 @@ function windArguments(where, wind, limits) {
   const gustFrequency = wind.gustFrequency === undefined
     ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, 0, limits.maxGustFrequency);
   const seed = wind.seed === undefined ? 0 : checkInteger(`${where}: wind.seed`, wind.seed, 0, 0xffffffff);
-  if (strength > 0 && direction.every((v) => v === 0)) {
-    throw new RangeError(`${where}: wind.direction must not be zero`);
+  if (direction.every((v) => v === 0)) {
+    if (strength > 0) throw new RangeError(`${where}: wind.direction must not be zero`);
+    return [1, 0, 0, strength, gustFrequency, seed];
   }
-  return [...direction, strength, gustFrequency, seed];
+  return [...scaledDirection(direction), strength, gustFrequency, seed];
 }
 
 function checkRange(what, value, min, max) {
@@ -690,6 +692,17 @@ function checkVec3(what, value) {
     checkFinite(what, v);
   }
   return out;
+}
+
+// A direction (3 finite numbers, not all 0) as it crosses, as float32: one whose largest
+// component is beyond float32's normal range ([1e39, 0, 0] would be infinite there, [1e-46, 0, 0]
+// zero) is divided by that component's size first, in double precision. The core makes it unit,
+// scaled alike first, so [1e20, 0, 0] or [1e-25, 0, 0] do not overflow or underflow there either.
+// Others cross unchanged, so that native and JavaScript callers giving the same direction get
+// the same bits.
+function scaledDirection(v) {
+  const largest = Math.max(Math.abs(v[0]), Math.abs(v[1]), Math.abs(v[2]));
+  return largest >= 2 ** -126 && largest < 2 ** 127 ? v : v.map((c) => c / largest);
 }
 
 function checkNonNegative(what, value) {
