@@ -486,10 +486,11 @@ class Scene {
     if (maxActive !== null && maxActive !== Infinity) {
       max = checkInteger('setBudget: maxActive', maxActive, 0, 0x7fffffff);
     }
-    // Checked one by one, not through an array of pairs: pages call this every frame.
-    checkFinite('setBudget: viewerX', viewerX);
-    checkFinite('setBudget: viewerY', viewerY);
-    checkFinite('setBudget: viewerZ', viewerZ);
+    // Checked one by one, not through an array of pairs: pages call this every frame. They cross
+    // as float32, where a larger value is infinite and the core would ignore the viewer.
+    checkFloat32('setBudget: viewerX', viewerX);
+    checkFloat32('setBudget: viewerY', viewerY);
+    checkFloat32('setBudget: viewerZ', viewerZ);
     this.#m.sceneSetBudget(handle, max, viewerX, viewerY, viewerZ);
   }
 
@@ -673,6 +674,13 @@ function checkRange(what, value, min, max) {
 function checkFinite(what, value) {
   if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
   if (!Number.isFinite(value)) throw new RangeError(`${what} must be finite, got ${value}`);
+  return value;
+}
+
+// A finite number that is finite as float32 too (|value| below 2^128 less half a float32 step).
+function checkFloat32(what, value) {
+  checkFinite(what, value);
+  if (!Number.isFinite(Math.fround(value))) throw new RangeError(`${what} must be within float32's range (about ±3.4e38), got ${value}`);
   return value;
 }
 

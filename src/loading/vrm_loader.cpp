@@ -588,7 +588,7 @@ class VrmRigBuilder {
       }
       setGravity(sim.params, dir, power, joint_path);
       sim.params.drag = readParam(joint, "dragForce", kDefaultDrag, 0.0f, 1.0f, joint_path);
-      sim.hit_radius = readParam(joint, "hitRadius", kDefaultHitRadius, 0.0f, kUnbounded, joint_path);
+      sim.hit_radius = readParam(joint, "hitRadius", kDefaultHitRadius, 0.0f, kMaxHitRadius, joint_path);
       claim(head, std::move(sim));
     }
   }
@@ -691,7 +691,7 @@ class VrmRigBuilder {
     }
     setGravity(params, dir, power, path);
     params.drag = readParam(group, "dragForce", kDefaultDrag, 0.0f, 1.0f, path);
-    const float hit_radius = readParam(group, "hitRadius", kDefaultHitRadius, 0.0f, kUnbounded, path);
+    const float hit_radius = readParam(group, "hitRadius", kDefaultHitRadius, 0.0f, kMaxHitRadius, path);
     const int spring_index = static_cast<int>(springs_.size());
     springs_.push_back(std::move(spring));
 

@@ -519,7 +519,8 @@ TEST(VrmLoader, MissingParametersGetTheSpecDefaults) {
 TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
   json j0 = {{"node", 2}, {"stiffness", -1}, {"gravityPower", "heavy"}, {"dragForce", 1.5}, {"hitRadius", 1e300},
              {"gravityDir", {0, 0, 0}}};
-  json j1 = {{"node", 3}, {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}}, {"dragForce", -0.5}};
+  json j1 = {{"node", 3}, {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}}, {"dragForce", -0.5},
+             {"hitRadius", 1e30}};
   const std::string p = "/extensions/VRMC_springBone/springs/0/joints/";
   auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", {j0, j1, {{"node", 4}}}}}})));
   expectRigInvariants(*rig);
@@ -540,6 +541,9 @@ TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
   EXPECT_EQ(b.params.gravity_power, 2.0f);
   EXPECT_EQ(b.params.drag, 0.0f);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-param-invalid", p + "1/gravityDir"), nullptr);
+  // hitRadius is bounded like every rig's (kMaxHitRadius): beyond it a collider would move nothing.
+  EXPECT_EQ(b.hit_radius, kMaxHitRadius);
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-param-clamped", p + "1/hitRadius"), nullptr);
   // Zero direction with a power: no gravity, with a warning.
   json j2 = {{"node", 2}, {"gravityPower", 1}, {"gravityDir", {0, 0, 0}}};
   auto zero = mustLoad(chainNodes(), vrmc(json::array({{{"joints", {j2, {{"node", 3}}}}}})));

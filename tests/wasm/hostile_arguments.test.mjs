@@ -8,7 +8,7 @@ import { describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { createSpringBones as createInline } from '../../web/inline.js';
-const kBinarySource = Symbol('none');
+import { kBinarySource } from '../../web/module_loader.js';
 import { springRig } from './helpers.mjs';
 
 const sb = await createSpringBones();
@@ -246,4 +246,106 @@ describe('a load error names what was actually read', () => {
     await assert.rejects(createSpringBones({ wasmUrl: wrongModule }), failed(/springbones_creator_tools\.wasm/));
     assert.ok(readFileSync(wrongModule).length > 0);
   });
+});
+
+describe('a value the core would zero or ignore because it is out of range warns', () => {
+  const { glb, springBones, hash } = springRig({ hash: kHash });
+  const sphere = { node: 'Avatar_Head', radius: 0.1 };
+
+  test('hitRadius beyond 1e6 (or beyond float32) is clamped with hit-radius-out-of-range', () => {
+    for (const hitRadius of [1e30, 1e39, Number.MAX_VALUE]) {
+      const rig = sb.loadRig(glb, springBones, { contentHash: hash, colliders: [sphere], hitRadius });
+      const warning = rig.warnings.find((w) => w.code === 'hit-radius-out-of-range');
+      assert.ok(warning, `hitRadius ${hitRadius}: ${JSON.stringify(rig.warnings)}`);
+      assert.match(warning.message, /hitRadius/);
+      for (const joint of rig.joints) assert.equal(joint.hitRadius, 1e6);
+      const instance = rig.createInstance();
+      for (let i = 0; i < 10; ++i) instance.step(1 / 60);
+      assert.ok(instance.rotations.every(Number.isFinite));
+      assert.ok(instance.worldMatrices.every(Number.isFinite));
+      instance.dispose();
+      rig.dispose();
+    }
+    const rig = sb.loadRig(glb, springBones, { contentHash: hash, colliders: [sphere], hitRadius: 1e6 });
+    assert.deepEqual(rig.warnings, []);
+    rig.dispose();
+  });
+
+  test('a collider radius, offset or tail beyond 1e6 is left out with collider-invalid', () => {
+    for (const collider of [{ ...sphere, radius: 1e30 }, { ...sphere, offset: [0, 1e7, 0] }, { ...sphere, tail: [1e39, 0, 0] }]) {
+      const rig = sb.loadRig(glb, springBones, { contentHash: hash, colliders: [collider] });
+      assert.equal(rig.colliders.length, 0, JSON.stringify(collider));
+      assert.ok(rig.warnings.some((w) => w.code === 'collider-invalid' && w.message.includes('Avatar_Head')), JSON.stringify(rig.warnings));
+      rig.dispose();
+    }
+  });
+
+  test('a viewer coordinate beyond float32 is a RangeError (the core would ignore the viewer)', () => {
+    const scene = sb.createScene();
+    refuses(RangeError, /viewerX must be within float32's range/, () => scene.setBudget(1, 1e39, 0, 0));
+    refuses(RangeError, /viewerZ/, () => scene.setBudget(1, 0, 0, -Number.MAX_VALUE));
+    scene.setBudget(1, 3e38, 0, 0);
+    scene.dispose();
+  });
+
+  test('the budget tells avatars 1e20 or 1e-25 apart', () => {
+    const rig = sb.loadRig(glb, springBones, { contentHash: hash });
+    for (const unit of [1e20, 1e-25]) {
+      const scene = sb.createScene();
+      const far = rig.createInstance();
+      const near = rig.createInstance();
+      scene.add(far);
+      scene.add(near);
+      scene.positions.set([3 * unit, 0, 0, unit, 0, 0]);
+      scene.setBudget(1, 0, 0, 0);
+      scene.step(1 / 60);
+      assert.deepEqual([scene.isActive(far), scene.isActive(near)], [false, true], `unit ${unit}`);
+      scene.dispose();
+      far.dispose();
+      near.dispose();
+    }
+    rig.dispose();
+  });
+});
+
+describe('world matrices stay finite whenever the drivers are finite', () => {
+  const { glb, springBones, hash } = springRig({ hash: kHash });
+  const scaled = (s, t) => [s[0], 0, 0, 0, 0, s[1], 0, 0, 0, 0, s[2], 0, t[0], t[1], t[2], 1];
+  const drivers = {
+    'scale 1e30': scaled([1e30, 1e30, 1e30], [0, 1.6, 0]),
+    'scale 3e38': scaled([3e38, 3e38, 3e38], [0, 1.6, 0]),
+    'scale 0': scaled([0, 0, 0], [0, 1.6, 0]),
+    'scale 1e-30': scaled([1e-30, 1e-30, 1e-30], [0, 1.6, 0]),
+    'non-uniform 1e30': scaled([1e30, 1, 1], [0, 1.6, 0]),
+    'translation 1e30': scaled([1, 1, 1], [1e30, -1e30, 1e30]),
+    'translation 3e38, scale 1e30': scaled([1e30, 1e30, 1e30], [3e38, 3e38, 3e38]),
+    // At the bound of docs/semantics.md (1e12), where drivers are still taken.
+    'scale and translation 1e12': scaled([1e12, 1e12, 1e12], [1e12, -1e12, 1e12]),
+    'non-uniform 1e12 and 1e-30': scaled([1e12, 1e-30, 1], [0, 1.6, 0]),
+    'mirrored 1e12': scaled([-1e12, 1e12, 1e12], [0, 1.6, 0]),
+  };
+  for (const integrator of ['vrm', 'xpbd']) {
+    for (const colliders of [undefined, [{ node: 'Avatar_Head', radius: 0.05 }]]) {
+      test(`${integrator}${colliders ? ', with a collider' : ''}`, () => {
+        const rig = sb.loadRig(glb, springBones, { contentHash: hash, colliders, hitRadius: 0.01 });
+        for (const [what, matrix] of Object.entries(drivers)) {
+          const instance = rig.createInstance({ integrator });
+          instance.setWind({ direction: [1, 0, 0], strength: 1 });
+          const rest = Array.from(instance.driverMatrices.subarray(0, 16));
+          for (let frame = 0; frame < 20; ++frame) {
+            instance.driverMatrices.set(frame >= 5 && frame < 15 ? matrix : rest);
+            instance.step(1 / 60);
+            assert.ok(instance.worldMatrices.every(Number.isFinite), `${what}, frame ${frame}`);
+            assert.ok(instance.rotations.every(Number.isFinite), `${what}, frame ${frame}`);
+          }
+          instance.driverMatrices.set(matrix);
+          instance.reset();
+          instance.step(1 / 60);
+          assert.ok(instance.worldMatrices.every(Number.isFinite), `${what}, seeded under it`);
+          instance.dispose();
+        }
+        rig.dispose();
+      });
+    }
+  }
 });
