@@ -62,6 +62,13 @@ bool readFloat(const json& value, float& out) {
   return true;
 }
 
+bool exceedsColliderSize(const ColliderShape& c) {
+  const auto beyond = [](const Vec3& v) {
+    return std::fabs(v.x) > kMaxColliderSize || std::fabs(v.y) > kMaxColliderSize || std::fabs(v.z) > kMaxColliderSize;
+  };
+  return c.radius > kMaxColliderSize || beyond(c.offset) || beyond(c.tail);
+}
+
 bool readIndex(const json& value, std::size_t count, int& out) {
   if (value.is_number_unsigned()) {
     const auto v = value.get<std::uint64_t>();
@@ -887,6 +894,13 @@ class VrmRigBuilder {
       if (!used[id] || !c.valid) continue;
       if (under_joint_[c.node]) {
         warn("collider-on-spring-bone", "collider on " + nodeLabel(c.node) + " moves with a spring joint; ignored", c.path);
+        continue;
+      }
+      // Beyond it the squared distances overflow in float and the collider would move nothing
+      // (the bound of loadRig's colliders, kMaxColliderSize).
+      if (exceedsColliderSize(c)) {
+        warn("vrm-collider-invalid", "collider on " + nodeLabel(c.node) +
+                                         " has a radius, offset or tail beyond 1e6 (the node's units); ignored", c.path);
         continue;
       }
       Collider collider;

@@ -624,6 +624,30 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   EXPECT_EQ(rig->drivers.size(), 2u);
 }
 
+// Sizes beyond kMaxColliderSize (1e6) would make the squared distances overflow in float and the
+// collider move nothing: left out with a warning, as for loadRig's colliders.
+TEST(VrmLoader, CollidersBeyondTheSizeLimitAreIgnoredWithAWarning) {
+  json colliders = json::array({
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 1e30}}}}}},                      // 0 radius
+      {{"node", 1}, {"shape", {{"capsule", {{"radius", 0.05}, {"tail", {0, -1e7, 0}}}}}}},                      // 1 tail
+      {{"node", 1},
+       {"shape", {{"sphere", {{"radius", 0.02}}}}},
+       {"extensions", {{"VRMC_springBone_extended_collider",
+                        {{"specVersion", "1.0"}, {"shape", {{"plane", {{"offset", {3e38, 0, 0}}}}}}}}}}},           // 2 plane offset
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {kMaxColliderSize, 0, 0}}, {"radius", kMaxColliderSize}}}}}},  // 3 at the limit
+  });
+  json groups = json::array({{{"colliders", {0, 1, 2, 3}}}});
+  json springs = json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}});
+  auto rig = mustLoad(chainNodes(), vrmc(springs, colliders, groups));
+  expectRigInvariants(*rig);
+  ASSERT_EQ(rig->colliders.size(), 1u) << describeWarnings(rig->warnings);
+  EXPECT_EQ(rig->colliders[0].radius, kMaxColliderSize);
+  const std::string p = "/extensions/VRMC_springBone/colliders/";
+  for (int c : {0, 1, 2}) {
+    EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + std::to_string(c)), nullptr) << c;
+  }
+}
+
 // VRMC_springBone_extended_collider: a readable shape of a known version replaces the base
 // shape; anything else falls back to the base shape with a warning.
 TEST(VrmLoader, ExtendedCollidersReplaceTheBaseShapeOrFallBack) {
