@@ -2,11 +2,10 @@
 //
 // Every avatar's drivers (chain-root parents, centers, collider nodes) arrive as world matrices
 // each frame. The lane path needs them as similarities (position, rotation, uniform scale); the
-// general path needs the matrices. This reads a frame once: a driver with a non-finite entry
-// keeps its last good pose, and the similarity test and decomposition run branch-free over
-// structure-of-arrays, four drivers per SIMD vector in WebAssembly (same bits as scalar code).
-// A driver with a non-finite entry, or one beyond kMaxDriverEntry (springbones.h), keeps its
-// last good pose.
+// general path needs the matrices. This reads a frame once: a driver with a non-finite entry, or
+// one beyond kMaxDriverEntry (springbones.h), keeps its last good pose, and the similarity test
+// and decomposition run branch-free over structure-of-arrays, four drivers per SIMD vector in
+// WebAssembly (same bits as scalar code).
 #pragma once
 
 #include <cmath>
