@@ -694,6 +694,7 @@ function checkVec3(what, value) {
   if (!(Array.isArray(value) || ArrayBuffer.isView(value)) || value.length !== 3) {
     throw new TypeError(`${what} must be an array of 3 numbers`);
   }
+  if (Array.isArray(value)) checkDenseArray(what, value);  // a hole is a TypeError that says so
   const out = Array.from(value);
   for (const v of out) {
     if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);

@@ -48,11 +48,12 @@ describe('sparse arrays are TypeErrors, like undefined entries', () => {
   });
 
   test('vectors with a hole (offset, tail, normal, wind direction)', () => {
-    refuses(TypeError, /offset/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ ...sphere, offset: sparse([0, 0, 0]) }] }));
-    refuses(TypeError, /tail/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ ...sphere, tail: sparse([0, 0, 0]) }] }));
-    refuses(TypeError, /normal/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ node: 'Avatar_Head', shape: 'plane', normal: sparse([0, 0, 1]) }] }));
+    refuses(TypeError, /offset\[1\] is a hole/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ ...sphere, offset: sparse([0, 0, 0]) }] }));
+    refuses(TypeError, /tail\[1\] is a hole/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ ...sphere, tail: sparse([0, 0, 0]) }] }));
+    refuses(TypeError, /normal\[1\] is a hole/, () => sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ node: 'Avatar_Head', shape: 'plane', normal: sparse([0, 0, 1]) }] }));
     const instance = sb.loadRig(glb, springBones, { contentHash: hash }).createInstance();
-    refuses(TypeError, /direction/, () => instance.setWind({ direction: sparse([1, 0, 0]), strength: 1 }));
+    refuses(TypeError, /direction\[1\] is a hole/, () => instance.setWind({ direction: sparse([1, 0, 0]), strength: 1 }));
+    refuses(TypeError, /direction\[2\] is undefined/, () => instance.setWind({ direction: [1, 0, undefined], strength: 1 }));
   });
 
   test('holes anywhere in springBones, an entity or params (JSON would write null)', () => {
