@@ -7,7 +7,7 @@
 // beside the runtime module's. The tools hold no handles: every call is a pure function of its
 // arguments, and the same argument checks and errors as the runtime API's.
 
-import { checkNonEmptyString, kHashOptions, optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
+import { checkNonEmptyString, checkWellFormed, kHashOptions, optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
 import { call, takeError } from './errors.js';
 import { instantiateModule } from './module_loader.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
@@ -51,12 +51,12 @@ class CreatorTools {
     let text;
     let marker = '';
     if (typeof entity === 'string') {
-      text = entity;
+      text = checkWellFormed('validateSpringBones: entity', entity);
     } else if (entity !== null && typeof entity === 'object') {
       // JSON has no NaN/Infinity; they go across as marked strings the core turns back into numbers.
       marker = nonFiniteMarker();
-      text = stringifyArgument('validateSpringBones: entity', entity, (_key, value) =>
-        typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value);
+      text = stringifyArgument('validateSpringBones: entity', entity, { replacer: (_key, value) =>
+        typeof value === 'number' && !Number.isFinite(value) ? marker + String(value) : value });
     } else {
       throw new TypeError('validateSpringBones: entity must be an object or JSON text');
     }
@@ -98,15 +98,21 @@ class CreatorTools {
    * The inputs are not modified.
    */
   setSpringBoneParams(springBones, entity, bodyShape, nodeName, params) {
-    const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true);
-    const entityText = toJsonText('setSpringBoneParams: entity', entity, false);
+    // JSON would turn NaN or Infinity into null, which means something else in springBones
+    // (center: null is world space), and a typed array into an object of its indices: every
+    // object argument refuses them at any depth, in what a toJSON returns too.
+    const metadataText = toJsonText('setSpringBoneParams: springBones', springBones, true, { finite: true });
+    const entityText = toJsonText('setSpringBoneParams: entity', entity, false, { finite: true });
     checkNonEmptyString('setSpringBoneParams: bodyShape', bodyShape);
     checkNonEmptyString('setSpringBoneParams: nodeName', nodeName);
-    if (params !== null && (typeof params !== 'object' || Array.isArray(params))) {
+    if (params !== null && (typeof params !== 'object' || Array.isArray(params) || ArrayBuffer.isView(params))) {
       throw new TypeError('setSpringBoneParams: params must be an object, or null to remove the entry');
     }
-    if (params !== null) checkFiniteParams(params);
-    const paramsText = stringifyArgument('setSpringBoneParams: params', params);
+    const paramsText = stringifyArgument('setSpringBoneParams: params', params, { finite: true });
+    if (params !== null && !(typeof paramsText === 'string' && paramsText.startsWith('{'))) {
+      // A toJSON that returned no object (null would remove the entry).
+      throw new TypeError(`setSpringBoneParams: params must be an object, or null to remove the entry; its toJSON() gave ${paramsText}`);
+    }
     const m = this.#m;
     const strings = [metadataText, entityText, bodyShape, nodeName, paramsText];
     const result = call(() => withRoomForStrings(m, strings, () => m.setSpringBoneParams(...strings)));
@@ -118,19 +124,6 @@ class CreatorTools {
   stats() {
     const s = JSON.parse(this.#m.stats());
     return { heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse };
-  }
-}
-
-// JSON would turn NaN or Infinity into null, which means something else in springBones
-// (center: null is world space): refuse them instead.
-function checkFiniteParams(params) {
-  for (const [key, value] of Object.entries(params)) {
-    const values = Array.isArray(value) ? value : [value];
-    for (const v of values) {
-      if (typeof v === 'number' && !Number.isFinite(v)) {
-        throw new RangeError(`setSpringBoneParams: params.${key} must be finite, got ${v}`);
-      }
-    }
   }
 }
 

@@ -9,6 +9,7 @@
 // sb.creatorTools() fetches their module as in springbones (or takes its options).
 import { createSpringBones as createFromModule, SpringBonesError } from './springbones.js';
 import { runtimeWasmBase64 } from './dist/springbones_wasm_base64.js';
+import { kBinarySource, loadFailed } from './module_loader.js';
 
 export { SpringBonesError };
 
@@ -17,7 +18,15 @@ export function createSpringBones(options = {}) {
   const givesModule = options !== null && typeof options === 'object' &&
       (options.wasm !== undefined || options.wasmBinary !== undefined || options.wasmUrl !== undefined);
   if (givesModule || options === null || typeof options !== 'object') return createFromModule(options);
-  return createFromModule({ ...options, wasmBinary: decodeBase64(runtimeWasmBase64) });
+  // Load errors name the inlined module, not a wasmBinary option the caller did not give.
+  const source = 'the inline module (springbones/inline, dist/springbones_wasm_base64.js)';
+  let wasmBinary;
+  try {
+    wasmBinary = decodeBase64(runtimeWasmBase64);
+  } catch (cause) {
+    return Promise.reject(loadFailed(source, cause));
+  }
+  return createFromModule({ ...options, wasmBinary, [kBinarySource]: source });
 }
 
 function decodeBase64(text) {

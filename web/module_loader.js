@@ -9,6 +9,22 @@
 import { checkKeys } from './arguments.js';
 import { SpringBonesError, withCause } from './errors.js';
 
+/**
+ * A key of createSpringBones's options, for the entries that supply the module themselves
+ * (inline.js): what a load error calls `wasmBinary` (e.g. 'the inline module'). A symbol, so that
+ * it is no option a caller can give or misspell (checkKeys sees string keys only).
+ */
+export const kBinarySource = Symbol('springbones.binarySource');
+
+// What each instantiated module was read from (its Module object -> a description), for errors
+// after instantiation (createSpringBones reading the module's limits).
+const sources = new WeakMap();
+
+/** What `module` (an instantiateModule result) was read from, as load errors name it. */
+export function moduleSource(module) {
+  return sources.get(module) ?? 'the WebAssembly module';
+}
+
 export const kIsNode =
   typeof process === 'object' && process !== null && typeof process.versions === 'object' &&
   process.versions !== null && typeof process.versions.node === 'string';
@@ -49,7 +65,11 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
         `with scripts/build wasm (${cause?.message ?? cause})`), cause);
   }
 
-  const loading = { source: wasm !== undefined ? 'the wasm option' : url.href };  // for the error
+  // What is read, for the error: the option that gave the module, or the URL fetched or read.
+  const loading = {
+    source: wasm !== undefined ? 'the wasm option'
+      : wasmBinary !== undefined ? (options[kBinarySource] ?? 'the wasmBinary option') : url.href,
+  };
   const moduleOptions = {};
   try {
     // The glue waits for the instance forever if instantiateWasm fails: the race reports it.
@@ -70,7 +90,9 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
     } else {
       moduleOptions.locateFile = () => url.href;
     }
-    return await Promise.race([factory(moduleOptions), instantiationFailed]);
+    const module = await Promise.race([factory(moduleOptions), instantiationFailed]);
+    sources.set(module, loading.source);
+    return module;
   } catch (cause) {
     throw loadFailed(loading.source, cause);
   }

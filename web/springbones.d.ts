@@ -2,7 +2,10 @@
 //
 // Errors: bad argument types throw TypeError, out-of-range values (non-finite dt, stepHz outside
 // [1, 1000], ...) throw RangeError, both before anything reaches WebAssembly. Everything else is
-// a SpringBonesError. After any error the module keeps working.
+// a SpringBonesError. After any error the module keeps working. In every argument, a hole or an
+// undefined element in an array (at any depth of an object that crosses as JSON) and a typed
+// array inside such an object are a TypeError; a string with a lone surrogate (a name, a hash, a
+// key or value inside an object, JSON text) is a RangeError: it has no UTF-8 form.
 
 /** Error codes of SpringBonesError. Codes from the core are listed first. */
 export type SpringBonesErrorCode =
@@ -44,8 +47,9 @@ export interface CreateOptions {
    * streams when served as application/wasm), a WebAssembly.Module, or a promise of either, e.g.
    * `createSpringBones({ wasm: fetch(moduleUrl) })` with `moduleUrl` the URL of
    * dist/springbones_wasm.wasm (the package's `springbones/wasm` export). A failed download or
-   * compile rejects with SpringBonesError 'module-load-failed'. At most one of wasm, wasmBinary
-   * and wasmUrl.
+   * compile rejects with SpringBonesError 'module-load-failed', whose message names what was read
+   * (the wasm option or the Response's URL, the wasmBinary option, the inline module, or the URL
+   * fetched). At most one of wasm, wasmBinary and wasmUrl.
    */
   wasm?: Response | WebAssembly.Module | PromiseLike<Response | WebAssembly.Module>;
   /** The .wasm bytes, when the caller has them (bundlers, service workers, tests). */
@@ -111,11 +115,12 @@ export interface ColliderOptions {
   shape?: 'sphere' | 'capsule' | 'plane';
   /** Sphere centre / capsule start / a point of the plane, finite. Default [0, 0, 0]. */
   offset?: readonly [number, number, number] | Float32Array | Float64Array;
-  /** Sphere and capsule (required for them): finite, >= 0, in the node's space (scaled with it). */
+  /** Sphere and capsule (required for them): finite, >= 0, in the node's space (scaled with it).
+   *  A radius, offset or tail component beyond 1e6 leaves the collider out (warning `collider-invalid`). */
   radius?: number;
   /** Capsule end, finite. Default [0, 0, 0]. */
   tail?: readonly [number, number, number] | Float32Array | Float64Array;
-  /** Plane: the side joints are kept on, finite, not [0, 0, 0] (made unit). Default [0, 0, 1]. */
+  /** Plane: the side joints are kept on, finite, not [0, 0, 0] (made unit, whatever its size). Default [0, 0, 1]. */
   normal?: readonly [number, number, number] | Float32Array | Float64Array;
   /** Sphere and capsule: keep the joints' tails inside the shape (radius - hitRadius from its
    *  centre or axis) instead of outside it. Default false. */
@@ -134,7 +139,8 @@ export type ColliderPreset = 'dcl-body';
 export type LoadOptions = HashOptions & {
   /** Colliders every joint collides with (none by default), or a preset's name. The GLB is not touched. */
   colliders?: readonly ColliderOptions[] | ColliderPreset;
-  /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0. */
+  /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0.
+   *  Beyond 1e6 it is clamped there, with the rig warning `hit-radius-out-of-range`. */
   hitRadius?: number;
   /** Default jumpDistance of the rig's instances (InstanceOptions; createInstance's overrides it). */
   jumpDistance?: number;
@@ -260,7 +266,9 @@ export interface CreatorTools {
    * main file hash of bodyShape's representation: one entry for a GLB both body shapes share.
    * Entries under hashes no representation uses are dropped; version becomes 1. The inputs and
    * the GLB are not modified.
-   * @throws RangeError for non-finite numbers in params; SpringBonesError 'invalid-argument' for a
+   * @throws RangeError for non-finite numbers at any depth of springBones, entity or params (as
+   * their toJSON() give them too), or a lone surrogate in any string; TypeError for a typed array,
+   * a hole or an undefined element in an array at any depth; SpringBonesError 'invalid-argument' for a
    * node name without "springbone", an unknown body shape, or params nested more than 64 levels
    */
   setSpringBoneParams(springBones: SpringBonesData | object | string | null | undefined, entity: object | string,
@@ -398,7 +406,7 @@ export interface Rig {
  * gives the same motion.
  */
 export interface WindOptions {
-  /** World direction, 3 finite numbers, normalized; not all zero unless strength is 0. */
+  /** World direction, 3 finite numbers of any size (made unit); not all zero unless strength is 0. */
   direction: readonly [number, number, number] | Float32Array | Float64Array;
   /** World units per second, as gravityPower, in [0, 10]. */
   strength: number;
@@ -497,7 +505,7 @@ export interface Scene {
   /**
    * Simulate only the maxActive instances nearest to the viewer; the others hold their last pose
    * and restart from rest when they come back. maxActive null or Infinity: no budget (the default).
-   * @throws RangeError for a negative or fractional maxActive or non-finite coordinates
+   * @throws RangeError for a negative or fractional maxActive, or coordinates not finite as float32
    */
   setBudget(maxActive: number | null, viewerX?: number, viewerY?: number, viewerZ?: number): void;
   /** Wind on every instance in the scene and on each one added later; null for none. */

@@ -15,9 +15,9 @@
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
-import { checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes } from './arguments.js';
+import { checkDenseArray, checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes } from './arguments.js';
 import { SpringBonesError, call, takeError, withCause } from './errors.js';
-import { instantiateModule, kIsNode, loadFailed } from './module_loader.js';
+import { instantiateModule, kIsNode, loadFailed, moduleSource } from './module_loader.js';
 import { encodeGltf, encodeTyped } from './typed_value.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
@@ -49,7 +49,7 @@ export async function createSpringBones(options = {}) {
     // use them, so the JS API never types a limit of its own.
     limits = deepFreeze(JSON.parse(module.limitsJson()));
   } catch (cause) {
-    throw loadFailed(kModuleUrl.href, cause);
+    throw loadFailed(moduleSource(module), cause);
   }
   const sb = new SpringBones(module, limits, readers);
   if (readers !== undefined) await sb.readers().catch(() => {});
@@ -561,10 +561,11 @@ class Scene {
     if (maxActive !== null && maxActive !== Infinity) {
       max = checkInteger('setBudget: maxActive', maxActive, 0, 0x7fffffff);
     }
-    // Checked one by one, not through an array of pairs: pages call this every frame.
-    checkFinite('setBudget: viewerX', viewerX);
-    checkFinite('setBudget: viewerY', viewerY);
-    checkFinite('setBudget: viewerZ', viewerZ);
+    // Checked one by one, not through an array of pairs: pages call this every frame. They cross
+    // as float32, where a larger value is infinite and the core would ignore the viewer.
+    checkFloat32('setBudget: viewerX', viewerX);
+    checkFloat32('setBudget: viewerY', viewerY);
+    checkFloat32('setBudget: viewerZ', viewerZ);
     this.#m.sceneSetBudget(handle, max, viewerX, viewerY, viewerZ);
   }
 
@@ -706,7 +707,7 @@ function typedRigOptions(options) {
     out.preset = colliders;
   } else if (colliders !== undefined) {
     if (!Array.isArray(colliders)) throw new TypeError(`loadRig: colliders must be an array or '${kColliderPresets[0]}'`);
-    out.colliders = colliders.map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
+    out.colliders = checkDenseArray('loadRig: colliders', colliders).map((c, i) => colliderJson(`loadRig: colliders[${i}]`, c));
   }
   return encodeTyped('loadRig: options', out);
 }
@@ -732,8 +733,9 @@ function colliderJson(where, c) {
   only('inside', ['sphere', 'capsule']);
   const collider = { node: c.node, offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset) };
   if (shape === 'plane') {
-    collider.normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
-    if (collider.normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);
+    const normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
+    if (normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);
+    collider.normal = scaledDirection(normal);
     return collider;
   }
   collider.radius = checkNonNegative(`${where}.radius`, c.radius);
@@ -761,10 +763,11 @@ function windArguments(where, wind, limits) {
   const gustFrequency = wind.gustFrequency === undefined
     ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, 0, limits.maxGustFrequency);
   const seed = wind.seed === undefined ? 0 : checkInteger(`${where}: wind.seed`, wind.seed, 0, 0xffffffff);
-  if (strength > 0 && direction.every((v) => v === 0)) {
-    throw new RangeError(`${where}: wind.direction must not be zero`);
+  if (direction.every((v) => v === 0)) {
+    if (strength > 0) throw new RangeError(`${where}: wind.direction must not be zero`);
+    return [1, 0, 0, strength, gustFrequency, seed];
   }
-  return [...direction, strength, gustFrequency, seed];
+  return [...scaledDirection(direction), strength, gustFrequency, seed];
 }
 
 function checkRange(what, value, min, max) {
@@ -779,6 +782,13 @@ function checkFinite(what, value) {
   return value;
 }
 
+// A finite number that is finite as float32 too (|value| below 2^128 less half a float32 step).
+function checkFloat32(what, value) {
+  checkFinite(what, value);
+  if (!Number.isFinite(Math.fround(value))) throw new RangeError(`${what} must be within float32's range (about ±3.4e38), got ${value}`);
+  return value;
+}
+
 function checkOneOf(what, value, choices) {
   if (typeof value !== 'string') throw new TypeError(`${what} must be a string`);
   if (!choices.includes(value)) throw new RangeError(`${what} must be one of ${choices.join(', ')}, got '${value}'`);
@@ -789,12 +799,24 @@ function checkVec3(what, value) {
   if (!(Array.isArray(value) || ArrayBuffer.isView(value)) || value.length !== 3) {
     throw new TypeError(`${what} must be an array of 3 numbers`);
   }
+  if (Array.isArray(value)) checkDenseArray(what, value);  // a hole is a TypeError that says so
   const out = Array.from(value);
   for (const v of out) {
     if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);
     checkFinite(what, v);
   }
   return out;
+}
+
+// A direction (3 finite numbers, not all 0) as it crosses, as float32: one whose largest
+// component is beyond float32's normal range ([1e39, 0, 0] would be infinite there, [1e-46, 0, 0]
+// zero) is divided by that component's size first, in double precision. The core makes it unit,
+// scaled alike first, so [1e20, 0, 0] or [1e-25, 0, 0] do not overflow or underflow there either.
+// Others cross unchanged, so that native and JavaScript callers giving the same direction get
+// the same bits.
+function scaledDirection(v) {
+  const largest = Math.max(Math.abs(v[0]), Math.abs(v[1]), Math.abs(v[2]));
+  return largest >= 2 ** -126 && largest < 2 ** 127 ? v : v.map((c) => c / largest);
 }
 
 function checkNonNegative(what, value) {

@@ -182,10 +182,25 @@ enum class ColliderPreset {
   kDclBody,
 };
 
+/// The largest entry of a driver matrix an instance takes (Instance::driverMatrices): a matrix with
+/// a larger (or non-finite) entry is ignored for the frame, and the driver keeps its last good
+/// pose. 10^12 world units, or a scale of 10^12: far beyond any scene, and small enough that the
+/// squares, products and determinants the step takes of it stay finite in float, so that every
+/// world matrix does.
+inline constexpr float kMaxDriverEntry = 1e12f;
+
+/// The largest hitRadius a rig takes (world units): beyond it (or infinite) it is clamped, NaN or
+/// below 0 is 0, each with the warning `hit-radius-out-of-range`. Far beyond any avatar, and
+/// small enough that the squared distances it makes stay finite in float.
+inline constexpr float kMaxHitRadius = 1e6f;
+/// The largest collider radius and offset or tail component (the node's units) a rig takes: a
+/// collider beyond it is ignored with `collider-invalid`, as a non-finite one is.
+inline constexpr float kMaxColliderSize = 1e6f;
+
 struct RigOptions {
   std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
   ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
-  float hit_radius = 0.0f;              ///< joint radius against them, world units, >= 0
+  float hit_radius = 0.0f;              ///< joint radius against them, world units, in [0, kMaxHitRadius]
 };
 
 class SpringLanes;  // the simulation's lane pool (src/simulation/spring_lanes.h)
@@ -282,6 +297,8 @@ class Instance {
   Instance& operator=(const Instance&) = delete;
 
   /// Column-major 4x4 world matrices, 16 floats per driver, written by the caller before step().
+  /// A matrix with an entry that is not a number within ±kMaxDriverEntry is ignored for the frame:
+  /// the driver keeps its last good pose (its rest pose before any).
   float* driverMatrices();
   std::size_t driverCount() const;
   /// Local rotations (x, y, z, w), 4 floats per joint, valid after construction (rest pose).
@@ -374,7 +391,7 @@ class Scene {
   std::vector<Instance*> members_;
   std::vector<float> positions_;
   std::vector<unsigned char> active_;
-  std::vector<std::pair<float, std::size_t>> by_distance_;  // scratch, kept to avoid allocation
+  std::vector<std::pair<double, std::size_t>> by_distance_;  // scratch, kept to avoid allocation
   std::vector<Instance*> stepping_;                          // scratch: this step's instances
   int max_active_ = -1;
   Vec3 viewer_;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -23,6 +24,13 @@ namespace springbones {
 namespace {
 
 constexpr float kMinBoneLength = 1e-6f;  // shorter bones have no direction to simulate
+
+// A number for a warning: 7 significant digits, 1e+30 rather than 31 digits.
+std::string formatNumber(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", static_cast<double>(v));
+  return text;
+}
 
 
 
@@ -323,8 +331,8 @@ class RigBuilder {
   // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
   // driver (the avatar's bone, supplied by the caller). Every joint collides with all of them.
   void addColliders() {
+    const float hit_radius = hitRadius();
     if ((options_.colliders.empty() && options_.preset == ColliderPreset::kNone) || rig_->joints.empty()) return;
-    const float hit_radius = std::isfinite(options_.hit_radius) ? std::max(0.0f, options_.hit_radius) : 0.0f;
     // A preset's shapes first, then the caller's.
     const std::vector<ColliderSpec>* specs = &options_.colliders;
     std::vector<ColliderSpec> with_preset;
@@ -340,6 +348,16 @@ class RigBuilder {
                           std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
+        continue;
+      }
+      // Sizes beyond the limit would make squared distances overflow in float, and the collider
+      // would then move nothing: refused alike, not left to do nothing silently.
+      const auto beyond = [](const Vec3& v) {
+        return std::fabs(v.x) > kMaxColliderSize || std::fabs(v.y) > kMaxColliderSize || std::fabs(v.z) > kMaxColliderSize;
+      };
+      if (spec.radius > kMaxColliderSize || beyond(spec.offset) || (spec.shape == Collider::Shape::kCapsule && beyond(spec.tail))) {
+        warn("collider-invalid", "collider on '" + spec.node + "' has a radius, offset or tail beyond " +
+                                     formatNumber(kMaxColliderSize) + " (the node's units); ignored");
         continue;
       }
       glm::vec3 normal = toGlm(spec.normal);
@@ -373,6 +391,17 @@ class RigBuilder {
       joint.hit_radius = hit_radius;
       for (std::size_t c = 0; c < rig_->colliders.size(); ++c) joint.colliders.push_back(static_cast<int>(c));
     }
+  }
+
+  // The hitRadius option as used: in [0, kMaxHitRadius], with a warning when it was not (a
+  // non-finite or huge one made the core skip every collider, silently, before).
+  float hitRadius() {
+    const float given = options_.hit_radius;
+    if (given >= 0.0f && given <= kMaxHitRadius) return given;
+    const float used = given > kMaxHitRadius ? kMaxHitRadius : 0.0f;  // NaN and negatives: 0
+    warn("hit-radius-out-of-range", "hitRadius " + formatNumber(given) + " is outside [0, " +
+                                        formatNumber(kMaxHitRadius) + "] world units; using " + formatNumber(used));
+    return used;
   }
 
   const ModelEntry& model_;

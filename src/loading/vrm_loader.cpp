@@ -63,6 +63,13 @@ bool readFloat(const json& value, float& out) {
   return true;
 }
 
+bool exceedsColliderSize(const ColliderShape& c) {
+  const auto beyond = [](const Vec3& v) {
+    return std::fabs(v.x) > kMaxColliderSize || std::fabs(v.y) > kMaxColliderSize || std::fabs(v.z) > kMaxColliderSize;
+  };
+  return c.radius > kMaxColliderSize || beyond(c.offset) || beyond(c.tail);
+}
+
 bool readIndex(const json& value, std::size_t count, int& out) {
   if (value.is_number_unsigned()) {
     const auto v = value.get<std::uint64_t>();
@@ -589,7 +596,7 @@ class VrmRigBuilder {
       }
       setGravity(sim.params, dir, power, joint_path);
       sim.params.drag = readParam(joint, "dragForce", kDefaultDrag, 0.0f, 1.0f, joint_path);
-      sim.hit_radius = readParam(joint, "hitRadius", kDefaultHitRadius, 0.0f, kUnbounded, joint_path);
+      sim.hit_radius = readParam(joint, "hitRadius", kDefaultHitRadius, 0.0f, kMaxHitRadius, joint_path);
       claim(head, std::move(sim));
     }
   }
@@ -692,7 +699,7 @@ class VrmRigBuilder {
     }
     setGravity(params, dir, power, path);
     params.drag = readParam(group, "dragForce", kDefaultDrag, 0.0f, 1.0f, path);
-    const float hit_radius = readParam(group, "hitRadius", kDefaultHitRadius, 0.0f, kUnbounded, path);
+    const float hit_radius = readParam(group, "hitRadius", kDefaultHitRadius, 0.0f, kMaxHitRadius, path);
     const int spring_index = static_cast<int>(springs_.size());
     springs_.push_back(std::move(spring));
 
@@ -888,6 +895,13 @@ class VrmRigBuilder {
       if (!used[id] || !c.valid) continue;
       if (under_joint_[c.node]) {
         warn("collider-on-spring-bone", "collider on " + nodeLabel(c.node) + " moves with a spring joint; ignored", c.path);
+        continue;
+      }
+      // Beyond it the squared distances overflow in float and the collider would move nothing
+      // (the bound of loadRig's colliders, kMaxColliderSize).
+      if (exceedsColliderSize(c)) {
+        warn("vrm-collider-invalid", "collider on " + nodeLabel(c.node) +
+                                         " has a radius, offset or tail beyond 1e6 (the node's units); ignored", c.path);
         continue;
       }
       Collider collider;

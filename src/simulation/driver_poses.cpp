@@ -88,11 +88,11 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
 #pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
 #endif
   for (std::size_t d = 0; d < padded; ++d) {
-    // x - x is 0 for a finite x and NaN for an infinity or a NaN: the sum is 0 exactly when every
-    // entry is finite (summed as a tree, not as a chain of 16 dependent additions).
-    float level[8];
-    for (std::size_t i = 0; i < 8; ++i) level[i] = (e[2 * i][d] - e[2 * i][d]) + (e[2 * i + 1][d] - e[2 * i + 1][d]);
-    const bool is_finite = ((level[0] + level[1]) + (level[2] + level[3])) + ((level[4] + level[5]) + (level[6] + level[7])) == 0.0f;
+    // Usable: every entry within ±kMaxDriverEntry (a NaN fails the comparison too). Beyond it the
+    // products and squares the steps take of a driver (its axes' lengths, a bone's world offset,
+    // a determinant) overflow float, and a world matrix would come out infinite.
+    bool is_finite = true;
+    for (std::size_t k = 0; k < 16; ++k) is_finite = is_finite & (std::fabs(e[k][d]) <= kMaxDriverEntry);
     // Mij: row i, column j (column-major entries: x, y, z are the columns).
     const float m00 = e[0][d], m10 = e[1][d], m20 = e[2][d];
     const float m01 = e[4][d], m11 = e[5][d], m21 = e[6][d];
@@ -141,7 +141,8 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
     finite[d] = is_finite ? 1 : 0;
     any_non_finite |= is_finite ? 0 : 1;
   }
-  // A matrix with a non-finite entry is ignored: the driver keeps its last good pose.
+  // A matrix with a non-finite entry, or one beyond kMaxDriverEntry, is ignored: the driver keeps
+  // its last good pose.
   if (any_non_finite) {
     for (std::size_t d = 0; d < count_; ++d) {
       if (finite[d]) continue;

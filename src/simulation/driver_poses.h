@@ -2,9 +2,10 @@
 //
 // Every avatar's drivers (chain-root parents, centers, collider nodes) arrive as world matrices
 // each frame. The lane path needs them as similarities (position, rotation, uniform scale); the
-// general path needs the matrices. This reads a frame once: a driver with a non-finite entry
-// keeps its last good pose, and the similarity test and decomposition run branch-free over
-// structure-of-arrays, four drivers per SIMD vector in WebAssembly (same bits as scalar code).
+// general path needs the matrices. This reads a frame once: a driver with a non-finite entry, or
+// one beyond kMaxDriverEntry (springbones.h), keeps its last good pose, and the similarity test
+// and decomposition run branch-free over structure-of-arrays, four drivers per SIMD vector in
+// WebAssembly (same bits as scalar code).
 #pragma once
 
 #include <cmath>
@@ -45,8 +46,9 @@ class DriverPoses {
   void resize(std::size_t drivers);
   std::size_t size() const { return count_; }
 
-  /// Reads `input` (column-major 4x4, 16 floats per driver). A matrix with a non-finite entry is
-  /// replaced by `previous`'s pose of that driver (its last good one).
+  /// Reads `input` (column-major 4x4, 16 floats per driver). A matrix with an entry that is not
+  /// a number within ±kMaxDriverEntry is replaced by `previous`'s pose of that driver (its last
+  /// good one).
   void read(const float* input, const DriverPoses& previous);
 
   /// Whether every driver is a similarity (a positive uniform scale, orthogonal axes, no

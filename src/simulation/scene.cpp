@@ -61,13 +61,15 @@ void Scene::step(double dt) {
     Instance::stepAll(stepping_.data(), stepping_.size(), dt);
     return;
   }
-  // Nearest first; an avatar at a non-finite position sorts last.
+  // Nearest first; an avatar at a non-finite position sorts last. Squared distances in double:
+  // in float they overflow beyond 1.8e19 and underflow below 1e-19, and every such avatar would
+  // tie with the others.
   by_distance_.clear();
-  const glm::vec3 viewer = toGlm(viewer_);
+  const glm::dvec3 viewer(toGlm(viewer_));
   for (std::size_t i = 0; i < count; ++i) {
-    const glm::vec3 p(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
-    const glm::vec3 to_viewer = p - viewer;
-    float d = glm::dot(to_viewer, to_viewer);
+    const glm::dvec3 p(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
+    const glm::dvec3 to_viewer = p - viewer;
+    double d = glm::dot(to_viewer, to_viewer);
     if (!std::isfinite(d)) d = INFINITY;
     by_distance_.emplace_back(d, i);
   }

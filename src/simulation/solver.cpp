@@ -506,10 +506,9 @@ void Instance::setWind(const Wind& wind) {
   w = wind;
   w.strength = std::isnan(wind.strength) ? 0.0f : std::clamp(wind.strength, 0.0f, kMaxWindStrength);
   w.gust_frequency = std::isnan(wind.gust_frequency) ? 0.0f : std::clamp(wind.gust_frequency, 0.0f, kMaxGustFrequency);
-  const float length = glm::length(toGlm(wind.direction));
-  if (length > 0.0f && std::isfinite(length)) {
-    w.direction = fromGlm(toGlm(wind.direction) / length);
-  } else {
+  // Made unit in double, largest component first: a float length would overflow for (1e20, 0, 0)
+  // and underflow for (1e-25, 0, 0), silently leaving no wind.
+  if (!unitDirection(wind.direction, w.direction)) {
     w.direction = Vec3{1.0f, 0.0f, 0.0f};
     w.strength = 0.0f;
   }

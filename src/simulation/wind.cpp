@@ -49,4 +49,15 @@ glm::vec3 windAt(const Wind& wind, double time) {
   return d * static_cast<float>(static_cast<double>(wind.strength) * gust);
 }
 
+bool unitDirection(const Vec3& direction, Vec3& out) {
+  double v[3] = {direction.x, direction.y, direction.z};
+  const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+  if (!(largest > 0.0) || !std::isfinite(largest)) return false;  // NaN fails the first test
+  for (double& c : v) c /= largest;
+  // sqrt is correctly rounded in IEEE arithmetic: the same bits natively and in WebAssembly.
+  const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  out = Vec3{static_cast<float>(v[0] / length), static_cast<float>(v[1] / length), static_cast<float>(v[2] / length)};
+  return true;
+}
+
 }  // namespace springbones

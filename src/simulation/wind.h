@@ -10,4 +10,9 @@ namespace springbones {
 /// Arithmetic only (no libm), so native and WebAssembly builds agree to the bit.
 glm::vec3 windAt(const Wind& wind, double time);
 
+/// `direction` made unit, in double precision and scaled by its largest component first, so that
+/// a finite direction whose float squared length overflows ((1e20, 0, 0)) or underflows
+/// ((1e-25, 0, 0)) keeps it. False (and `out` untouched) for a zero or non-finite one.
+bool unitDirection(const Vec3& direction, Vec3& out);
+
 }  // namespace springbones

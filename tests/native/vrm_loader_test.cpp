@@ -520,7 +520,8 @@ TEST(VrmLoader, MissingParametersGetTheSpecDefaults) {
 TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
   json j0 = {{"node", 2}, {"stiffness", -1}, {"gravityPower", "heavy"}, {"dragForce", 1.5}, {"hitRadius", 1e300},
              {"gravityDir", {0, 0, 0}}};
-  json j1 = {{"node", 3}, {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}}, {"dragForce", -0.5}};
+  json j1 = {{"node", 3}, {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}}, {"dragForce", -0.5},
+             {"hitRadius", 1e30}};
   const std::string p = "/extensions/VRMC_springBone/springs/0/joints/";
   auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", {j0, j1, {{"node", 4}}}}}})));
   expectRigInvariants(*rig);
@@ -541,6 +542,9 @@ TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
   EXPECT_EQ(b.params.gravity_power, 2.0f);
   EXPECT_EQ(b.params.drag, 0.0f);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-param-invalid", p + "1/gravityDir"), nullptr);
+  // hitRadius is bounded like every rig's (kMaxHitRadius): beyond it a collider would move nothing.
+  EXPECT_EQ(b.hit_radius, kMaxHitRadius);
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-param-clamped", p + "1/hitRadius"), nullptr);
   // Zero direction with a power: no gravity, with a warning.
   json j2 = {{"node", 2}, {"gravityPower", 1}, {"gravityDir", {0, 0, 0}}};
   auto zero = mustLoad(chainNodes(), vrmc(json::array({{{"joints", {j2, {{"node", 3}}}}}})));
@@ -619,6 +623,30 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "springs/0/colliderGroups/3"), nullptr);
   // Root and Head are drivers (Head: parent of A and collider node), nothing for collider 7.
   EXPECT_EQ(rig->drivers.size(), 2u);
+}
+
+// Sizes beyond kMaxColliderSize (1e6) would make the squared distances overflow in float and the
+// collider move nothing: left out with a warning, as for loadRig's colliders.
+TEST(VrmLoader, CollidersBeyondTheSizeLimitAreIgnoredWithAWarning) {
+  json colliders = json::array({
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 1e30}}}}}},                      // 0 radius
+      {{"node", 1}, {"shape", {{"capsule", {{"radius", 0.05}, {"tail", {0, -1e7, 0}}}}}}},                      // 1 tail
+      {{"node", 1},
+       {"shape", {{"sphere", {{"radius", 0.02}}}}},
+       {"extensions", {{"VRMC_springBone_extended_collider",
+                        {{"specVersion", "1.0"}, {"shape", {{"plane", {{"offset", {3e38, 0, 0}}}}}}}}}}},           // 2 plane offset
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {kMaxColliderSize, 0, 0}}, {"radius", kMaxColliderSize}}}}}},  // 3 at the limit
+  });
+  json groups = json::array({{{"colliders", {0, 1, 2, 3}}}});
+  json springs = json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}});
+  auto rig = mustLoad(chainNodes(), vrmc(springs, colliders, groups));
+  expectRigInvariants(*rig);
+  ASSERT_EQ(rig->colliders.size(), 1u) << describeWarnings(rig->warnings);
+  EXPECT_EQ(rig->colliders[0].radius, kMaxColliderSize);
+  const std::string p = "/extensions/VRMC_springBone/colliders/";
+  for (int c : {0, 1, 2}) {
+    EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + std::to_string(c)), nullptr) << c;
+  }
 }
 
 // VRMC_springBone_extended_collider: a readable shape of a known version replaces the base

@@ -225,10 +225,14 @@ describe('names', () => {
       });
   });
 
-  test('a lone surrogate in metadata is a TypeError that says where (typed input carries UTF-8 only)', () => {
-    const refused = (e) => e instanceof TypeError && /"springbone_\\ud800" has a lone surrogate/.test(e.message);
+  test('a lone surrogate in metadata is a RangeError that says where, as an object, as text or spelled as an escape', () => {
+    const before = sb.stats().heapInUse;
+    const refused = (e) => e instanceof RangeError && /"springbone_\\ud800" has a lone surrogate/.test(e.message);
     assert.throws(() => sb.loadRig(hairGlb, { version: 1, models: { [kHash]: { 'springbone_\ud800': {} } } }, { contentHash: kHash }), refused);
     assert.throws(() => sb.loadRig(hairGlb, `{"version":1,"models":{"${kHash}":{"springbone_\ud800":{}}}}`, { contentHash: kHash }), refused);
+    // JSON text may spell it as an escape: JSON.parse gives the same lone surrogate, refused alike.
+    assert.throws(() => sb.loadRig(hairGlb, `{"version":1,"models":{"${kHash}":{"springbone_\\ud800":{}}}}`, { contentHash: kHash }), refused);
+    assert.equal(sb.stats().heapInUse, before);
   });
 });
 
@@ -411,18 +415,28 @@ describe('driver matrices and frame times', () => {
   });
 
   test('extended colliders of extreme finite sizes under bad driver matrices keep rotations finite unit quaternions', () => {
-    const huge = 3e38, tiny = 1e-38;
+    // The largest sizes a rig takes (1e6, docs/semantics.md "Colliders"); beyond them a collider
+    // is left out with collider-invalid, and hitRadius is clamped with hit-radius-out-of-range.
+    const huge = 1e6, tiny = 1e-38, beyond = 3e38;
     const colliders = [
       { node: 'Avatar_Head', inside: true, offset: [huge, 0, 0], radius: huge },
       { node: 'Avatar_Head', inside: true, offset: [0, -0.1, 0], radius: 0 },
       { node: 'Avatar_Head', inside: true, offset: [0, 0, 0], tail: [0, -huge, tiny], radius: tiny },
       { node: 'Avatar_Head', shape: 'plane', offset: [0, -huge, 0], normal: [tiny, tiny, 0] },
-      { node: 'Avatar_Head', shape: 'plane', offset: [0, huge, 0], normal: [huge, huge, huge] },
+      { node: 'Avatar_Head', shape: 'plane', offset: [0, huge, 0], normal: [beyond, beyond, beyond] },
       { node: 'Avatar_Hips', shape: 'plane', normal: [0, -1, tiny] },
     ];
-    const rig = sb.loadRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)), { contentHash: kHash, colliders, hitRadius: 1e30 });
+    const leftOut = [
+      { node: 'Avatar_Head', inside: true, offset: [beyond, 0, 0], radius: beyond },
+      { node: 'Avatar_Head', inside: true, offset: [0, 0, 0], tail: [0, -beyond, tiny], radius: tiny },
+      { node: 'Avatar_Head', shape: 'plane', offset: [0, beyond, 0] },
+    ];
+    const rig = sb.loadRig(hairGlb, hairMetadata(entry(1, 1, [0, -1, 0], 0.5)),
+      { contentHash: kHash, colliders: [...colliders, ...leftOut], hitRadius: 1e30 });
     try {
       assert.equal(rig.colliders.length, colliders.length, JSON.stringify(rig.warnings));
+      assert.deepEqual(rig.warnings.map((w) => w.code).sort(),
+        ['collider-invalid', 'collider-invalid', 'collider-invalid', 'hit-radius-out-of-range']);
       for (const integrator of ['vrm', 'xpbd']) {
         const inst = rig.createInstance({ integrator });
         const rest = Float32Array.from(inst.driverMatrices);
