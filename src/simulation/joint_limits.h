@@ -1,0 +1,122 @@
+// Angle limits (VRMC_springBone_limit 1.0-draft) on the scalar paths: the general VRM path
+// (solver.cpp) and the XPBD integrator. A rig with a limited joint never takes the lane path.
+// docs/semantics.md, "Angle limits", states the rules; this is how the code holds to them:
+//  - The limit space is the joint's rest world rotation under its current parent (the rotation of
+//    parent world x rest local), then the shortest turn taking +Y onto the joint's rest bone axis
+//    (for an axis of exactly -Y, half a turn about X, as the draft requires), then the limit's own
+//    `rotation`. The fixed part after the world rotation is computed once per joint
+//    (limitFrameLocal).
+//  - A limit moves only the tail's direction: the tail stays at the bone's length from the head.
+//  - Singular directions go where the draft says: a cone's -Y to its boundary on the +Z side; a
+//    hinge's +-X to +Y, its -Y to the +Z side; a spherical limit's +-X to the +Y side of its
+//    boundary, its -Y to the +Z side. "Singular" is within sqrt(double epsilon) in squared length
+//    of the axis, three-vrm's tolerance, so the two agree on which directions snap.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/glm_interop.h"
+#include "springbones/springbones.h"
+
+namespace springbones {
+
+// three-vrm's SINGULARITY_EPSILON: sqrt of double's epsilon, compared with a squared length.
+inline constexpr float kLimitSingular = 1.4901161e-8f;
+
+/// The part of a joint's limit space that does not move: the turn taking +Y onto the rest bone
+/// axis `axis` (unit, in the joint's own space), then the limit's rotation.
+inline glm::quat limitFrameLocal(const glm::vec3& axis, const Quat& rotation) {
+  glm::quat to_axis;
+  if (axis.x == 0.0f && axis.y == -1.0f && axis.z == 0.0f) {
+    to_axis = glm::quat(0.0f, 1.0f, 0.0f, 0.0f);  // w, x, y, z: half a turn about X (the draft's rule)
+  } else {
+    // (cross(+Y, axis), 1 + dot(+Y, axis)), normalized: the shortest turn.
+    to_axis = glm::normalize(glm::quat(1.0f + axis.y, axis.z, 0.0f, -axis.x));
+  }
+  return glm::normalize(to_axis * toGlm(rotation));
+}
+
+/// The rotation of a rest world matrix's linear part: its columns made orthonormal (scale and, for a
+/// sheared parent, shear taken out), X first.
+inline glm::quat worldRotationOf(const glm::mat3& m) {
+  const glm::vec3 x = glm::normalize(m[0]);
+  const glm::vec3 y = glm::normalize(m[1] - x * glm::dot(x, m[1]));
+  return glm::normalize(glm::quat_cast(glm::mat3(x, y, glm::cross(x, y))));
+}
+
+/// Keeps a unit direction `d`, in limit space, inside the limit. Returns whether it moved it.
+inline bool limitDirection(const JointLimit& limit, glm::vec3& d) {
+  switch (limit.kind) {
+    case JointLimit::Kind::kCone: {
+      const float cos_limit = std::cos(limit.angle);
+      if (!(d.y < cos_limit)) return false;
+      const float sin_limit = std::sin(limit.angle);
+      const float horizontal2 = d.x * d.x + d.z * d.z;
+      if (horizontal2 < kLimitSingular) {
+        d = glm::vec3(0.0f, cos_limit, sin_limit);  // -Y: the boundary on the +Z side
+      } else {
+        const float scale = sin_limit / std::sqrt(horizontal2);
+        d = glm::vec3(d.x * scale, cos_limit, d.z * scale);
+      }
+      return true;
+    }
+    case JointLimit::Kind::kHinge: {
+      const float projected2 = d.y * d.y + d.z * d.z;
+      if (projected2 < kLimitSingular) {
+        d = glm::vec3(0.0f, 1.0f, 0.0f);  // +-X: +Y
+        return true;
+      }
+      bool moved = false;
+      if (d.x != 0.0f) {  // onto the hinge's plane
+        const float scale = 1.0f / std::sqrt(projected2);
+        d = glm::vec3(0.0f, d.y * scale, d.z * scale);
+        moved = true;
+      }
+      const float cos_limit = std::cos(limit.angle);
+      if (d.y < cos_limit) {
+        d = glm::vec3(0.0f, cos_limit, d.z < 0.0f ? -std::sin(limit.angle) : std::sin(limit.angle));
+        moved = true;
+      }
+      return moved;
+    }
+    case JointLimit::Kind::kSpherical: {
+      // Pitch: the turn about X from +Y toward +Z; yaw: the turn toward X.
+      float pitch = d.y * d.y + d.z * d.z < kLimitSingular ? 0.0f : std::atan2(d.z, d.y);
+      if (d.z == 0.0f && d.y < 0.0f) pitch = glm::pi<float>();  // -Y: the +Z side, whatever zero's sign
+      float yaw = std::asin(std::clamp(d.x, -1.0f, 1.0f));
+      bool moved = false;
+      if (std::fabs(pitch) > limit.pitch) {
+        pitch = std::copysign(limit.pitch, pitch);
+        moved = true;
+      }
+      if (std::fabs(yaw) > limit.yaw) {
+        yaw = std::copysign(limit.yaw, yaw);
+        moved = true;
+      }
+      if (moved) {
+        const float cos_yaw = std::cos(yaw);
+        d = glm::vec3(std::sin(yaw), cos_yaw * std::cos(pitch), cos_yaw * std::sin(pitch));
+      }
+      return moved;
+    }
+    case JointLimit::Kind::kNone:
+      break;
+  }
+  return false;
+}
+
+/// Keeps `tail` (world) inside the joint's limit: `frame` is the limit space in the world (the
+/// joint's rest world rotation x limitFrameLocal), `length` the bone's. Returns whether it moved.
+inline bool applyLimit(const JointLimit& limit, const glm::quat& frame, const glm::vec3& head, float length,
+                       glm::vec3& tail) {
+  const glm::vec3 offset = tail - head;
+  const float offset_length = glm::length(offset);
+  if (!(offset_length > 1e-6f) || !std::isfinite(offset_length)) return false;
+  glm::vec3 d = glm::conjugate(frame) * (offset / offset_length);
+  if (!limitDirection(limit, d)) return false;
+  tail = head + (frame * d) * length;
+  return true;
+}
+
+}  // namespace springbones
