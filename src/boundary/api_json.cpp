@@ -6,6 +6,7 @@
 
 #include "boundary/rig_description.h"
 #include "loading/entity.h"
+#include "loading/vrm_limits.h"
 
 namespace springbones {
 
@@ -61,6 +62,13 @@ ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
           spec.tail = vec3(c.at("tail"));
         }
         out.colliders.push_back(std::move(spec));
+      }
+    }
+    if (auto limits = value.find("limits"); limits != value.end()) {
+      std::string why;
+      if (!readLimitOptions(*limits, out.limits, why)) {
+        out = RigOptions{};
+        return ApiFailure{"invalid-argument", "rig options: " + why, ""};
       }
     }
   } catch (const json::exception& ex) {

@@ -10,6 +10,30 @@ namespace {
 
 FloatJson vec3(const Vec3& v) { return FloatJson::array({v.x, v.y, v.z}); }
 
+// The joint's angle limit as loadRig's `limits` option and VRMC_springBone_limit spell it, or null.
+FloatJson limitJson(const JointLimit& limit) {
+  FloatJson shape;
+  const char* kind = nullptr;
+  switch (limit.kind) {
+    case JointLimit::Kind::kNone:
+      return nullptr;
+    case JointLimit::Kind::kCone:
+    case JointLimit::Kind::kHinge:
+      kind = limit.kind == JointLimit::Kind::kCone ? "cone" : "hinge";
+      shape["angle"] = limit.angle;
+      break;
+    case JointLimit::Kind::kSpherical:
+      kind = "spherical";
+      shape["pitch"] = limit.pitch;
+      shape["yaw"] = limit.yaw;
+      break;
+  }
+  shape["rotation"] = FloatJson::array({limit.rotation.x, limit.rotation.y, limit.rotation.z, limit.rotation.w});
+  FloatJson out;
+  out[kind] = std::move(shape);
+  return out;
+}
+
 FloatJson jointJson(const Rig& rig, const Joint& j) {
   const auto& nodes = rig.skeleton.nodes;
   const auto nodeName = [&](int node) -> FloatJson {
@@ -33,7 +57,8 @@ FloatJson jointJson(const Rig& rig, const Joint& j) {
                      {"drag", j.params.drag}}},
                    {"tailOffset", vec3(j.tail_local)},
                    {"restLength", j.rest_length},
-                   {"hitRadius", j.hit_radius}};
+                   {"hitRadius", j.hit_radius},
+                   {"limit", limitJson(j.limit)}};
 }
 
 FloatJson colliderJson(const Rig& rig, const Collider& c) {
