@@ -16,11 +16,20 @@ constexpr float kHalfPi = 1.57079632679490f;
 constexpr float kUnset = std::numeric_limits<float>::quiet_NaN();
 
 // A number as a float: non-numbers are NaN (sanitizeJointLimit's "missing"), a double beyond
-// float's range becomes an infinity of its sign (then clamped like any value beyond the maximum).
+// float's range becomes an infinity of its sign (then clamped like any value beyond the maximum;
+// the conversion itself would be undefined).
+float toFloat(const json& value) {
+  if (!value.is_number()) return kUnset;
+  const double v = value.get<double>();
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (v > kMax) return std::numeric_limits<float>::infinity();
+  if (v < -kMax) return -std::numeric_limits<float>::infinity();
+  return static_cast<float>(v);
+}
+
 float readAngle(const json& shape, const char* key) {
   auto it = shape.find(key);
-  if (it == shape.end() || !it->is_number()) return kUnset;
-  return static_cast<float>(it->get<double>());
+  return it == shape.end() ? kUnset : toFloat(*it);
 }
 
 // The rotation as given; one that is not 4 numbers is all NaN (sanitizeJointLimit warns).
@@ -30,8 +39,7 @@ Quat readRotation(const json& shape) {
   float v[4];
   if (!it->is_array() || it->size() != 4) return Quat{kUnset, kUnset, kUnset, kUnset};
   for (std::size_t i = 0; i < 4; ++i) {
-    const json& c = (*it)[i];
-    v[i] = c.is_number() ? static_cast<float>(c.get<double>()) : kUnset;
+    v[i] = toFloat((*it)[i]);
   }
   return Quat{v[0], v[1], v[2], v[3]};
 }

@@ -45,13 +45,31 @@ inline glm::quat worldRotationOf(const glm::mat3& m) {
   return glm::normalize(glm::quat_cast(glm::mat3(x, y, glm::cross(x, y))));
 }
 
+/// cos and sin of an angle in [0, pi], by their Taylor series in double: +, x and / only, so no libm
+/// trigonometry (and its tables) enters the module, and every build gives the same bits. Twenty
+/// terms leave an error under 1e-25 at pi.
+inline void cosSin(float angle, float& cos_out, float& sin_out) {
+  const double x = angle, x2 = x * x;
+  double c = 0.0, s = 0.0, term_c = 1.0, term_s = x;
+  for (int n = 0; n < 20; ++n) {
+    c += term_c;
+    s += term_s;
+    term_c *= -x2 / ((2 * n + 1) * (2 * n + 2));
+    term_s *= -x2 / ((2 * n + 2) * (2 * n + 3));
+  }
+  cos_out = static_cast<float>(c);
+  sin_out = static_cast<float>(s);
+}
+
 /// Keeps a unit direction `d`, in limit space, inside the limit. Returns whether it moved it.
+/// Angles are compared through their cosines and sines (every limit angle is in [0, pi], where
+/// they are monotonic), which is the same test as comparing the angles.
 inline bool limitDirection(const JointLimit& limit, glm::vec3& d) {
   switch (limit.kind) {
     case JointLimit::Kind::kCone: {
-      const float cos_limit = std::cos(limit.angle);
+      float cos_limit, sin_limit;
+      cosSin(limit.angle, cos_limit, sin_limit);
       if (!(d.y < cos_limit)) return false;
-      const float sin_limit = std::sin(limit.angle);
       const float horizontal2 = d.x * d.x + d.z * d.z;
       if (horizontal2 < kLimitSingular) {
         d = glm::vec3(0.0f, cos_limit, sin_limit);  // -Y: the boundary on the +Z side
@@ -73,31 +91,39 @@ inline bool limitDirection(const JointLimit& limit, glm::vec3& d) {
         d = glm::vec3(0.0f, d.y * scale, d.z * scale);
         moved = true;
       }
-      const float cos_limit = std::cos(limit.angle);
+      float cos_limit, sin_limit;
+      cosSin(limit.angle, cos_limit, sin_limit);
       if (d.y < cos_limit) {
-        d = glm::vec3(0.0f, cos_limit, d.z < 0.0f ? -std::sin(limit.angle) : std::sin(limit.angle));
+        d = glm::vec3(0.0f, cos_limit, d.z < 0.0f ? -sin_limit : sin_limit);
         moved = true;
       }
       return moved;
     }
     case JointLimit::Kind::kSpherical: {
-      // Pitch: the turn about X from +Y toward +Z; yaw: the turn toward X.
-      float pitch = d.y * d.y + d.z * d.z < kLimitSingular ? 0.0f : std::atan2(d.z, d.y);
-      if (d.z == 0.0f && d.y < 0.0f) pitch = glm::pi<float>();  // -Y: the +Z side, whatever zero's sign
-      float yaw = std::asin(std::clamp(d.x, -1.0f, 1.0f));
+      // Pitch = atan2(d.z, d.y), the turn about X from +Y toward +Z; yaw = asin(d.x), the turn
+      // toward X. cos(pitch), sin(pitch) are the unit (d.y, d.z); cos(yaw) = |(d.y, d.z)|.
+      const float projected = std::sqrt(d.y * d.y + d.z * d.z);
+      float cos_pitch = 1.0f, sin_pitch = 0.0f;  // +-X: pitch 0 (the +Y side)
+      if (projected * projected >= kLimitSingular) {
+        cos_pitch = d.y / projected;
+        sin_pitch = d.z / projected;
+      }
+      float cos_yaw = projected, sin_yaw = d.x;
       bool moved = false;
-      if (std::fabs(pitch) > limit.pitch) {
-        pitch = std::copysign(limit.pitch, pitch);
+      float cos_limit, sin_limit;
+      cosSin(limit.pitch, cos_limit, sin_limit);
+      if (cos_pitch < cos_limit) {  // |pitch| beyond its bound; -Y (no side) goes to +Z
+        cos_pitch = cos_limit;
+        sin_pitch = sin_pitch < 0.0f ? -sin_limit : sin_limit;
         moved = true;
       }
-      if (std::fabs(yaw) > limit.yaw) {
-        yaw = std::copysign(limit.yaw, yaw);
+      cosSin(limit.yaw, cos_limit, sin_limit);
+      if (std::fabs(sin_yaw) > sin_limit) {  // |yaw| beyond its bound (yaw and its bound in [0, pi/2])
+        sin_yaw = sin_yaw < 0.0f ? -sin_limit : sin_limit;
+        cos_yaw = cos_limit;
         moved = true;
       }
-      if (moved) {
-        const float cos_yaw = std::cos(yaw);
-        d = glm::vec3(std::sin(yaw), cos_yaw * std::cos(pitch), cos_yaw * std::sin(pitch));
-      }
+      if (moved) d = glm::vec3(sin_yaw, cos_yaw * cos_pitch, cos_yaw * sin_pitch);
       return moved;
     }
     case JointLimit::Kind::kNone:

@@ -196,6 +196,7 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   }
   lanes_per_copy_ = static_cast<std::size_t>(lanes);
   collider_count_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
+  collider_passes_ = std::max(rig_->collider_passes, 1);
   for (std::size_t k = 0; k < collider_count_; ++k) collider_kinds_.push_back(colliderKind(rig_->colliders[k]));
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
@@ -576,19 +577,23 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
   // Between the passes, one per collider of the slot: move the tail out of (or into) the shape,
   // then restore the bone length. The shapes are per copy: row `collider` of the collider table,
   // read at the copy. The kind is the rig's, so each collider runs the loop of its kind only.
-  for (std::size_t collider = 0; !kSeed && collider < collider_count_; ++collider) {
-    if ((c.collider_mask & (1u << collider)) == 0) continue;
-    const std::size_t shape_at = collider * copy_capacity_;
-    switch (collider_kinds_[collider]) {
-      case ColliderKind::kOutside:
-        collideLanes<ColliderKind::kOutside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
-      case ColliderKind::kInside:
-        collideLanes<ColliderKind::kInside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
-      case ColliderKind::kPlane:
-        collideLanes<ColliderKind::kPlane>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
+  // Rig::collider_passes times (1 but with the body preset): a pass without a push moves no lane, so
+  // running them all gives what the general path's stop at such a pass gives.
+  for (int pass = 0; !kSeed && pass < collider_passes_; ++pass) {
+    for (std::size_t collider = 0; collider < collider_count_; ++collider) {
+      if ((c.collider_mask & (1u << collider)) == 0) continue;
+      const std::size_t shape_at = collider * copy_capacity_;
+      switch (collider_kinds_[collider]) {
+        case ColliderKind::kOutside:
+          collideLanes<ColliderKind::kOutside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+          break;
+        case ColliderKind::kInside:
+          collideLanes<ColliderKind::kInside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+          break;
+        case ColliderKind::kPlane:
+          collideLanes<ColliderKind::kPlane>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
+          break;
+      }
     }
   }
 

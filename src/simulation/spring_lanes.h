@@ -142,6 +142,7 @@ class SpringLanes {
   std::size_t lane_capacity_ = 0;   // R * copy_capacity_
   std::size_t blocks_per_row_ = 0;
   std::size_t collider_count_ = 0;  // rig colliders on the lane path
+  int collider_passes_ = 1;         // Rig::collider_passes
   std::vector<ColliderKind> collider_kinds_;  // per rig collider on the lane path
   bool any_center_ = false;
 
