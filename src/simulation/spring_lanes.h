@@ -124,6 +124,7 @@ class SpringLanes {
   void runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h);
   void runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane, std::size_t first_copy,
                   std::size_t end_copy, float h);
+  void collideSlot(std::uint32_t mask, float hit_radius, std::size_t base_lane, std::size_t begin, std::size_t end);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);

@@ -228,7 +228,9 @@ describe("agreement with three-vrm's limit rules (PR #1632) on the example files
         `the sphere pushed ${contacts.sphere} times; with the PR's rotation of a scaled matrix ${stock.worst.toExponential(2)}`);
       assert.ok(Object.values(activations).reduce((a, b) => a + b) > 100, 'three-vrm hit the limits');
       assert.ok(contacts.sphere > 20, 'three-vrm hit the collider listed by two groups');
-      assert.ok(worst < 1e-4, `rotations differ by ${worst}`);
+      // float against three.js's double, through the limits' switches between free and bounded
+      // motion: the hinge's largest difference, at one frame, is 9.6e-5 (docs/semantics.md).
+      assert.ok(worst < 2e-4, `rotations differ by ${worst}`);
     });
   }
 });
