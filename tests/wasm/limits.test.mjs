@@ -235,6 +235,35 @@ describe("agreement with three-vrm's limit rules (PR #1632) on the example files
   }
 });
 
+test('hostile limit values in a VRM file load as finite limits with warnings, and the springs stay finite', () => {
+  const json = readExample('threevrm-hinge-limit.gltf');
+  const [j0, j1, j2, j3] = json.extensions.VRMC_springBone.springs[0].joints;
+  j0.extensions.VRMC_springBone_limit.limit = { cone: { angle: 1e300, rotation: [1e300, 0, 0, 1] } };
+  j1.extensions.VRMC_springBone_limit.limit = { spherical: { pitch: 'wide', yaw: -1e300, rotation: [0, 0, 1] } };
+  j2.extensions.VRMC_springBone_limit.limit = { hinge: [] };
+  j3.extensions.VRMC_springBone_limit = { specVersion: '1.0-draft', limit: { cone: { angle: 0.2 }, hinge: { angle: 0.1 } } };
+  const rig = sb.loadVrm(bytesOf(json));
+  assert.deepEqual(rig.joints.map((j) => j.limit && Object.keys(j.limit)[0]), ['cone', 'spherical', null, 'cone']);
+  for (const { limit } of rig.joints.filter((j) => j.limit)) {
+    const [shape] = Object.values(limit);
+    for (const v of [...Object.values(shape).filter((x) => !Array.isArray(x)), ...shape.rotation]) {
+      assert.ok(typeof v === 'number' && Number.isFinite(v), JSON.stringify(limit));
+    }
+  }
+  assert.ok(Math.abs(rig.joints[0].limit.cone.angle - Math.PI) < 1e-6, "an angle beyond float is pi");
+  assert.deepEqual(rig.joints[0].limit.cone.rotation, [0, 0, 0, 1]);
+  assert.deepEqual([...new Set(rig.warnings.map((w) => w.code))].sort(),
+    ['limit-clamped', 'limit-invalid', 'limit-rotation-invalid']);
+  const instance = rig.createInstance();
+  for (let f = 1; f <= 60; f++) {
+    instance.driverMatrices.set(bodyMatrix(f).elements, 0);
+    instance.step(1 / fps);
+  }
+  assert.ok(instance.rotations.every(Number.isFinite));
+  instance.dispose();
+  rig.dispose();
+});
+
 describe("loadRig's limits option", () => {
   const { glb, springBones, hash } = springRig({ chains: 1, joints: 3 });
 
