@@ -76,7 +76,8 @@ class SpringBones {
     // Stringified first, so that its TypeErrors (cycles, BigInt) come first, as for every
     // argument check; the core parses it once.
     const metadataText = toJsonText('loadRig: springBones', springBones, /* allowNull */ true);
-    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius', 'limits', ...kJumpOptions]);
+    const opts = optionsObject('loadRig', options,
+      [...kHashOptions, 'colliders', 'hitRadius', 'limits', ...kJumpOptions]);
     const rigOptionsText = rigOptionsJson(opts);
     const jumps = jumpOptions('loadRig', opts, {});
     const m = this.#m;
@@ -652,14 +653,18 @@ function limitsJson(where, limits) {
   const out = Object.create(null);  // a joint may be called __proto__
   for (const [name, limit] of Object.entries(limits)) {
     const at = `${where}[${JSON.stringify(name)}]`;
-    if (limit === null || typeof limit !== 'object' || Array.isArray(limit)) throw new TypeError(`${at} must be an object`);
+    if (limit === null || typeof limit !== 'object' || Array.isArray(limit)) {
+      throw new TypeError(`${at} must be an object`);
+    }
     const kinds = Object.keys(limit);
     if (kinds.length !== 1 || !['cone', 'hinge', 'spherical'].includes(kinds[0])) {
       throw new TypeError(`${at} must have exactly one of cone, hinge, spherical`);
     }
     const kind = kinds[0];
     const shape = limit[kind];
-    if (shape === null || typeof shape !== 'object' || Array.isArray(shape)) throw new TypeError(`${at}.${kind} must be an object`);
+    if (shape === null || typeof shape !== 'object' || Array.isArray(shape)) {
+      throw new TypeError(`${at}.${kind} must be an object`);
+    }
     const angles = kind === 'spherical' ? ['pitch', 'yaw'] : ['angle'];
     checkKeys(`${at}.${kind}`, shape, [...angles, 'rotation']);
     const checked = {};
@@ -670,7 +675,9 @@ function limitsJson(where, limits) {
         throw new TypeError(`${at}.${kind}.rotation must be 4 numbers (x, y, z, w)`);
       }
       checked.rotation = Array.from(r, (v, i) => checkFinite(`${at}.${kind}.rotation[${i}]`, v));
-      if (checked.rotation.every((v) => v === 0)) throw new RangeError(`${at}.${kind}.rotation must not be [0, 0, 0, 0]`);
+      if (checked.rotation.every((v) => v === 0)) {
+        throw new RangeError(`${at}.${kind}.rotation must not be [0, 0, 0, 0]`);
+      }
     }
     out[name] = { [kind]: checked };
   }

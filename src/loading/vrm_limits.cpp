@@ -226,9 +226,12 @@ void applyLimitOptions(const std::map<std::string, JointLimit>& limits, Rig& rig
       const std::string* tail = nameOf(joint.tail_node);
       if (tail != nullptr && *tail == name) tip = true;
     }
-    rig.warnings.push_back(
-        tip ? Warning{"limit-on-end-joint", "limit for '" + name + "': the node is a chain's tip (only a tail); ignored", ""}
-            : Warning{"limit-joint-not-found", "limit for '" + name + "': no simulated joint has that name; ignored", ""});
+    const std::string what = "limit for '" + name + "': ";
+    if (tip) {
+      rig.warnings.push_back(Warning{"limit-on-end-joint", what + "the node is a chain's tip, a tail only; ignored", ""});
+    } else {
+      rig.warnings.push_back(Warning{"limit-joint-not-found", what + "no simulated joint has that name; ignored", ""});
+    }
   }
 }
 

@@ -598,8 +598,10 @@ class VrmRigBuilder {
       readVrmJointLimit(joint, joint_path, nodeLabel(head), sim.limit, rig_->warnings);
       claim(head, std::move(sim));
     }
-    const std::string last = path + "/joints/" + std::to_string(joints->size() - 1);
-    if (hasVrmJointLimit((*joints)[joints->size() - 1])) warn("limit-on-end-joint", "the last joint of a spring is only a tail; its VRMC_springBone_limit is ignored", last + "/extensions/VRMC_springBone_limit");
+    if (hasVrmJointLimit((*joints)[joints->size() - 1])) {  // the draft: ignored on the last joint, a tail
+      warn("limit-on-end-joint", "the last joint of a spring is only a tail; its VRMC_springBone_limit is ignored",
+           path + "/joints/" + std::to_string(joints->size() - 1) + "/extensions/VRMC_springBone_limit");
+    }
   }
 
   void claim(int node, SimJoint sim) {
