@@ -23,6 +23,7 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
 import { createSpringBones } from '../web/springbones.js';
 import { countCollisions } from './lib/three_vrm_collisions.mjs';
+import { applyLimits } from './lib/three_vrm_limits.mjs';
 import { scaleColliderRadii, useExactBoneLength } from './lib/three_vrm_equalized.mjs';
 
 const fps = 60;
@@ -60,6 +61,9 @@ async function compare(sb, file) {
   if (!stock) scaleColliderRadii(manager);
   const collisions = countCollisions(manager, ({ shape }) => `${shape.type}${shape.inside ? ' inside' : ''}`);
   const nodes = await gltf.parser.getDependencies('node');
+  // VRMC_springBone_limit: 3.5.5 does not read it; the rules of three-vrm's pull request do
+  // (lib/three_vrm_limits.mjs; --stock: its rotation of a scaled matrix as written).
+  const limited = applyLimits(manager, gltf.parser.json, nodes, { exactRotation: !stock });
   const jointNodes = new Set(rig.joints.map((j) => j.node));
   const swaying = gltf.parser.json.scenes[gltf.parser.json.scene ?? 0].nodes.filter((n) => !jointNodes.has(n)).map((n) => nodes[n]);
   const rest = swaying.map((n) => ({ position: n.position.clone(), quaternion: n.quaternion.clone() }));
@@ -87,7 +91,7 @@ async function compare(sb, file) {
   }
   const shapes = rig.colliders.map((c) => `${c.shape}${c.inside ? ' inside' : ''}`).join(', ') || 'none';
   console.log(`${basename(file)}: ${rig.joints.length} joints, colliders [${shapes}], three-vrm contacts ` +
-              `${JSON.stringify(collisions)}: max |dq| ${worst.toExponential(2)} (frame ${worstFrame}, ${worstJoint})`);
+              `${JSON.stringify(collisions)}, limits ${JSON.stringify(limited)}: max |dq| ${worst.toExponential(2)} (frame ${worstFrame}, ${worstJoint})`);
   for (const w of rig.warnings) console.log(`  springbones warning ${w.code}: ${w.message}`);
   for (const w of threeWarnings) console.log(`  three-vrm: ${w}`);
   instance.dispose();

@@ -136,12 +136,30 @@ export interface ColliderOptions {
  */
 export type ColliderPreset = 'dcl-body';
 
+/**
+ * An angle limit on a joint, as VRMC_springBone_limit (1.0-draft) spells it: exactly one of cone,
+ * hinge and spherical (docs/semantics.md, "Angle limits"). Angles are radians, finite; a negative
+ * one, or one beyond its maximum (pi; yaw pi/2), is clamped with a `limit-clamped` warning.
+ * `rotation` (x, y, z, w; default the identity) turns the limit from its default orientation,
+ * whose +Y is the joint's rest bone direction; it is made unit.
+ */
+export type JointLimit =
+  | { cone: { angle: number; rotation?: readonly [number, number, number, number] } }
+  | { hinge: { angle: number; rotation?: readonly [number, number, number, number] } }
+  | { spherical: { pitch: number; yaw: number; rotation?: readonly [number, number, number, number] } };
+
 export type LoadOptions = HashOptions & {
   /** Colliders every joint collides with (none by default), or a preset's name. The GLB is not touched. */
   colliders?: readonly ColliderOptions[] | ColliderPreset;
   /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0.
    *  Beyond 1e6 it is clamped there, with the rig warning `hit-radius-out-of-range`. */
   hitRadius?: number;
+  /**
+   * Angle limits by joint node name (the standard's metadata has none). A name that is no simulated
+   * joint is ignored with a warning (`limit-joint-not-found`, or `limit-on-end-joint` for a chain's
+   * tip). A rig with a limit steps on the general path, not the lane path.
+   */
+  limits?: { readonly [jointName: string]: JointLimit };
   /** Default jumpDistance of the rig's instances (InstanceOptions; createInstance's overrides it). */
   jumpDistance?: number;
   /** Default jumpAngle of the rig's instances (InstanceOptions; createInstance's overrides it). */
@@ -312,6 +330,19 @@ export interface Joint {
   readonly restLength: number;
   /** Parameters in effect (own entry, else inherited, clamped and defaulted). */
   readonly params: BoneParams;
+  /**
+   * Its angle limit as in effect (clamped, rotation made unit; spherical limits always say pitch and
+   * yaw), or null: from VRMC_springBone_limit in a VRM file, or loadRig's `limits`.
+   */
+  readonly limit: {
+    readonly cone?: { readonly angle: number; readonly rotation: readonly [number, number, number, number] };
+    readonly hinge?: { readonly angle: number; readonly rotation: readonly [number, number, number, number] };
+    readonly spherical?: {
+      readonly pitch: number;
+      readonly yaw: number;
+      readonly rotation: readonly [number, number, number, number];
+    };
+  } | null;
 }
 
 export interface Driver {

@@ -90,7 +90,7 @@ class SpringBones {
   loadRig(glb, springBones, options) {
     const gltf = this.#gltfInput('loadRig', glb, false);
     const metadata = typedMetadata(springBones, this.#limits);
-    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius', ...kJumpOptions]);
+    const opts = optionsObject('loadRig', options, [...kHashOptions, 'colliders', 'hitRadius', 'limits', ...kJumpOptions]);
     const rigOptions = typedRigOptions(opts);
     const jumps = jumpOptions('loadRig', opts, {});
     const m = this.#m;
@@ -696,9 +696,10 @@ function typedMetadata(springBones, limits) {
 // The colliders (a list, or a preset's name) and hitRadius of loadRig's options, checked, as the
 // typed input the bindings read (no bytes for none).
 function typedRigOptions(options) {
-  const { colliders, hitRadius } = options;
-  if (colliders === undefined && hitRadius === undefined) return new Uint8Array(0);
+  const { colliders, hitRadius, limits } = options;
+  if (colliders === undefined && hitRadius === undefined && limits === undefined) return new Uint8Array(0);
   const out = {};
+  if (limits !== undefined) out.limits = checkedLimits('loadRig: limits', limits);
   if (hitRadius !== undefined) out.hitRadius = checkNonNegative('loadRig: hitRadius', hitRadius);
   if (typeof colliders === 'string') {
     if (!kColliderPresets.includes(colliders)) {
@@ -748,6 +749,46 @@ function colliderJson(where, c) {
 }
 
 const kColliderPresets = ['dcl-body'];
+
+// loadRig's `limits`: joint names to one limit each, as VRMC_springBone_limit spells it. Types and
+// shapes are checked here; the core clamps angles out of the draft's ranges with a warning.
+function checkedLimits(where, limits) {
+  if (limits === null || typeof limits !== 'object' || Array.isArray(limits)) {
+    throw new TypeError(`${where} must be an object of joint names`);
+  }
+  const out = Object.create(null);  // a joint may be called __proto__
+  for (const [name, limit] of Object.entries(limits)) {
+    const at = `${where}[${JSON.stringify(name)}]`;
+    if (limit === null || typeof limit !== 'object' || Array.isArray(limit)) {
+      throw new TypeError(`${at} must be an object`);
+    }
+    const kinds = Object.keys(limit);
+    if (kinds.length !== 1 || !['cone', 'hinge', 'spherical'].includes(kinds[0])) {
+      throw new TypeError(`${at} must have exactly one of cone, hinge, spherical`);
+    }
+    const kind = kinds[0];
+    const shape = limit[kind];
+    if (shape === null || typeof shape !== 'object' || Array.isArray(shape)) {
+      throw new TypeError(`${at}.${kind} must be an object`);
+    }
+    const angles = kind === 'spherical' ? ['pitch', 'yaw'] : ['angle'];
+    checkKeys(`${at}.${kind}`, shape, [...angles, 'rotation']);
+    const checked = {};
+    for (const key of angles) checked[key] = checkFinite(`${at}.${kind}.${key}`, shape[key]);
+    if (shape.rotation !== undefined) {
+      const r = shape.rotation;
+      if (!(Array.isArray(r) || ArrayBuffer.isView(r)) || r.length !== 4) {
+        throw new TypeError(`${at}.${kind}.rotation must be 4 numbers (x, y, z, w)`);
+      }
+      checked.rotation = Array.from(r, (v, i) => checkFinite(`${at}.${kind}.rotation[${i}]`, v));
+      if (checked.rotation.every((v) => v === 0)) {
+        throw new RangeError(`${at}.${kind}.rotation must not be [0, 0, 0, 0]`);
+      }
+    }
+    out[name] = { [kind]: checked };
+  }
+  return out;
+}
 const kWindKeys = ['direction', 'strength', 'gustFrequency', 'seed'];
 
 // setWind's argument, checked against the core's limits: [dx, dy, dz, strength, gustFrequency,

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -127,6 +128,19 @@ bool isSpringBoneName(const std::string& name);
 // ---------------------------------------------------------------------------------------------
 // The rig: immutable, shared by every avatar wearing the same item
 
+/// An angle limit on a joint (VRMC_springBone_limit 1.0-draft): the directions its bone may point
+/// in, in the joint's limit space, which is the joint's rest world rotation under its current
+/// parent, then the turn taking +Y onto the rest bone axis, then `rotation`
+/// (docs/semantics.md, "Angle limits").
+struct JointLimit {
+  enum class Kind { kNone, kCone, kHinge, kSpherical };
+  Kind kind = Kind::kNone;
+  float angle = 0.0f;  ///< cone, hinge: the widest angle from the limit's +Y, [0, pi]
+  float pitch = 0.0f;  ///< spherical: the largest turn about the limit's X, [0, pi]
+  float yaw = 0.0f;    ///< spherical: the largest turn toward the limit's X, [0, pi / 2]
+  Quat rotation;       ///< the limit's turn from its default orientation, unit
+};
+
 struct Joint {
   int node = -1;           ///< the bone this joint rotates
   int tail_node = -1;      ///< its first child: where the bone ends; -1 when the tail is no node
@@ -141,7 +155,10 @@ struct Joint {
   Vec3 tail_local;        ///< tail position in the joint's local space (child translation)
   float rest_length = 0;  ///< world distance head->tail in the rest pose
   float hit_radius = 0;   ///< radius of the tail against colliders, world units
-  std::vector<int> colliders;  ///< indices into Rig::colliders this joint's tail collides with
+  /// indices into Rig::colliders this joint's tail collides with, in the order it tests them; a
+  /// collider listed by two of a VRM spring's collider groups is here twice (it pushes twice)
+  std::vector<int> colliders;
+  JointLimit limit;  ///< kNone: the joint may point anywhere
 };
 
 struct Driver {
@@ -201,6 +218,9 @@ struct RigOptions {
   std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
   ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
   float hit_radius = 0.0f;              ///< joint radius against them, world units, in [0, kMaxHitRadius]
+  /// Angle limits by joint node name (the standard's metadata has no field for them). Values out of
+  /// the draft's ranges are clamped, a name that is no simulated joint is dropped, with warnings.
+  std::map<std::string, JointLimit> limits;
 };
 
 class SpringLanes;  // the simulation's lane pool (src/simulation/spring_lanes.h)
@@ -211,6 +231,12 @@ struct Rig {
   std::vector<Driver> drivers;  ///< chain-root parents and center nodes, in first-use order
   std::vector<int> chain_roots;  ///< joint indices of the roots
   std::vector<Collider> colliders;
+  /// How many times the VRM update moves a tail out of the joint's colliders per step, each pass
+  /// every collider with the bone length restored after each push, stopping at a pass that moves
+  /// nothing. 1 is the VRM update; the body preset asks for more, so that a bone lying across the
+  /// thin neck does not leave its tail inside it (docs/semantics.md, "Body colliders"). XPBD
+  /// iterates its constraints on its own (xpbdIterations).
+  int collider_passes = 1;
   std::vector<Warning> warnings;
   /// The lane pool the rig's instances share (the fast path): made by the first instance that
   /// takes it, freed with the last. Written by the instances, so a rig and its instances belong

@@ -6,6 +6,7 @@
 
 #include "common/json_text.h"
 #include "common/typed_value.h"
+#include "loading/vrm_limits.h"
 
 namespace springbones {
 namespace {
@@ -61,6 +62,10 @@ ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
                         "rig options: unknown collider preset '" + preset->get<std::string>() + "'", ""};
     }
     out.preset = ColliderPreset::kDclBody;
+  }
+  if (auto limits = value.find("limits"); limits != value.end()) {
+    std::string why;
+    if (!readLimitOptions(*limits, out.limits, why)) return ApiFailure{"invalid-argument", "rig options: " + why, ""};
   }
   if (auto colliders = value.find("colliders"); colliders != value.end()) {
     if (!colliders->is_array()) return badOptions("colliders is not an array");

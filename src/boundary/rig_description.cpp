@@ -17,6 +17,27 @@ void nodeName(JsonText& out, const Rig& rig, int node) {
 
 void vec3(JsonText& out, const Vec3& v) { out.vec3(v.x, v.y, v.z); }
 
+// The joint's angle limit as loadRig's `limits` option and VRMC_springBone_limit spell it, or null.
+void limit(JsonText& out, const JointLimit& l) {
+  if (l.kind == JointLimit::Kind::kNone) {
+    out.null();
+    return;
+  }
+  out.beginObject();
+  out.key(l.kind == JointLimit::Kind::kCone ? "cone" : l.kind == JointLimit::Kind::kHinge ? "hinge" : "spherical");
+  out.beginObject();
+  if (l.kind == JointLimit::Kind::kSpherical) {
+    out.key("pitch").value(l.pitch);
+  } else {
+    out.key("angle").value(l.angle);
+  }
+  out.key("rotation").beginArray().value(l.rotation.x).value(l.rotation.y).value(l.rotation.z).value(l.rotation.w);
+  out.endArray();
+  if (l.kind == JointLimit::Kind::kSpherical) out.key("yaw").value(l.yaw);
+  out.endObject();
+  out.endObject();
+}
+
 // Members in key order, as the description has always been written (some callers compare texts).
 void joint(JsonText& out, const Rig& rig, const Joint& j) {
   // tail_node is -1 for a VRM 0.x leaf's virtual tail: no node, tail_local is the truth.
@@ -25,6 +46,8 @@ void joint(JsonText& out, const Rig& rig, const Joint& j) {
   out.key("centerDriver").value(j.center_driver);
   out.key("chain").value(j.chain);
   out.key("hitRadius").value(j.hit_radius);
+  out.key("limit");
+  limit(out, j.limit);
   out.key("name");
   nodeName(out, rig, j.node);
   out.key("node").value(j.node);

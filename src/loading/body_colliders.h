@@ -15,4 +15,9 @@ namespace springbones {
 /// naming every shape left out and the bones missing.
 std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector<Warning>& warnings);
 
+/// Rig::collider_passes with the preset: the neck capsule is thinner than the bones swinging round
+/// it, and one push of the tail followed by the bone length can leave the tail inside it; passes
+/// of push and length converge onto the bone's sphere outside the shapes.
+inline constexpr int kBodyColliderPasses = 4;
+
 }  // namespace springbones

@@ -18,6 +18,7 @@
 
 #include "common/transform_math.h"
 #include "loading/body_colliders.h"
+#include "loading/vrm_limits.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
@@ -112,6 +113,7 @@ class RigBuilder {
     assignChains();
     buildJoints();
     addColliders();
+    applyLimitOptions(options_.limits, *rig_);
     return rig_;
   }
 
@@ -338,6 +340,7 @@ class RigBuilder {
     std::vector<ColliderSpec> with_preset;
     if (options_.preset == ColliderPreset::kDclBody) {
       with_preset = dclBodyColliders(rig_->skeleton, rig_->warnings);
+      rig_->collider_passes = kBodyColliderPasses;
       for (const ColliderSpec& spec : options_.colliders) with_preset.push_back(spec);
       specs = &with_preset;
     }

@@ -13,8 +13,12 @@
 //    into an `_end` node; UniVRM 0.x's own component agrees on normalized rigs.
 //  - gravityDir is stored normalized (the BoneParams contract) with its length folded into
 //    gravity_power, so dir * power is exactly the file's impulse.
-//  - A joint's collider list is sorted and without duplicates: both solver paths push out in
-//    index order, which is file order.
+//  - A joint's collider list is its spring's groups' colliders in the order the spring lists the
+//    groups, a collider in two of them twice: three-vrm and UniVRM test every group a joint uses,
+//    collider by collider, so such a collider pushes twice (once per group), and so does ours. A
+//    group listed twice by one spring, or a collider twice by one group, counts once. A rig whose
+//    lists are not in index order once each steps on the general path (the lane path's collider
+//    mask holds neither order nor repeats).
 #include "loading/vrm_reader.h"
 
 #include <algorithm>
@@ -30,6 +34,7 @@
 #include "common/transform_math.h"
 #include "common/typed_value.h"
 #include "loading/gltf_nodes.h"
+#include "loading/vrm_limits.h"
 
 namespace springbones {
 namespace {
@@ -124,6 +129,7 @@ struct SimJoint {
   Vec3 tail_local;
   BoneParams params;
   float hit_radius = 0.0f;
+  JointLimit limit;
 };
 
 // A collider as the file describes it: its shape, the node carrying it and where it was read.
@@ -597,7 +603,12 @@ class VrmRigBuilder {
       setGravity(sim.params, dir, power, joint_path);
       sim.params.drag = readParam(joint, "dragForce", kDefaultDrag, 0.0f, 1.0f, joint_path);
       sim.hit_radius = readParam(joint, "hitRadius", kDefaultHitRadius, 0.0f, kMaxHitRadius, joint_path);
+      readVrmJointLimit(joint, joint_path, nodeLabel(head), sim.limit, rig_->warnings);
       claim(head, std::move(sim));
+    }
+    if (hasVrmJointLimit((*joints)[joints->size() - 1])) {  // the draft: ignored on the last joint, a tail
+      warn("limit-on-end-joint", "the last joint of a spring is only a tail; its VRMC_springBone_limit is ignored",
+           path + "/joints/" + std::to_string(joints->size() - 1) + "/extensions/VRMC_springBone_limit");
     }
   }
 
@@ -832,6 +843,7 @@ class VrmRigBuilder {
         joint.tail_local = sim.tail_local;
         joint.params = sim.params;
         joint.hit_radius = sim.hit_radius;
+        joint.limit = sim.limit;
         joint.center_driver = centerDriver(sim.spring);
         joint.rest_length = glm::length(glm::mat3(toGlm(node.rest_world)) * toGlm(joint.tail_local));
         if (!(joint.rest_length > kMinBoneLength) || !std::isfinite(joint.rest_length)) {
@@ -871,12 +883,18 @@ class VrmRigBuilder {
     std::vector<std::size_t> taken(file_colliders_.size(), 0);  // spring index + 1 that last took it
     for (std::size_t s = 0; s < springs_.size(); ++s) {
       if (joints_of[s] == 0) continue;
+      std::size_t repeated = 0;
       for (int g : springs_[s].groups) {
         for (int id : group_colliders_[g]) {
-          if (taken[id] == s + 1) continue;
+          if (taken[id] == s + 1) ++repeated;
           taken[id] = s + 1;
           springs_[s].colliders.push_back(id);
         }
+      }
+      if (repeated > 0) {
+        warn("vrm-collider-repeated", std::to_string(repeated) + " collider(s) are in more than one of the spring's collider "
+                                      "groups; each pushes once per group, as in three-vrm and UniVRM",
+             springs_[s].path + "/colliderGroups");
       }
     }
     return {};
@@ -912,11 +930,10 @@ class VrmRigBuilder {
     }
     for (Joint& joint : rig_->joints) {
       if (role_[joint.node] != Role::kSimulated) continue;
-      // The spring's colliders are distinct, so their rig indices are too.
+      // In the spring's order, repeats kept (see the header).
       for (int id : springs_[sims_[sim_of_node_[joint.node]].spring].colliders) {
         if (rig_index[id] >= 0) joint.colliders.push_back(rig_index[id]);
       }
-      std::sort(joint.colliders.begin(), joint.colliders.end());
     }
     return {};
   }

@@ -28,6 +28,7 @@
 
 #include "common/transform_math.h"
 #include "simulation/driver_poses.h"
+#include "simulation/joint_limits.h"
 #include "simulation/jump_carry.h"
 #include "simulation/spring_lanes.h"
 #include "simulation/wind.h"
@@ -76,6 +77,7 @@ struct SpringInput {
   glm::vec3 rest_dir;     // world
   glm::vec3 rest_offset;  // world, rest_dir * length
   float length;
+  glm::quat limit_frame{1.0f, 0.0f, 0.0f, 0.0f};  // the joint's limit space in the world, when it has a limit
 };
 
 }  // namespace
@@ -98,6 +100,7 @@ struct Instance::State {
   std::vector<glm::mat4> rest_local_matrix;
   std::vector<glm::vec3> tail_axis;  // unit tail direction in the joint's local space
   std::vector<float> tail_distance;  // |tail_local|
+  std::vector<glm::quat> limit_local;  // limitFrameLocal per joint (identity for a joint without a limit)
 
   // Inputs, per driver.
   std::vector<float> driver_input;  // what the caller writes, 16 floats per driver
@@ -229,17 +232,29 @@ struct Instance::State {
 
   // Moves a tail out of (or into, or onto the side of) the joint's colliders, each followed by
   // the length constraint again (VRMC_springBone order).
-  glm::vec3 collide(const Joint& joint, const glm::vec3& head, glm::vec3 tail, float length) const {
-    for (int c : joint.colliders) {
-      const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
-      const glm::vec3 end(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]);
-      if (!moveTailByCollider(colliderKind(rig->colliders[c]), start, end, collider_table.radius[c], joint.hit_radius,
-                              tail)) {
-        continue;
+  // A limited joint is kept inside its limit after each push too (VRMC_springBone_limit's order).
+  glm::vec3 collide(const Joint& joint, const SpringInput& in, glm::vec3 tail) const {
+    const glm::vec3& head = in.head;
+    const float length = in.length;
+    const bool limited = joint.limit.kind != JointLimit::Kind::kNone;
+    // Rig::collider_passes: 1 but with the body preset; a pass that moves nothing ends them (the
+    // lane path runs them all, and a pass without a push changes no bit there either).
+    for (int pass = 0; pass < rig->collider_passes; ++pass) {
+      bool pushed = false;
+      for (int c : joint.colliders) {
+        const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
+        const glm::vec3 end(collider_table.x1[c], collider_table.y1[c], collider_table.z1[c]);
+        if (!moveTailByCollider(colliderKind(rig->colliders[c]), start, end, collider_table.radius[c], joint.hit_radius,
+                                tail)) {
+          continue;
+        }
+        pushed = true;
+        const glm::vec3 offset = tail - head;
+        const float offset_length = glm::length(offset);
+        if (offset_length > kMinLength && std::isfinite(offset_length)) tail = head + offset * (length / offset_length);
+        if (limited) applyLimit(joint.limit, in.limit_frame, head, length, tail);
       }
-      const glm::vec3 offset = tail - head;
-      const float offset_length = glm::length(offset);
-      if (offset_length > kMinLength && std::isfinite(offset_length)) tail = head + offset * (length / offset_length);
+      if (!pushed) break;
     }
     return tail;
   }
@@ -279,7 +294,10 @@ struct Instance::State {
     offset = offset_length > kMinLength && std::isfinite(offset_length)
                  ? offset * (in.length / offset_length)
                  : in.rest_offset;  // tail on the head (or lost): restart from rest
-    const glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
+    glm::vec3 tail = in.head + offset;
+    // The limit after inertia, stiffness and gravity, then again after each collider (collide).
+    if (joint.limit.kind != JointLimit::Kind::kNone) applyLimit(joint.limit, in.limit_frame, in.head, in.length, tail);
+    tail = collide(joint, in, tail);
     previous_tail[j] = current;
     current_tail[j] = toCenter(joint, tail);
     return tail - in.head;
@@ -316,6 +334,7 @@ struct Instance::State {
         continue;
       }
       in.rest_dir = in.rest_offset / in.length;
+      if (joint.limit.kind != JointLimit::Kind::kNone) in.limit_frame = worldRotationOf(rest_linear) * limit_local[j];
       const glm::vec3 offset = integrate(j, joint, in, h);
       const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
       joint_world[j] =
@@ -434,7 +453,9 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
   s.rest_local_matrix.resize(joints);
   s.tail_axis.resize(joints);
   s.tail_distance.resize(joints);
-  // The lane path takes every rest scale a positive uniform one and at most kMaxLaneColliders.
+  s.limit_local.assign(joints, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  // The lane path takes every rest scale a positive uniform one, at most kMaxLaneColliders, each
+  // joint's colliders in index order once (its collider mask), and no angle limit.
   bool lanes_usable = true;
   for (std::size_t j = 0; j < joints; ++j) {
     const Joint& joint = s.rig->joints[j];
@@ -445,6 +466,13 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.tail_axis[j] = len > kMinLength ? tail_local / len : glm::vec3(0, 1, 0);
     const Vec3 scale = joint.rest_local.scale;
     if (!(scale.x > 0.0f) || scale.y != scale.x || scale.z != scale.x) lanes_usable = false;
+    if (joint.limit.kind != JointLimit::Kind::kNone) {
+      s.limit_local[j] = limitFrameLocal(s.tail_axis[j], joint.limit.rotation);
+      lanes_usable = false;
+    }
+    for (std::size_t k = 1; k < joint.colliders.size(); ++k) {
+      if (joint.colliders[k] <= joint.colliders[k - 1]) lanes_usable = false;  // repeated or out of order
+    }
   }
   s.driver_input.resize(16 * drivers);
   for (DriverPoses& poses : s.poses) poses.resize(drivers);

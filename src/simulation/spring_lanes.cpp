@@ -13,8 +13,10 @@
 
 #if defined(__GNUC__)
 #define SPRINGBONES_ALWAYS_INLINE __attribute__((always_inline))
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
 #else
 #define SPRINGBONES_ALWAYS_INLINE
+#define SPRINGBONES_NOINLINE
 #endif
 
 namespace springbones {
@@ -196,6 +198,7 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
   }
   lanes_per_copy_ = static_cast<std::size_t>(lanes);
   collider_count_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
+  collider_passes_ = std::max(rig_->collider_passes, 1);
   for (std::size_t k = 0; k < collider_count_; ++k) collider_kinds_.push_back(colliderKind(rig_->colliders[k]));
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
@@ -462,6 +465,34 @@ void SpringLanes::beginLanes(std::size_t depth, std::size_t first_copy, std::siz
   }
 }
 
+// One per collider of a slot: move the tail out of (or into) the shape, then restore the bone
+// length. The shapes are per copy: row `collider` of the collider table, read at the copy. The kind
+// is the rig's, so each collider runs the loop of its kind only. Rig::collider_passes times (1 but
+// with the body preset): a pass without a push moves no lane, so running them all gives what the
+// general path's stop at such a pass gives. Not inlined: one copy of the three vectorised collider
+// loops serves every instantiation of runSlot (a copy in each cost the module kilobytes).
+SPRINGBONES_NOINLINE void SpringLanes::collideSlot(std::uint32_t mask, float hit_radius, std::size_t base_lane,
+                                                   std::size_t begin, std::size_t end) {
+  float* const between_row = between_.data();
+  for (int pass = 0; pass < collider_passes_; ++pass) {
+    for (std::size_t collider = 0; collider < collider_count_; ++collider) {
+      if ((mask & (1u << collider)) == 0) continue;
+      const std::size_t shape_at = collider * copy_capacity_;
+      switch (collider_kinds_[collider]) {
+        case ColliderKind::kOutside:
+          collideLanes<ColliderKind::kOutside>(colliders_, shape_at, between_row, base_lane, begin, end, hit_radius);
+          break;
+        case ColliderKind::kInside:
+          collideLanes<ColliderKind::kInside>(colliders_, shape_at, between_row, base_lane, begin, end, hit_radius);
+          break;
+        case ColliderKind::kPlane:
+          collideLanes<ColliderKind::kPlane>(colliders_, shape_at, between_row, base_lane, begin, end, hit_radius);
+          break;
+      }
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The kernel: one rig slot (depth, rig lane) for a run of copies.
 
@@ -573,24 +604,8 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     t[kTailZ * B] = sz;
   });
 
-  // Between the passes, one per collider of the slot: move the tail out of (or into) the shape,
-  // then restore the bone length. The shapes are per copy: row `collider` of the collider table,
-  // read at the copy. The kind is the rig's, so each collider runs the loop of its kind only.
-  for (std::size_t collider = 0; !kSeed && collider < collider_count_; ++collider) {
-    if ((c.collider_mask & (1u << collider)) == 0) continue;
-    const std::size_t shape_at = collider * copy_capacity_;
-    switch (collider_kinds_[collider]) {
-      case ColliderKind::kOutside:
-        collideLanes<ColliderKind::kOutside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
-      case ColliderKind::kInside:
-        collideLanes<ColliderKind::kInside>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
-      case ColliderKind::kPlane:
-        collideLanes<ColliderKind::kPlane>(colliders_, shape_at, between_row, base_lane, begin, end, c.hit_radius);
-        break;
-    }
-  }
+  // Between the passes: the slot's colliders (collideSlot).
+  if (!kSeed && c.collider_mask != 0) collideSlot(c.collider_mask, c.hit_radius, base_lane, begin, end);
 
   // Second pass: store the tail (center space), turn the joint toward it, and write the local
   // rotation and the joint's world transform for the next depth. (Two passes with the tail handed

@@ -124,6 +124,7 @@ class SpringLanes {
   void runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h);
   void runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane, std::size_t first_copy,
                   std::size_t end_copy, float h);
+  void collideSlot(std::uint32_t mask, float hit_radius, std::size_t base_lane, std::size_t begin, std::size_t end);
   void beginLanes(std::size_t depth, std::size_t first_copy, std::size_t end_copy);
   void writeRotations(std::size_t first_copy, std::size_t end_copy);
   void growTo(std::size_t copies);
@@ -142,6 +143,7 @@ class SpringLanes {
   std::size_t lane_capacity_ = 0;   // R * copy_capacity_
   std::size_t blocks_per_row_ = 0;
   std::size_t collider_count_ = 0;  // rig colliders on the lane path
+  int collider_passes_ = 1;         // Rig::collider_passes
   std::vector<ColliderKind> collider_kinds_;  // per rig collider on the lane path
   bool any_center_ = false;
 

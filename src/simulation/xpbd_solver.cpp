@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "common/transform_math.h"
+#include "simulation/joint_limits.h"
 #include "simulation/spring_lanes.h"
 
 namespace springbones {
@@ -63,6 +64,7 @@ XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), 
   rest_local_matrix_.resize(joints);
   tail_axis_.resize(joints);
   tail_distance_.resize(joints);
+  limit_local_.assign(joints, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
   keep_.assign(joints, 1.0f);
   inverse_mass_.assign(joints, 0.0f);
   current_tail_.assign(joints, glm::vec3(0.0f));
@@ -78,6 +80,7 @@ XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), 
     const float len = glm::length(tail_local);
     tail_distance_[j] = len;
     tail_axis_[j] = len > kMinLength ? tail_local / len : glm::vec3(0, 1, 0);
+    if (joint.limit.kind != JointLimit::Kind::kNone) limit_local_[j] = limitFrameLocal(tail_axis_[j], joint.limit.rotation);
     const int c = joint.center_driver;
     if (c >= 0 && static_cast<std::size_t>(c) < rig.drivers.size() &&
         std::find(center_drivers_.begin(), center_drivers_.end(), c) == center_drivers_.end()) {
@@ -184,7 +187,10 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
     }
 
     // 2. Constraints.
-    solveJoint(j, head, rest_offset, length, h, colliders, collider_count, x);
+    const glm::quat limit_frame = joint.limit.kind != JointLimit::Kind::kNone
+                                      ? worldRotationOf(rest_linear) * limit_local_[j]
+                                      : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+    solveJoint(j, head, rest_offset, length, h, colliders, collider_count, limit_frame, x);
 
     previous_tail_[j] = previous;
     current_tail_[j] = toCenter(joint.center_driver, x);
@@ -194,8 +200,12 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
 }
 
 void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec3& rest_offset, float length, float h,
-                            const XpbdCollider* colliders, std::size_t collider_count, glm::vec3& x) const {
+                            const XpbdCollider* colliders, std::size_t collider_count, const glm::quat& limit_frame,
+                            glm::vec3& x) const {
   const Joint& joint = rig_.joints[j];
+  // An angle limit is a hard constraint on the direction alone (the length stays exact): it follows
+  // the length projection, and each collider's, as in the default update.
+  const bool limited = joint.limit.kind != JointLimit::Kind::kNone;
   const float stiffness = joint.params.stiffness;
   const float w = inverse_mass_[j];
   const glm::vec3 target = head + rest_offset;
@@ -213,6 +223,7 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
       lambda += delta_lambda;
     }
     projectLength(head, rest_offset, length, x);
+    if (limited) applyLimit(joint.limit, limit_frame, head, length, x);
     bool contact = false;
     // Colliders, hard inequalities: outside C = |x - closest point of the segment| - (radius +
     // hitRadius) >= 0, inside C = (radius - hitRadius) - |x - closest point| >= 0, plane
@@ -223,6 +234,7 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
       const XpbdCollider& collider = colliders[c];
       if (!moveTailByCollider(collider.kind, collider.start, collider.end, collider.radius, joint.hit_radius, x)) continue;
       projectLength(head, rest_offset, length, x);
+      if (limited) applyLimit(joint.limit, limit_frame, head, length, x);
       contact = true;
     }
     // Without an active collider the pass above solved bend and length exactly (the opening

@@ -87,7 +87,8 @@ class XpbdSolver {
   glm::vec3 toCenter(int center, const glm::vec3& world) const;
   glm::vec3 fromCenter(int center, const glm::vec3& local, const glm::mat4* driver_world) const;
   void solveJoint(std::size_t j, const glm::vec3& head, const glm::vec3& rest_offset, float length, float h,
-                  const XpbdCollider* colliders, std::size_t collider_count, glm::vec3& x) const;
+                  const XpbdCollider* colliders, std::size_t collider_count, const glm::quat& limit_frame,
+                  glm::vec3& x) const;
   void writeOutputs(std::size_t j, const glm::mat4& parent, const glm::mat3& rest_linear, const glm::vec3& offset,
                     float* rotations_out, glm::mat4* joint_world_out) const;
 
@@ -99,6 +100,7 @@ class XpbdSolver {
   std::vector<glm::mat4> rest_local_matrix_;
   std::vector<glm::vec3> tail_axis_;  // unit tail direction in the joint's local space
   std::vector<float> tail_distance_;  // |tail_local|
+  std::vector<glm::quat> limit_local_;  // limitFrameLocal of a limited joint (joint_limits.h)
 
   // Per joint, for the current substep length (recomputed when h changes).
   float rates_h_ = -1.0f;

@@ -138,7 +138,7 @@ void expectRigInvariants(const Rig& rig) {
     EXPECT_LT(joint.tail_node, static_cast<int>(nodes.size()));
     EXPECT_GE(joint.center_driver, -1);
     EXPECT_LT(joint.center_driver, static_cast<int>(rig.drivers.size()));
-    EXPECT_TRUE(std::is_sorted(joint.colliders.begin(), joint.colliders.end()));
+    // In the order the spring lists its groups, a collider of two groups twice (not sorted).
     for (int c : joint.colliders) {
       EXPECT_GE(c, 0);
       EXPECT_LT(c, static_cast<int>(rig.colliders.size()));
@@ -612,7 +612,8 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   EXPECT_EQ(rig->colliders[2].shape, Collider::Shape::kPlane);
   EXPECT_TRUE(vecNear(rig->colliders[2].normal, {0, 0, 1}, 0.0f));
   EXPECT_EQ(rig->colliders[2].radius, 0.0f);
-  for (const Joint& j : rig->joints) EXPECT_EQ(j.colliders, (std::vector<int>{0, 1, 2}));
+  // A joint tests them in the order the spring lists its groups (1, then 0), as three-vrm does.
+  for (const Joint& j : rig->joints) EXPECT_EQ(j.colliders, (std::vector<int>{2, 1, 0}));
   const std::string p = "/extensions/VRMC_springBone/";
   EXPECT_NE(test::findWarning(rig->warnings, "collider-on-spring-bone", p + "colliders/2"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/3"), nullptr);
@@ -1073,8 +1074,9 @@ TEST(VrmLoaderScaling, ManySpringsSharingALargeColliderGroupHitTheLimitBeforeBui
 }
 
 // A collider listed by two of a spring's groups counts twice toward the limit (the count is taken
-// from the group sizes), but the joint tests it once.
-TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnceOnTheJoint) {
+// from the group sizes), and the joint tests it twice, once per group, as three-vrm and UniVRM do
+// (with a warning).
+TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnTheJoint) {
   json nodes = json::array({gnode("body", {1}), gnode("root", {2}), gnode("tip", {}, {0, -0.1f, 0})});
   json colliders = json::array();
   for (int c = 0; c < 3; ++c) colliders.push_back({{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}});
@@ -1082,7 +1084,9 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnceOnTheJoin
   json springs = json::array({{{"joints", joints({1, 2})}, {"colliderGroups", {0, 1}}}});
   const auto rig = mustLoad(nodes, vrmc(springs, colliders, groups));
   ASSERT_EQ(rig->joints.size(), 1u);
-  EXPECT_EQ(rig->joints[0].colliders, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(rig->joints[0].colliders, (std::vector<int>{0, 1, 1, 2}));
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-repeated", "/extensions/VRMC_springBone/springs/0/colliderGroups"),
+            nullptr);
 
   // 1,000 joints x two groups of the same 2,100 colliders: 4.2 million references, 2.1 million distinct.
   constexpr int kJoints = 1000, kColliders = 2100;

@@ -152,8 +152,9 @@ describe('loadRig', () => {
     assert.deepEqual(joint.params, { drag: 0.12345679, gravityDir: [0, -1, 0], gravityPower: 1.1, stiffness: 0.4 });
     assert.equal(joint.hitRadius, 0.07);
     assert.deepEqual(joint.tailOffset, [0.3, -0.05, 1e-30], 'the shortest decimal that reads back as the float');
-    assert.deepEqual(Object.keys(joint), ['centerDriver', 'chain', 'hitRadius', 'name', 'node', 'params', 'parent',
+    assert.deepEqual(Object.keys(joint), ['centerDriver', 'chain', 'hitRadius', 'limit', 'name', 'node', 'params', 'parent',
       'parentDriver', 'restLength', 'tail', 'tailNode', 'tailOffset']);
+    assert.equal(joint.limit, null);
     assert.deepEqual(rig.drivers, [{ name: 'Avatar_Head', node: 0 }]);
     assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', offset: [0, 0, 0], radius: 0.2, shape: 'sphere', inside: false }]);
     const drivers = rig.drivers;

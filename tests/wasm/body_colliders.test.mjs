@@ -1,10 +1,11 @@
 // The 'dcl-body' collider preset through loadRig: the shapes the core measures from the armature
 // in the GLB (the demo's wearable carries Hips to Head; the fixture avatar all 62 bones), the
 // argument checks, and the issue's test: under the demo's shake and spin the sample's ponytail and
-// side locks never get more than 1 mm inside the head or torso shapes, with either integrator. The
-// neck is thinner than the bones that swing around it: when the ponytail wraps around it, a bone
-// can lie across the neck, and the VRM update (one push of the tail, then the bone's length back)
-// leaves its tail inside for a frame; that is measured and bounded separately.
+// side locks never get more than 1 mm inside the head, neck or torso shapes, with either
+// integrator. The neck is thinner than the bones that swing around it: when the ponytail wraps
+// around it, a bone can lie across the neck, and one push of the tail followed by the bone's
+// length back left its tail 21 mm inside for a frame; with the preset the VRM update repeats its
+// pushes (Rig::collider_passes), and the neck is held like the rest.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
@@ -169,7 +170,7 @@ function deepestUnderShakeAndSpin(integrator, options) {
 
 describe("under the demo's shake and spin", () => {
   for (const integrator of ['vrm', 'xpbd']) {
-    test(`${integrator}: the ponytail and side locks stay within 1 mm of the head and torso shapes`, (t) => {
+    test(`${integrator}: the ponytail and side locks stay within 1 mm of the head, neck and torso shapes`, (t) => {
       const without = deepestUnderShakeAndSpin(integrator, {});
       const { body, neck } = deepestUnderShakeAndSpin(integrator, { colliders: 'dcl-body', hitRadius: kHitRadius });
       const mm = (m) => (m * 1000).toFixed(2);
@@ -179,8 +180,7 @@ describe("under the demo's shake and spin", () => {
       // The same motion without colliders puts hair inside the body: the check below can fail.
       assert.ok(without.body.depth > 0.01, `without colliders the deepest tail is only ${mm(without.body.depth)} mm inside`);
       assert.ok(body.depth <= 0.001, `${body.joint} went ${mm(body.depth)} mm into ${body.shape}`);
-      // A tail in the neck never reaches its axis: the hair is not cut through the neck.
-      assert.ok(neck.depth < neck.radius, `${neck.joint} went ${mm(neck.depth)} mm into the neck`);
+      assert.ok(neck.depth <= 0.001, `${neck.joint} went ${mm(neck.depth)} mm into the neck (frame ${neck.frame})`);
     });
   }
 });
