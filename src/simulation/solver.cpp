@@ -28,6 +28,7 @@
 
 #include "common/transform_math.h"
 #include "simulation/driver_poses.h"
+#include "simulation/grab.h"
 #include "simulation/jump_carry.h"
 #include "simulation/spring_lanes.h"
 #include "simulation/wind.h"
@@ -76,7 +77,19 @@ struct SpringInput {
   glm::vec3 rest_dir;     // world
   glm::vec3 rest_offset;  // world, rest_dir * length
   float length;
+  glm::mat3 rest_linear;  // the joint at its rest rotation under its current parent (a grab's anchor)
 };
+
+// settle(): a step that turns no joint by more than this (radians) ends it.
+constexpr float kSettledTurn = 1e-5f;
+
+// The angle between two unit quaternions (x, y, z, w), from the vector part of their difference
+// rotation: accurate for small angles, where 1 - |dot| is lost to float rounding.
+float turnBetween(const float* a, const float* b) {
+  const glm::quat qa(a[3], a[0], a[1], a[2]), qb(b[3], b[0], b[1], b[2]);
+  const glm::quat d = glm::conjugate(qa) * qb;
+  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
+}
 
 }  // namespace
 
@@ -133,6 +146,105 @@ struct Instance::State {
   Wind wind;
   std::uint64_t wind_steps = 0;
   glm::vec3 step_wind{0.0f};
+
+  // Where the tail state lives when the instance has a lane copy: in the lanes (the fast path) or
+  // in current_tail / previous_tail (the general path); moved over when a frame changes path.
+  bool tails_in_lanes = false;
+
+  // Grab (Instance::grab, grab.h). A grabbing instance takes the general path.
+  HeldJoints held;
+  int grab_joint = -1;
+  glm::vec3 grab_point{0.0f};
+
+  // Inertia (InstanceOptions::inertia): per chain (Rig::chain_roots order), and per joint its
+  // chain's index (-1: none). Below 1 on any chain, the instance takes the general path and keeps
+  // the previous step's driver matrices.
+  std::vector<float> chain_inertia;
+  std::vector<int> joint_chain;
+  bool inertia_active = false;
+  std::vector<glm::mat4> last_step_drivers;
+  std::vector<float> settle_rotations;  // settle(): the rotations before a step
+
+  bool needsGeneralPath() const { return held.active || inertia_active; }
+
+  // Moves the tail state to the path this frame uses (the lanes or the general path's arrays),
+  // with the joints' world transforms a grab starts from.
+  void usePathState() {
+    if (!lanes || xpbd || tails_in_lanes == fast_path) return;
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
+      if (fast_path) {
+        lanes->setTailState(lane_copy, j, current_tail[j], previous_tail[j]);
+      } else {
+        lanes->tailState(lane_copy, j, current_tail[j], previous_tail[j]);
+        Similarity world;
+        lanes->jointWorld(lane_copy, j, world.position, world.rotation, world.scale);
+        joint_world[j] = world.matrix();
+      }
+    }
+    tails_in_lanes = fast_path;
+  }
+
+  // Every tail's velocity set to zero (settle): the previous tail put on the current one.
+  void holdTails() {
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
+      glm::vec3 now, before;
+      if (xpbd) {
+        xpbd->tailState(j, now, before);
+        xpbd->setTailState(j, now, now);
+      } else if (lanes && tails_in_lanes) {
+        lanes->tailState(lane_copy, j, now, before);
+        lanes->setTailState(lane_copy, j, now, now);
+      } else {
+        previous_tail[j] = current_tail[j];
+      }
+    }
+  }
+
+  // Inertia below 1 (docs/semantics.md, "Inertia of the avatar"): before a step, every tail of such
+  // a chain (current and previous, in its inertia space) is carried by the fraction 1 - inertia of
+  // the motion, over the last step, of the driver its chain hangs from, seen from that space (the
+  // driver's pose in its center's space, or in world space), so it feels only the rest.
+  void carryInertia() {
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const int chain = joint_chain[j];
+      const float keep = chain >= 0 ? chain_inertia[chain] : kDefaultInertia;
+      const int carrier = joints[joints[j].chain].parent_driver, center = joints[j].center_driver;
+      if (!(keep < 1.0f) || carrier < 0) continue;
+      glm::mat4 before = last_step_drivers[carrier], now = step_drivers[carrier];
+      if (center >= 0 && (last_step_drivers[center] != step_drivers[center] || before != now)) {
+        glm::mat4 before_inverse, now_inverse;
+        if (affineInverse(last_step_drivers[center], before_inverse) && affineInverse(step_drivers[center], now_inverse)) {
+          before = before_inverse * before;
+          now = now_inverse * now;
+        }
+      }
+      if (before == now) continue;  // no motion (settle, a still avatar): nothing to carry
+      const Transform a = decomposeTransform(before), b = decomposeTransform(now);
+      const float t = 1.0f - keep;
+      const glm::mat4 part = composeTransform(glm::mix(toGlm(a.translation), toGlm(b.translation), t),
+                                              interpolateRotation(toGlm(a.rotation), toGlm(b.rotation), t),
+                                              glm::mix(toGlm(a.scale), toGlm(b.scale), t));
+      glm::mat4 before_inverse;
+      if (!affineInverse(before, before_inverse)) continue;
+      const glm::mat4 carry = part * before_inverse;
+      glm::vec3 now_tail, before_tail;
+      if (xpbd) {
+        xpbd->tailState(j, now_tail, before_tail);
+      } else {
+        now_tail = current_tail[j];
+        before_tail = previous_tail[j];
+      }
+      const glm::vec3 carried_now(carry * glm::vec4(now_tail, 1.0f)), carried_before(carry * glm::vec4(before_tail, 1.0f));
+      if (!isFinite(carried_now) || !isFinite(carried_before)) continue;
+      if (xpbd) {
+        xpbd->setTailState(j, carried_now, carried_before);
+      } else {
+        current_tail[j] = carried_now;
+        previous_tail[j] = carried_before;
+      }
+    }
+  }
 
   // Jumps (see carryAcrossJump).
   bool jump_requested = false;
@@ -274,6 +386,7 @@ struct Instance::State {
     next += in.rest_dir * (p.stiffness * h);
     next += toGlm(p.gravity_dir) * (p.gravity_power * h);
     next += step_wind;
+    if (held.active && held.slot[j] >= 0) next = held.tail(held.slot[j], in.head, in.rest_linear, in.rest_offset, next);
     glm::vec3 offset = next - in.head;
     const float offset_length = glm::length(offset);
     offset = offset_length > kMinLength && std::isfinite(offset_length)
@@ -316,6 +429,7 @@ struct Instance::State {
         continue;
       }
       in.rest_dir = in.rest_offset / in.length;
+      in.rest_linear = rest_linear;
       const glm::vec3 offset = integrate(j, joint, in, h);
       const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
       joint_world[j] =
@@ -325,6 +439,12 @@ struct Instance::State {
   }
 
   void run(float h, bool seed_only) {
+    if (seed_only) {
+      tails_in_lanes = fast_path;
+    } else if (!fast_path) {
+      if (inertia_active) carryInertia();
+      if (held.active) held.prepare(grab_point, joint_world.data());
+    }
     if (xpbd) {
       // The XPBD integrator reads the general path's driver matrices and the shared collider
       // table, and writes the general path's outputs.
@@ -359,7 +479,7 @@ struct Instance::State {
     const bool was_seeded = seeded;
     if (!seeded) {
       holdPoses();
-      fast_path = lanes && driversAreSimilarities();
+      fast_path = lanes && driversAreSimilarities() && !needsGeneralPath();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
       seeded = true;
@@ -377,7 +497,8 @@ struct Instance::State {
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
     if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps, options.jump_distance, options.jump_angle))) carryAcrossJump();
     jump_requested = false;
-    fast_path = lanes && driversAreSimilarities();
+    fast_path = lanes && driversAreSimilarities() && !needsGeneralPath();
+    usePathState();
     return true;
   }
 
@@ -385,6 +506,11 @@ struct Instance::State {
     // Where this step falls inside the frame, for driver interpolation.
     const double h = step_seconds;
     const double at = frame_dropped ? double(i + 1) / frame_steps : ((i + 1) * h - frame_start) / frame_dt;
+    if (inertia_active && !fast_path) {  // the drivers of the step before, for carryInertia
+      for (std::size_t d = 0; d < last_step_drivers.size(); ++d) {
+        last_step_drivers[d] = i == 0 ? previousPoses().matrix(d) : step_drivers[d];
+      }
+    }
     prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
     prepareWind();
   }
@@ -393,6 +519,10 @@ struct Instance::State {
   void prepareWind() {
     const glm::vec3 pull = windAt(wind, static_cast<double>(wind_steps) * step_seconds);
     ++wind_steps;
+    applyWind(pull);
+  }
+
+  void applyWind(const glm::vec3& pull) {
     if (xpbd) {
       xpbd->setWind(pull);
       return;
@@ -474,6 +604,22 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.lanes = SpringLanes::acquire(s.rig);
     s.lane_copy = s.lanes->addCopy(s.rotations.data());
   }
+  // Grab and inertia, sized once so that grab() and the steps allocate nothing.
+  s.held.slot.assign(joints, -1);
+  s.held.path.reserve(joints);
+  s.held.anchor.reserve(joints);
+  s.held.reach.reserve(joints);
+  s.settle_rotations.resize(4 * joints);
+  s.last_step_drivers.resize(drivers);
+  const auto& roots = s.rig->chain_roots;
+  s.chain_inertia.assign(roots.size(), kDefaultInertia);
+  s.joint_chain.assign(joints, -1);
+  for (std::size_t j = 0; j < joints; ++j) {
+    const auto found = std::find(roots.begin(), roots.end(), s.rig->joints[j].chain);
+    if (found != roots.end()) s.joint_chain[j] = static_cast<int>(found - roots.begin());
+  }
+  s.options.inertia = kDefaultInertia;
+  setInertia(options.inertia, -1);
 }
 
 Instance::~Instance() = default;
@@ -524,6 +670,97 @@ void Instance::reset() {
 }
 
 void Instance::jump() { state_->jump_requested = true; }
+
+int Instance::settle(double seconds) {
+  State& s = *state_;
+  seconds = std::isnan(seconds) ? 0.0 : std::clamp(seconds, 0.0, kMaxSettleSeconds);
+  // The tolerance keeps 2 s at 60 Hz at 120 steps despite rounding in the product.
+  const int most = static_cast<int>(std::ceil(seconds * s.options.step_hz - 1e-6));
+  // Put at rest under the drivers as they are, which become the last frame's too (no motion).
+  s.currentPoses().read(s.driver_input.data(), s.previousPoses());
+  s.holdPoses();
+  s.fast_path = s.lanes && s.driversAreSimilarities() && !s.needsGeneralPath();
+  s.prepareDrivers(1.0f);
+  s.run(0.0f, /*seed_only=*/true);
+  s.seeded = true;
+  s.accumulator = 0.0;
+  s.jump_requested = false;
+  if (s.rig->joints.empty()) return 0;
+  s.last_step_drivers = s.step_drivers;  // still drivers: inertia carries nothing
+  s.applyWind(windAt(s.wind, static_cast<double>(s.wind_steps) * s.step_seconds));
+  // Steps with no velocity: each moves the tails by what still pulls them off their balance of
+  // stiffness, gravity, wind, colliders (and a grab), and never overshoots it as a swing would.
+  int steps = 0;
+  while (steps < most) {
+    s.settle_rotations = s.rotations;
+    s.holdTails();
+    s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+    ++steps;
+    float turn = 0.0f;
+    for (std::size_t j = 0; j < s.rig->joints.size(); ++j) {
+      turn = std::max(turn, turnBetween(s.settle_rotations.data() + 4 * j, s.rotations.data() + 4 * j));
+    }
+    if (!(turn > kSettledTurn)) break;
+  }
+  s.holdTails();
+  return steps;
+}
+
+void Instance::grab(std::size_t joint, const Vec3& point) {
+  State& s = *state_;
+  const auto& joints = s.rig->joints;
+  if (joint >= joints.size() || !isFinite(toGlm(point))) return;
+  s.grab_point = toGlm(point);
+  if (s.grab_joint != static_cast<int>(joint)) {
+    HeldJoints& held = s.held;
+    for (int j : held.path) held.slot[j] = -1;
+    held.path.clear();
+    held.anchor.clear();
+    // From the grabbed joint up to its chain root (a parent joint always comes first in the
+    // rig, so this ends), then turned root first.
+    for (int j = static_cast<int>(joint); j >= 0 && held.path.size() < joints.size(); j = joints[j].parent_joint) {
+      held.anchor.push_back(held.path.empty() ? toGlm(joints[j].tail_local)
+                                              : toGlm(joints[held.path.back()].rest_local.translation));
+      held.path.push_back(j);
+    }
+    std::reverse(held.path.begin(), held.path.end());
+    std::reverse(held.anchor.begin(), held.anchor.end());
+    held.reach.assign(held.path.size(), glm::vec3(0.0f));
+    for (std::size_t k = 0; k < held.path.size(); ++k) held.slot[held.path[k]] = static_cast<int>(k);
+    s.grab_joint = static_cast<int>(joint);
+  }
+  s.held.active = true;
+  if (s.xpbd) s.xpbd->setHeld(&s.held);
+}
+
+void Instance::release() {
+  State& s = *state_;
+  for (int j : s.held.path) s.held.slot[j] = -1;
+  s.held.path.clear();
+  s.held.active = false;
+  s.grab_joint = -1;
+  if (s.xpbd) s.xpbd->setHeld(nullptr);
+}
+
+int Instance::grabbedJoint() const { return state_->grab_joint; }
+
+void Instance::setInertia(float value, int chain) {
+  State& s = *state_;
+  if (chain >= static_cast<int>(s.chain_inertia.size())) return;
+  value = std::isnan(value) ? kDefaultInertia : std::clamp(value, 0.0f, 1.0f);
+  if (chain < 0) {
+    std::fill(s.chain_inertia.begin(), s.chain_inertia.end(), value);
+    s.options.inertia = value;
+  } else {
+    s.chain_inertia[chain] = value;
+  }
+  s.inertia_active = std::any_of(s.chain_inertia.begin(), s.chain_inertia.end(), [](float k) { return k < 1.0f; });
+}
+
+float Instance::inertia(std::size_t chain) const {
+  const State& s = *state_;
+  return chain < s.chain_inertia.size() ? s.chain_inertia[chain] : kDefaultInertia;
+}
 int Instance::jumps() const { return state_->jump_count; }
 
 void Instance::setJumpThresholds(float distance, float angle) {
