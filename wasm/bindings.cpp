@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <new>
 #include <stdexcept>
@@ -315,6 +316,46 @@ int jumps(int instance) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Settle, grab and inertia (Instance::settle, grab, release, setInertia), checked by the JS side;
+// the core clamps or ignores anyway.
+
+/// The steps settle ran, -1 for an unknown handle.
+int settle(int instance, double seconds) {
+  Instance* i = findInstance(instance);
+  return i ? i->settle(seconds) : -1;
+}
+bool grab(int instance, int joint, float x, float y, float z) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr && joint >= 0) i->grab(static_cast<std::size_t>(joint), Vec3{x, y, z});
+  return i != nullptr;
+}
+bool release(int instance) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->release();
+  return i != nullptr;
+}
+int grabbedJoint(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? i->grabbedJoint() : -1;
+}
+/// chain < 0: every chain.
+bool setInertia(int instance, float value, int chain) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->setInertia(value, chain);
+  return i != nullptr;
+}
+/// NaN for an unknown handle.
+float inertia(int instance, int chain) {
+  Instance* i = findInstance(instance);
+  return i && chain >= 0 ? i->inertia(static_cast<std::size_t>(chain)) : std::numeric_limits<float>::quiet_NaN();
+}
+/// The rig's chain count (setInertia's range), -1 for an unknown handle.
+int chainCount(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? static_cast<int>(i->rig().chain_roots.size()) : -1;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
 
 Wind windOf(float dx, float dy, float dz, float strength, float gust_frequency, double seed) {
@@ -382,4 +423,11 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("setJumpThresholds", &setJumpThresholds);
   emscripten::function("jump", &jump);
   emscripten::function("jumps", &jumps);
+  emscripten::function("settle", &settle);
+  emscripten::function("grab", &grab);
+  emscripten::function("release", &release);
+  emscripten::function("grabbedJoint", &grabbedJoint);
+  emscripten::function("setInertia", &setInertia);
+  emscripten::function("inertia", &inertia);
+  emscripten::function("chainCount", &chainCount);
 }

@@ -134,6 +134,8 @@ std::string limitsJson() {
               {"maxMetadataBytes", kMaxMetadataBytes},
               {"maxWindStrength", kMaxWindStrength},
               {"maxGustFrequency", kMaxGustFrequency},
+              {"settleSeconds", kDefaultSettleSeconds},
+              {"maxSettleSeconds", kMaxSettleSeconds},
               {"integrators",
                {{"vrm", {{"stepHz", vrm.step_hz}, {"maxSubsteps", vrm.max_substeps}}},
                 {"xpbd",
