@@ -9,6 +9,7 @@
 import { createSpringBones } from '../../../springbones.js';
 import { SpringBoneSimulation } from '../../../babylon/index.js';
 import { ChainPanel } from './chainPanel.js';
+import { HairDrag } from './drag.js';
 
 const BABYLON = globalThis.BABYLON;
 const ASSETS = new URL('../../assets/', import.meta.url);
@@ -71,7 +72,12 @@ document.getElementById('teleport').addEventListener('click', () => {
   avatarRoot.position.z = avatarRoot.position.z > 0.5 ? 0 : 1;
   simulation.jump();  // carried across the move: no whip
 });
-document.getElementById('reset').addEventListener('click', () => simulation.reset());
+// Reset: the hair at rest in the pose the avatar has now (settle), not falling from its rest pose.
+document.getElementById('reset').addEventListener('click', () => {
+  drag?.letGo({ pointerId: -1 });
+  simulation.settle();
+});
+let drag = null;  // the mouse drag of the hair, once the rig is there
 document.getElementById('wind').addEventListener('input', (event) => {
   const strength = Number(event.target.value);
   document.getElementById('wind-value').textContent = strength.toFixed(1);
@@ -89,6 +95,9 @@ const showRig = () => {
   document.getElementById('readout-chains').textContent = rig.chains.length;
   document.getElementById('warnings').textContent = rig.warnings.map((w) => `${w.code}: ${w.message}`).join('\n');
 };
+// A press on a chain's tail drags the hair; elsewhere it turns the camera.
+drag = new HairDrag(BABYLON, scene, camera, simulation, itemHash,
+  () => simulation.rigOf(itemHash)?.joints.map((j) => (j.tail ? wearableNodes.get(j.tail) ?? null : null)) ?? []);
 const panel = new ChainPanel(springBones.models[itemHash], (entry) => {
   simulation.updateParams(itemHash, entry);
   showRig();
