@@ -345,6 +345,8 @@ export class SpringBonesAttachment {
    */
   settle(seconds) {
     if (this.instance === null) return 0;
+    // An animation that started before this is the pose settled in, not a jump after it.
+    this._animationStarts?.started();
     this._copies.readDrivers();
     const steps = this.instance.settle(seconds);
     this.writeRotations();

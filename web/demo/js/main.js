@@ -624,6 +624,18 @@ function debugHook(preview, creator) {
     shake: () => preview.shake(),
     setSpin: (on) => { $('spin').checked = Boolean(on); preview.spin = Boolean(on); },
     reset: () => preview.reset(),
+    /** Where the first avatar draws a joint's tail, in the page's CSS pixels (null: not drawn). */
+    tailOnScreen: (name) => {
+      const attachment = first();
+      const j = attachment ? attachment.rig.joints.findIndex((x) => x.name === name) : -1;
+      const tail = j >= 0 ? attachment.tailObjects[j] : null;
+      if (!tail) return null;
+      const p = tail.getWorldPosition(new THREE.Vector3()).project(preview.camera);
+      const rect = preview.renderer.domElement.getBoundingClientRect();
+      return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+    },
+    /** The joint the mouse holds on the first avatar (instance.grabbedJoint), -1 for none. */
+    grabbedJoint: () => first()?.instance.grabbedJoint ?? -1,
     /** Advances `seconds` in fixed frames of dt (use while paused: deterministic). */
     advance: (seconds, dt = 1 / 60) => {
       for (let t = 0; t < seconds - 1e-9; t += dt) preview.advance(dt);

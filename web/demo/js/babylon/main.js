@@ -127,4 +127,15 @@ window.springbonesBabylonDemo = {
     return [q.x, q.y, q.z, q.w];
   }),
   entry: () => structuredClone(panel.entry),
+  /** Where a node (a chain's tail) is drawn, in the page's CSS pixels (null: no such node). */
+  tailOnScreen: (name) => {
+    const node = wearableNodes.get(name);
+    if (!node) return null;
+    const p = BABYLON.Vector3.Project(node.getAbsolutePosition(), BABYLON.Matrix.Identity(), scene.getTransformMatrix(),
+      camera.viewport.toGlobal(canvas.clientWidth, canvas.clientHeight));
+    const rect = canvas.getBoundingClientRect();
+    return { x: rect.left + p.x, y: rect.top + p.y };
+  },
+  /** Whether the mouse holds a joint of the hair. */
+  dragging: () => drag.dragging,
 };
