@@ -338,10 +338,11 @@ class Instance {
   void setWind(const Wind& wind);
   /// The wind in use, as clamped by setWind.
   const Wind& wind() const;
-  /// Runs the springs to rest under the current driver matrices, without a frame: the tails are
-  /// put at rest (as by reset()) and stepped with no velocity until no joint turns by more than
-  /// 1e-5 rad in a step, or for at most `seconds` x the step rate steps (seconds clamped to
-  /// [0, kMaxSettleSeconds]; NaN: 0). The wind pulls as at the current simulated time, which does
+  /// Runs the springs to rest under the current driver matrices, without a frame: every tail is
+  /// put where its stiffness, gravity and wind balance (parents first), then stepped with no
+  /// velocity, which resolves colliders (and a grab), until no joint turns by more than 1e-5 rad
+  /// in a step, or for at most `seconds` x the step rate steps (seconds clamped to
+  /// [0, kMaxSettleSeconds]; NaN: 0; 0 leaves the tails at rest, as reset() would). The wind pulls as at the current simulated time, which does
   /// not advance. The motion is then forgotten: the next step starts from the settled pose with no
   /// velocity, and the drivers as they are count as the last frame's. Deterministic (the same
   /// pose, the same result); returns the steps it ran (0: none, the pose is the rest pose put in

@@ -200,6 +200,56 @@ struct Instance::State {
     }
   }
 
+  // settle(): every tail put where its pulls balance without colliders, parents first, with no
+  // velocity. With no velocity, a step of either integrator leaves a tail in place exactly when
+  // stiffness x the rest direction + gravity + the wind's pull points along the bone (the VRM
+  // update adds them to the tail before the length constraint; XPBD's bend constraint, of
+  // compliance L / stiffness, balances gravity and wind there too), so that is where each tail
+  // goes; with no pull at all it stays at rest. The settle steps after it only have the colliders
+  // (and a grab) left to resolve. Reads the drivers of the current poses and writes every path's
+  // state, the rotations and the joints' world matrices.
+  void seedBalance(const glm::vec3& wind_pull) {
+    const auto& joints = rig->joints;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const Joint& joint = joints[j];
+      const glm::mat4 parent = joint.parent_joint >= 0    ? joint_world[joint.parent_joint]
+                               : joint.parent_driver >= 0 ? currentPoses().matrix(joint.parent_driver)
+                                                          : kIdentity;
+      const glm::mat4 rest_world = parent * rest_local_matrix[j];
+      const glm::mat3 rest_linear(rest_world);
+      const glm::vec3 head(rest_world[3]);
+      const glm::vec3 rest_offset = rest_linear * toGlm(joint.tail_local);
+      const float length = glm::length(rest_offset);
+      glm::vec3 tail = head + rest_offset;
+      glm::quat rotation = toGlm(joint.rest_local.rotation);
+      glm::vec3 pull(0.0f);
+      if (length > kMinLength && tail_distance[j] > kMinLength) {
+        pull = rest_offset * (joint.params.stiffness / length) + toGlm(joint.params.gravity_dir) * joint.params.gravity_power +
+               wind_pull;
+      }
+      if (toUnitLength(pull)) {
+        tail = head + pull * length;
+        rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * (tail - head));
+      }
+      joint_world[j] =
+          parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
+      writeRotation(j, rotation);
+      glm::vec3 stored = tail;
+      glm::mat4 center_inverse;
+      if (joint.center_driver >= 0 && affineInverse(currentPoses().matrix(joint.center_driver), center_inverse)) {
+        stored = glm::vec3(center_inverse * glm::vec4(tail, 1.0f));
+      }
+      if (xpbd) {
+        xpbd->setTailState(j, stored, stored);
+      } else if (lanes && tails_in_lanes) {
+        lanes->setTailState(lane_copy, j, stored, stored);
+      } else {
+        current_tail[j] = previous_tail[j] = stored;
+      }
+    }
+    world_from_similarity = false;
+  }
+
   // Inertia below 1 (docs/semantics.md, "Inertia of the avatar"): before a step, every tail of such
   // a chain (current and previous, in its inertia space) is carried by the fraction 1 - inertia of
   // the motion, over the last step, of the driver its chain hangs from, seen from that space (the
@@ -227,7 +277,11 @@ struct Instance::State {
                                               glm::mix(toGlm(a.scale), toGlm(b.scale), t));
       glm::mat4 before_inverse;
       if (!affineInverse(before, before_inverse)) continue;
-      const glm::mat4 carry = part * before_inverse;
+      // Into the driver's space, then out of the carried pose: two products rather than one
+      // (part x before^-1), whose translation would be a difference of metres-sized terms.
+      const auto carry = [&](const glm::vec3& p) {
+        return glm::vec3(part * (before_inverse * glm::vec4(p, 1.0f)));
+      };
       glm::vec3 now_tail, before_tail;
       if (xpbd) {
         xpbd->tailState(j, now_tail, before_tail);
@@ -235,7 +289,7 @@ struct Instance::State {
         now_tail = current_tail[j];
         before_tail = previous_tail[j];
       }
-      const glm::vec3 carried_now(carry * glm::vec4(now_tail, 1.0f)), carried_before(carry * glm::vec4(before_tail, 1.0f));
+      const glm::vec3 carried_now = carry(now_tail), carried_before = carry(before_tail);
       if (!isFinite(carried_now) || !isFinite(carried_before)) continue;
       if (xpbd) {
         xpbd->setTailState(j, carried_now, carried_before);
@@ -392,7 +446,15 @@ struct Instance::State {
     offset = offset_length > kMinLength && std::isfinite(offset_length)
                  ? offset * (in.length / offset_length)
                  : in.rest_offset;  // tail on the head (or lost): restart from rest
-    const glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
+    glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
+    // A held tail is pulled toward its point every step, into a collider if the point is in one:
+    // the update's one pass (a push, then the length back) can leave it inside, so it gets the
+    // passes XPBD takes, while a collider still moves it.
+    for (int pass = 1; held.active && held.slot[j] >= 0 && pass < kDefaultXpbdIterations; ++pass) {
+      const glm::vec3 again = collide(joint, in.head, tail, in.length);
+      if (again == tail) break;
+      tail = again;
+    }
     previous_tail[j] = current;
     current_tail[j] = toCenter(joint, tail);
     return tail - in.head;
@@ -687,9 +749,11 @@ int Instance::settle(double seconds) {
   s.jump_requested = false;
   if (s.rig->joints.empty()) return 0;
   s.last_step_drivers = s.step_drivers;  // still drivers: inertia carries nothing
-  s.applyWind(windAt(s.wind, static_cast<double>(s.wind_steps) * s.step_seconds));
-  // Steps with no velocity: each moves the tails by what still pulls them off their balance of
-  // stiffness, gravity, wind, colliders (and a grab), and never overshoots it as a swing would.
+  const glm::vec3 pull = windAt(s.wind, static_cast<double>(s.wind_steps) * s.step_seconds);
+  s.applyWind(pull);
+  if (most > 0) s.seedBalance(pull);
+  // Steps with no velocity: each moves the tails by what still pulls them off their balance
+  // (colliders, a grab), and never overshoots it as a swing would.
   int steps = 0;
   while (steps < most) {
     s.settle_rotations = s.rotations;
