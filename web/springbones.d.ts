@@ -441,8 +441,9 @@ export interface Instance {
   readonly jumps: number;
   /**
    * Runs the springs to rest under the current driverMatrices without rendering (thumbnails,
-   * turntables, emote starts): the tails restart at rest and take steps with no velocity until no
-   * joint turns by more than 1e-5 rad in one, at most seconds x stepHz of them. Deterministic:
+   * turntables, emote starts): every tail is put where its stiffness, gravity and wind balance,
+   * then stepped with no velocity (for the colliders) until no joint turns by more than 1e-5 rad
+   * in a step, at most seconds x stepHz steps. Deterministic:
    * the same pose gives the same result. The next step starts there with no velocity and the
    * drivers as they are. Returns the steps it ran.
    * @param seconds default 2, in [0, 60]
