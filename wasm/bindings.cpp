@@ -19,7 +19,6 @@
 
 #include <cstdint>
 #include <exception>
-#include <limits>
 #include <memory>
 #include <new>
 #include <stdexcept>
@@ -344,16 +343,6 @@ bool setInertia(int instance, float value, int chain) {
   if (i != nullptr) i->setInertia(value, chain);
   return i != nullptr;
 }
-/// NaN for an unknown handle.
-float inertia(int instance, int chain) {
-  Instance* i = findInstance(instance);
-  return i && chain >= 0 ? i->inertia(static_cast<std::size_t>(chain)) : std::numeric_limits<float>::quiet_NaN();
-}
-/// The rig's chain count (setInertia's range), -1 for an unknown handle.
-int chainCount(int instance) {
-  Instance* i = findInstance(instance);
-  return i ? static_cast<int>(i->rig().chain_roots.size()) : -1;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
@@ -428,6 +417,4 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("release", &release);
   emscripten::function("grabbedJoint", &grabbedJoint);
   emscripten::function("setInertia", &setInertia);
-  emscripten::function("inertia", &inertia);
-  emscripten::function("chainCount", &chainCount);
 }

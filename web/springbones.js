@@ -245,7 +245,8 @@ class Rig {
       m.setJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
     }
     if (inertia !== undefined) m.setInertia(handle, inertia, -1);
-    return new Instance(m, handle, this.#limits);
+    // The chain count for setInertia's check, read from the description only when it is needed.
+    return new Instance(m, handle, this.#limits, () => this.chains.length);
   }
 
   /**
@@ -272,6 +273,7 @@ class Instance {
   #rotations;
   #world;
   #scenes = new Set();  // scenes this instance is in, left on dispose
+  #chainCount;  // () => the rig's chain count
 
   static {
     instanceInternals = {
@@ -281,10 +283,11 @@ class Instance {
     };
   }
 
-  constructor(m, handle, limits) {
+  constructor(m, handle, limits, chainCount) {
     this.#m = m;
     this.#handle = handle;
     this.#limits = limits;
+    this.#chainCount = chainCount;
     this.#driverPtr = m.driverMatricesPtr(handle);
     this.#rotationsPtr = m.rotationsPtr(handle);
     this.#worldPtr = m.worldMatricesPtr(handle);
@@ -415,7 +418,7 @@ class Instance {
     const handle = this.#live();
     checkRange('setInertia: value', value, 0, 1);
     let index = -1;
-    if (chain !== undefined) index = checkInteger('setInertia: chain', chain, 0, this.#m.chainCount(handle) - 1);
+    if (chain !== undefined) index = checkInteger('setInertia: chain', chain, 0, this.#chainCount() - 1);
     this.#m.setInertia(handle, value, index);
   }
 

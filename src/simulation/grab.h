@@ -8,15 +8,14 @@
 // rest pose under the parent it now has so that its anchor aims at that point, which is the
 // forward pass. The turned tail then goes through the length constraint and the colliders as any
 // tail does, so they still hold. Over the steps of a few frames the passes converge, and a point
-// beyond the chain's reach leaves the chain stretched toward it.
+// beyond the chain's reach leaves the chain stretched toward it. Defined in grab.cpp, out of the
+// -O3 per-frame files (wasm/CMakeLists.txt): a grab is one instance's, rarely.
 #pragma once
 
-#include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include "common/glm_interop.h"
-#include "common/transform_math.h"
 
 namespace springbones {
 
@@ -34,29 +33,13 @@ struct HeldJoints {
   /// offset turned by the rotation taking the anchor at rest onto the direction of the reach
   /// point. A degenerate anchor or a reach point on the head leaves the tail at `fallback`.
   glm::vec3 tail(std::size_t k, const glm::vec3& head, const glm::mat3& rest_linear, const glm::vec3& rest_offset,
-                 const glm::vec3& fallback) const {
-    glm::vec3 from = rest_linear * anchor[k];
-    glm::vec3 to = reach[k] - head;
-    if (!toUnitLength(from) || !toUnitLength(to)) return fallback;
-    const glm::vec3 out = head + rotationBetween(from, to) * rest_offset;
-    return isFinite(out) ? out : fallback;
-  }
+                 const glm::vec3& fallback) const;
 
   /// The backward pass toward `point` (world), from the path joints' world transforms after the
   /// last step: the grabbed joint's anchor aims at the point, and each joint above at where the
   /// joint below would have its head, its anchor's length back from that joint's aim point along
   /// the line to its present head.
-  void prepare(const glm::vec3& point, const glm::mat4* joint_world) {
-    glm::vec3 aim = point;
-    for (std::size_t k = path.size(); k-- > 0;) {
-      reach[k] = aim;
-      const glm::mat4& world = joint_world[path[k]];
-      const glm::vec3 head(world[3]);
-      const float length = glm::length(glm::mat3(world) * anchor[k]);
-      glm::vec3 back = head - aim;
-      aim = toUnitLength(back) && std::isfinite(length) ? aim + back * length : head;
-    }
-  }
+  void prepare(const glm::vec3& point, const glm::mat4* joint_world);
 };
 
 }  // namespace springbones

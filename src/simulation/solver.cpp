@@ -30,10 +30,20 @@
 #include "simulation/driver_poses.h"
 #include "simulation/grab.h"
 #include "simulation/jump_carry.h"
+#include "simulation/motion_controls.h"
 #include "simulation/spring_lanes.h"
 #include "simulation/wind.h"
 #include "simulation/xpbd_solver.h"
 #include "springbones/springbones.h"
+
+// Functions with several callers (run and prepareDrivers: a frame's steps, the seed, settle) and
+// the rare paths (settle, inertia, a change of path) stay calls: inlined at -O3 into each caller
+// they cost the module kilobytes, and one call per step is nothing beside a step.
+#if defined(__GNUC__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
 
 namespace springbones {
 namespace {
@@ -83,12 +93,13 @@ struct SpringInput {
 // settle(): a step that turns no joint by more than this (radians) ends it.
 constexpr float kSettledTurn = 1e-5f;
 
-// The angle between two unit quaternions (x, y, z, w), from the vector part of their difference
-// rotation: accurate for small angles, where 1 - |dot| is lost to float rounding.
-float turnBetween(const float* a, const float* b) {
+// sin(angle / 2) of the turn between two unit quaternions (x, y, z, w): the length of the vector
+// part of their difference rotation, accurate for small angles, where 1 - |dot| is lost to float
+// rounding (and no trigonometry: below 1e-5 rad, sin(a / 2) is a / 2 to float precision).
+float halfTurnSine(const float* a, const float* b) {
   const glm::quat qa(a[3], a[0], a[1], a[2]), qb(b[3], b[0], b[1], b[2]);
   const glm::quat d = glm::conjugate(qa) * qb;
-  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
+  return glm::length(glm::vec3(d.x, d.y, d.z));
 }
 
 }  // namespace
@@ -169,7 +180,7 @@ struct Instance::State {
 
   // Moves the tail state to the path this frame uses (the lanes or the general path's arrays),
   // with the joints' world transforms a grab starts from.
-  void usePathState() {
+  SPRINGBONES_NOINLINE void usePathState() {
     if (!lanes || xpbd || tails_in_lanes == fast_path) return;
     for (std::size_t j = 0; j < current_tail.size(); ++j) {
       if (fast_path) {
@@ -185,7 +196,7 @@ struct Instance::State {
   }
 
   // Every tail's velocity set to zero (settle): the previous tail put on the current one.
-  void holdTails() {
+  SPRINGBONES_NOINLINE void holdTails() {
     for (std::size_t j = 0; j < current_tail.size(); ++j) {
       glm::vec3 now, before;
       if (xpbd) {
@@ -201,102 +212,34 @@ struct Instance::State {
   }
 
   // settle(): every tail put where its pulls balance without colliders, parents first, with no
-  // velocity. With no velocity, a step of either integrator leaves a tail in place exactly when
-  // stiffness x the rest direction + gravity + the wind's pull points along the bone (the VRM
-  // update adds them to the tail before the length constraint; XPBD's bend constraint, of
-  // compliance L / stiffness, balances gravity and wind there too), so that is where each tail
-  // goes; with no pull at all it stays at rest. The settle steps after it only have the colliders
-  // (and a grab) left to resolve. Reads the drivers of the current poses and writes every path's
-  // state, the rotations and the joints' world matrices.
-  void seedBalance(const glm::vec3& wind_pull) {
-    const auto& joints = rig->joints;
-    for (std::size_t j = 0; j < joints.size(); ++j) {
-      const Joint& joint = joints[j];
-      const glm::mat4 parent = joint.parent_joint >= 0    ? joint_world[joint.parent_joint]
-                               : joint.parent_driver >= 0 ? currentPoses().matrix(joint.parent_driver)
-                                                          : kIdentity;
-      const glm::mat4 rest_world = parent * rest_local_matrix[j];
-      const glm::mat3 rest_linear(rest_world);
-      const glm::vec3 head(rest_world[3]);
-      const glm::vec3 rest_offset = rest_linear * toGlm(joint.tail_local);
-      const float length = glm::length(rest_offset);
-      glm::vec3 tail = head + rest_offset;
-      glm::quat rotation = toGlm(joint.rest_local.rotation);
-      glm::vec3 pull(0.0f);
-      if (length > kMinLength && tail_distance[j] > kMinLength) {
-        pull = rest_offset * (joint.params.stiffness / length) + toGlm(joint.params.gravity_dir) * joint.params.gravity_power +
-               wind_pull;
-      }
-      if (toUnitLength(pull)) {
-        tail = head + pull * length;
-        rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * (tail - head));
-      }
-      joint_world[j] =
-          parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
-      writeRotation(j, rotation);
-      glm::vec3 stored = tail;
-      glm::mat4 center_inverse;
-      if (joint.center_driver >= 0 && affineInverse(currentPoses().matrix(joint.center_driver), center_inverse)) {
-        stored = glm::vec3(center_inverse * glm::vec4(tail, 1.0f));
-      }
+  // velocity (balanceTails, docs/semantics.md "Settle"): the settle steps after it only have the
+  // colliders (and a grab) left to resolve. Writes every path's state, the rotations and the
+  // joints' world matrices; current_tail is the scratch for the paths that keep their own.
+  SPRINGBONES_NOINLINE void seedBalance(const glm::vec3& wind_pull) {
+    balanceTails(*rig, currentPoses(), rest_local_matrix.data(), tail_axis.data(), tail_distance.data(), wind_pull,
+                 joint_world.data(), current_tail.data(), rotations.data());
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
       if (xpbd) {
-        xpbd->setTailState(j, stored, stored);
+        xpbd->setTailState(j, current_tail[j], current_tail[j]);
       } else if (lanes && tails_in_lanes) {
-        lanes->setTailState(lane_copy, j, stored, stored);
+        lanes->setTailState(lane_copy, j, current_tail[j], current_tail[j]);
       } else {
-        current_tail[j] = previous_tail[j] = stored;
+        previous_tail[j] = current_tail[j];
       }
     }
     world_from_similarity = false;
   }
 
-  // Inertia below 1 (docs/semantics.md, "Inertia of the avatar"): before a step, every tail of such
-  // a chain (current and previous, in its inertia space) is carried by the fraction 1 - inertia of
-  // the motion, over the last step, of the driver its chain hangs from, seen from that space (the
-  // driver's pose in its center's space, or in world space), so it feels only the rest.
-  void carryInertia() {
-    const auto& joints = rig->joints;
-    for (std::size_t j = 0; j < joints.size(); ++j) {
-      const int chain = joint_chain[j];
-      const float keep = chain >= 0 ? chain_inertia[chain] : kDefaultInertia;
-      const int carrier = joints[joints[j].chain].parent_driver, center = joints[j].center_driver;
-      if (!(keep < 1.0f) || carrier < 0) continue;
-      glm::mat4 before = last_step_drivers[carrier], now = step_drivers[carrier];
-      if (center >= 0 && (last_step_drivers[center] != step_drivers[center] || before != now)) {
-        glm::mat4 before_inverse, now_inverse;
-        if (affineInverse(last_step_drivers[center], before_inverse) && affineInverse(step_drivers[center], now_inverse)) {
-          before = before_inverse * before;
-          now = now_inverse * now;
-        }
-      }
-      if (before == now) continue;  // no motion (settle, a still avatar): nothing to carry
-      const Transform a = decomposeTransform(before), b = decomposeTransform(now);
-      const float t = 1.0f - keep;
-      const glm::mat4 part = composeTransform(glm::mix(toGlm(a.translation), toGlm(b.translation), t),
-                                              interpolateRotation(toGlm(a.rotation), toGlm(b.rotation), t),
-                                              glm::mix(toGlm(a.scale), toGlm(b.scale), t));
-      glm::mat4 before_inverse;
-      if (!affineInverse(before, before_inverse)) continue;
-      // Into the driver's space, then out of the carried pose: two products rather than one
-      // (part x before^-1), whose translation would be a difference of metres-sized terms.
-      const auto carry = [&](const glm::vec3& p) {
-        return glm::vec3(part * (before_inverse * glm::vec4(p, 1.0f)));
-      };
-      glm::vec3 now_tail, before_tail;
-      if (xpbd) {
-        xpbd->tailState(j, now_tail, before_tail);
-      } else {
-        now_tail = current_tail[j];
-        before_tail = previous_tail[j];
-      }
-      const glm::vec3 carried_now = carry(now_tail), carried_before = carry(before_tail);
-      if (!isFinite(carried_now) || !isFinite(carried_before)) continue;
-      if (xpbd) {
-        xpbd->setTailState(j, carried_now, carried_before);
-      } else {
-        current_tail[j] = carried_now;
-        previous_tail[j] = carried_before;
-      }
+  // Inertia below 1 (motion_controls.h): XPBD's tails go through current_tail / previous_tail,
+  // which that integrator does not use otherwise.
+  SPRINGBONES_NOINLINE void carryInertiaTails() {
+    if (xpbd) {
+      for (std::size_t j = 0; j < current_tail.size(); ++j) xpbd->tailState(j, current_tail[j], previous_tail[j]);
+    }
+    carryInertia(*rig, joint_chain.data(), chain_inertia.data(), last_step_drivers.data(), step_drivers.data(),
+                 current_tail.data(), previous_tail.data());
+    if (xpbd) {
+      for (std::size_t j = 0; j < current_tail.size(); ++j) xpbd->setTailState(j, current_tail[j], previous_tail[j]);
     }
   }
 
@@ -333,7 +276,7 @@ struct Instance::State {
 
   bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
 
-  void prepareDrivers(float t) {
+  SPRINGBONES_NOINLINE void prepareDrivers(float t) {
     if (fast_path) {
       DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverIndex(lane_copy, 0),
                          lanes->driverStride());
@@ -446,11 +389,12 @@ struct Instance::State {
     offset = offset_length > kMinLength && std::isfinite(offset_length)
                  ? offset * (in.length / offset_length)
                  : in.rest_offset;  // tail on the head (or lost): restart from rest
-    glm::vec3 tail = collide(joint, in.head, in.head + offset, in.length);
     // A held tail is pulled toward its point every step, into a collider if the point is in one:
     // the update's one pass (a push, then the length back) can leave it inside, so it gets the
-    // passes XPBD takes, while a collider still moves it.
-    for (int pass = 1; held.active && held.slot[j] >= 0 && pass < kDefaultXpbdIterations; ++pass) {
+    // passes XPBD takes, while a collider still moves it. Any other tail: one pass.
+    glm::vec3 tail = in.head + offset;
+    const int passes = held.active && held.slot[j] >= 0 ? kDefaultXpbdIterations : 1;
+    for (int pass = 0; pass < passes; ++pass) {
       const glm::vec3 again = collide(joint, in.head, tail, in.length);
       if (again == tail) break;
       tail = again;
@@ -500,11 +444,11 @@ struct Instance::State {
     }
   }
 
-  void run(float h, bool seed_only) {
+  SPRINGBONES_NOINLINE void run(float h, bool seed_only) {
     if (seed_only) {
       tails_in_lanes = fast_path;
     } else if (!fast_path) {
-      if (inertia_active) carryInertia();
+      if (inertia_active) carryInertiaTails();
       if (held.active) held.prepare(grab_point, joint_world.data());
     }
     if (xpbd) {
@@ -762,9 +706,9 @@ int Instance::settle(double seconds) {
     ++steps;
     float turn = 0.0f;
     for (std::size_t j = 0; j < s.rig->joints.size(); ++j) {
-      turn = std::max(turn, turnBetween(s.settle_rotations.data() + 4 * j, s.rotations.data() + 4 * j));
+      turn = std::max(turn, halfTurnSine(s.settle_rotations.data() + 4 * j, s.rotations.data() + 4 * j));
     }
-    if (!(turn > kSettledTurn)) break;
+    if (!(turn > 0.5f * kSettledTurn)) break;
   }
   s.holdTails();
   return steps;
