@@ -624,6 +624,8 @@ function debugHook(preview, creator) {
     shake: () => preview.shake(),
     setSpin: (on) => { $('spin').checked = Boolean(on); preview.spin = Boolean(on); },
     reset: () => preview.reset(),
+    /** The springs back to the rest pose (attachment.reset()): the next frame falls from it. */
+    restartSprings: () => { for (const a of preview.avatars) a.attachment?.reset(); },
     /** Where the first avatar draws a joint's tail, in the page's CSS pixels (null: not drawn). */
     tailOnScreen: (name) => {
       const attachment = first();
