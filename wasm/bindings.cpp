@@ -327,6 +327,35 @@ bool carryFrom(int instance, int previous) {
   return i != nullptr && p != nullptr;
 }
 
+// Settle, grab and inertia (Instance::settle, grab, release, setInertia), checked by the JS side;
+// the core clamps or ignores anyway.
+
+/// The steps settle ran, -1 for an unknown handle.
+int settle(int instance, double seconds) {
+  Instance* i = findInstance(instance);
+  return i ? i->settle(seconds) : -1;
+}
+bool grab(int instance, int joint, float x, float y, float z) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr && joint >= 0) i->grab(static_cast<std::size_t>(joint), Vec3{x, y, z});
+  return i != nullptr;
+}
+bool release(int instance) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->release();
+  return i != nullptr;
+}
+int grabbedJoint(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? i->grabbedJoint() : -1;
+}
+/// chain < 0: every chain.
+bool setInertia(int instance, float value, int chain) {
+  Instance* i = findInstance(instance);
+  if (i != nullptr) i->setInertia(value, chain);
+  return i != nullptr;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
 
@@ -396,4 +425,9 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("jump", &jump);
   emscripten::function("jumps", &jumps);
   emscripten::function("carryFrom", &carryFrom);
+  emscripten::function("settle", &settle);
+  emscripten::function("grab", &grab);
+  emscripten::function("release", &release);
+  emscripten::function("grabbedJoint", &grabbedJoint);
+  emscripten::function("setInertia", &setInertia);
 }

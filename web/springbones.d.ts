@@ -399,6 +399,14 @@ export interface InstanceOptions {
   jumpDistance?: number;
   /** The same for a driver's turn, radians per step; 0 turns it off. Default 0.5 (about 1,700 degrees/s at 60 Hz). */
   jumpAngle?: number;
+  /**
+   * How much of the motion of the driver a chain hangs from its chains feel, [0, 1]: 1 (default)
+   * all of it, the VRM update bit for bit; 0 none, as if each chain's inertia were kept in that
+   * driver's space (hair calm in a vehicle or on a platform). Below 1 the instance takes the
+   * general path (slower than the lane path). instance.setInertia sets one chain.
+   * @throws RangeError outside [0, 1]
+   */
+  inertia?: number;
 }
 
 /**
@@ -509,6 +517,38 @@ export interface Instance {
   carryFrom(previous: Instance): void;
   /** Discontinuities carried so far (jump() calls that reached a step, and detected jumps). */
   readonly jumps: number;
+  /**
+   * Runs the springs to rest under the current driverMatrices without rendering (thumbnails,
+   * turntables, emote starts): every tail is put where its stiffness, gravity and wind balance,
+   * then stepped with no velocity (for the colliders) until no joint turns by more than 1e-5 rad
+   * in a step, at most seconds x stepHz steps. Deterministic:
+   * the same pose gives the same result. The next step starts there with no velocity and the
+   * drivers as they are. Returns the steps it ran.
+   * @param seconds default 2, in [0, 60]
+   * @throws RangeError for seconds outside [0, 60] or NaN, TypeError for a non-number
+   */
+  settle(seconds?: number): number;
+  /**
+   * Holds rig.joints[joint]'s tail toward a world point from the next step on: the joints from its
+   * chain root down to it turn toward the point as far as the chain reaches, colliders still
+   * holding; the joints below swing. Call it every frame with a moving point (a drag).
+   * @throws RangeError for a disposed instance, a joint out of range or a non-finite point;
+   *   TypeError for a non-number joint or a point that is not 3 numbers
+   */
+  grab(joint: number, point: readonly number[] | Float32Array | Float64Array): void;
+  /**
+   * Lets go: the chain swings back from where and how fast it was moving, with no jolt.
+   * @throws RangeError for a disposed instance
+   */
+  release(): void;
+  /** The joint grab() holds, -1 for none. */
+  readonly grabbedJoint: number;
+  /**
+   * Sets the inertia (InstanceOptions.inertia) of chain `chain` (an index into rig.chains), or of
+   * every chain when omitted, from the next step on.
+   * @throws RangeError for a value outside [0, 1] or a chain out of range
+   */
+  setInertia(value: number, chain?: number): void;
   /**
    * Frees the instance, first removing it from every scene it is in. Idempotent; any other use
    * afterwards throws SpringBonesError 'disposed'.

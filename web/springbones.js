@@ -280,7 +280,7 @@ class Rig {
   createInstance(options) {
     if (this.#handle === 0) throw disposedError('rig');
     const opts = optionsObject('createInstance', options,
-                               ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations', ...kJumpOptions]);
+                               ['stepHz', 'maxSubsteps', 'integrator', 'xpbdIterations', 'inertia', ...kJumpOptions]);
     const jumps = jumpOptions('createInstance', opts, this.#jumps);
     const integrator = opts.integrator === undefined
       ? 'vrm' : checkOneOf('createInstance: integrator', opts.integrator, kIntegrators);
@@ -296,6 +296,7 @@ class Rig {
         throw new RangeError("createInstance: xpbdIterations only applies to integrator 'xpbd'");
       }
     }
+    const inertia = opts.inertia === undefined ? undefined : checkRange('createInstance: inertia', opts.inertia, 0, 1);
     const m = this.#m;
     const handle = call(() => m.createInstance(this.#handle, stepHz, maxSubsteps,
                                                integrator === 'xpbd' ? 1 : 0, xpbdIterations));
@@ -304,7 +305,9 @@ class Rig {
       // NaN keeps the core's default for the one not given.
       m.setJumpThresholds(handle, jumps.jumpDistance ?? NaN, jumps.jumpAngle ?? NaN);
     }
-    return new Instance(m, handle, this.#limits);
+    if (inertia !== undefined) m.setInertia(handle, inertia, -1);
+    // The chain count for setInertia's check, read from the description only when it is needed.
+    return new Instance(m, handle, this.#limits, () => this.chains.length);
   }
 
   /**
@@ -331,6 +334,7 @@ class Instance {
   #rotations;
   #world;
   #scenes = new Set();  // scenes this instance is in, left on dispose
+  #chainCount;  // () => the rig's chain count
 
   static {
     instanceInternals = {
@@ -340,10 +344,11 @@ class Instance {
     };
   }
 
-  constructor(m, handle, limits) {
+  constructor(m, handle, limits, chainCount) {
     this.#m = m;
     this.#handle = handle;
     this.#limits = limits;
+    this.#chainCount = chainCount;
     this.#driverPtr = m.driverMatricesPtr(handle);
     this.#rotationsPtr = m.rotationsPtr(handle);
     this.#worldPtr = m.worldMatricesPtr(handle);
@@ -447,6 +452,52 @@ class Instance {
   }
 
   /**
+   * Runs the springs to rest under the driver matrices as they are, without a frame (thumbnails,
+   * turntables, emote starts): at most `seconds` x stepHz steps, fewer once no joint turns any
+   * more. Deterministic; returns the steps it ran. The next step starts from there at rest.
+   */
+  settle(seconds = this.#limits.settleSeconds) {
+    const handle = this.#live();
+    checkRange('settle: seconds', seconds, 0, this.#limits.maxSettleSeconds);
+    return this.#m.settle(handle, seconds);
+  }
+
+  /**
+   * Holds rig.joints[joint]'s tail toward a world point ([x, y, z]) from the next step on, as far
+   * as its chain reaches, colliders still holding; call it every frame with the moving point.
+   * RangeError for a disposed instance, a joint out of range or a non-finite point.
+   */
+  grab(joint, point) {
+    const handle = this.#grabHandle('grab');
+    checkInteger('grab: joint', joint, 0, this.#rotationFloats / 4 - 1);
+    const [x, y, z] = checkVec3('grab: point', point);
+    this.#m.grab(handle, joint, x, y, z);
+  }
+
+  /** Lets go of the grabbed joint: the chain swings back from where it is. RangeError once disposed. */
+  release() {
+    this.#m.release(this.#grabHandle('release'));
+  }
+
+  /** The joint grab() holds, or -1. */
+  get grabbedJoint() {
+    return this.#m.grabbedJoint(this.#live());
+  }
+
+  /**
+   * How much of the motion of the driver a chain hangs from it feels, in [0, 1]: 1 all of it (the
+   * default), 0 none (hair calm in a vehicle). `chain`: an index into rig.chains; omitted, every
+   * chain. From the next step on.
+   */
+  setInertia(value, chain) {
+    const handle = this.#live();
+    checkRange('setInertia: value', value, 0, 1);
+    let index = -1;
+    if (chain !== undefined) index = checkInteger('setInertia: chain', chain, 0, this.#chainCount() - 1);
+    this.#m.setInertia(handle, value, index);
+  }
+
+  /**
    * Frees the instance, first taking it out of every scene it is in; its views must not be used
    * afterwards. Calling it again does nothing.
    */
@@ -461,6 +512,13 @@ class Instance {
   // The handle, checked: every method but dispose() throws once the instance is disposed of.
   #live() {
     if (this.#handle === 0) throw disposedError('instance');
+    return this.#handle;
+  }
+
+  // grab and release take a disposed instance for a bad argument, as an out-of-range joint: a
+  // pointer handler keeps calling them with whatever instance it last picked.
+  #grabHandle(where) {
+    if (this.#handle === 0) throw new RangeError(`${where}: the instance has been disposed`);
     return this.#handle;
   }
 

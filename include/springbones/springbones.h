@@ -274,6 +274,15 @@ inline constexpr int kDefaultXpbdIterations = 4;
 inline constexpr float kDefaultJumpDistance = 0.5f;
 inline constexpr float kDefaultJumpAngle = 0.5f;
 
+/// Instance::settle: the simulated time it runs by default and at most (seconds; its steps are
+/// this times the step rate).
+inline constexpr double kDefaultSettleSeconds = 2.0;
+inline constexpr double kMaxSettleSeconds = 60.0;
+
+/// InstanceOptions::inertia and Instance::setInertia: 1, every chain feels all of its driver's
+/// motion (the VRM update as it is).
+inline constexpr float kDefaultInertia = 1.0f;
+
 /// The step rate and substep cap an integrator runs at unless told otherwise.
 struct IntegratorDefaults {
   double step_hz;
@@ -299,6 +308,11 @@ struct InstanceOptions {
   float jump_distance = kDefaultJumpDistance;
   /// The same for a driver's rotation, radians per step. Not a finite number above 0: off.
   float jump_angle = kDefaultJumpAngle;
+  /// How much of the motion of the driver a chain hangs from its tails feel, in [0, 1], for every
+  /// chain (Instance::setInertia sets one chain): 1 the whole motion (the VRM update), 0 none, as
+  /// if the chain's inertia were kept in that driver's space (docs/semantics.md, "Inertia of the
+  /// avatar"). Clamped to [0, 1]; NaN: 1.
+  float inertia = kDefaultInertia;
 };
 
 /// A wind blowing on every joint of an instance: a pull on each tail like gravityPower's, world
@@ -368,6 +382,32 @@ class Instance {
   void setWind(const Wind& wind);
   /// The wind in use, as clamped by setWind.
   const Wind& wind() const;
+  /// Runs the springs to rest under the current driver matrices, without a frame: every tail is
+  /// put where its stiffness, gravity and wind balance (parents first), then stepped with no
+  /// velocity, which resolves colliders (and a grab), until no joint turns by more than 1e-5 rad
+  /// in a step, or for at most `seconds` x the step rate steps (seconds clamped to
+  /// [0, kMaxSettleSeconds]; NaN: 0; 0 leaves the tails at rest, as reset() would). The wind pulls as at the current simulated time, which does
+  /// not advance. The motion is then forgotten: the next step starts from the settled pose with no
+  /// velocity, and the drivers as they are count as the last frame's. Deterministic (the same
+  /// pose, the same result); returns the steps it ran (0: none, the pose is the rest pose put in
+  /// place). docs/semantics.md, "Settle".
+  int settle(double seconds = kDefaultSettleSeconds);
+  /// Holds joint `joint`'s tail toward `point` (world) from the next step on: every step, the
+  /// joints from its chain root down to it turn so that it reaches toward the point as far as the
+  /// chain reaches (one pass of backward and forward reaching per step), colliders (and limits)
+  /// still holding; the joints below it swing as usual. Call it every frame with a moving point;
+  /// a joint index out of range or a non-finite point does nothing. docs/semantics.md, "Grab".
+  void grab(std::size_t joint, const Vec3& point);
+  /// Lets go of the grabbed joint: the chain swings back from where and how fast it was moving.
+  void release();
+  /// The joint held by grab(), or -1.
+  int grabbedJoint() const;
+  /// Sets the inertia (InstanceOptions::inertia) of chain `chain` (an index into
+  /// Rig::chain_roots), or of every chain for a negative one, from the next step on; clamped to
+  /// [0, 1], NaN: 1; a chain out of range does nothing.
+  void setInertia(float value, int chain = -1);
+  /// The inertia of chain `chain` (kDefaultInertia for one out of range).
+  float inertia(std::size_t chain) const;
   /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
   /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
   /// max_substeps when the frame was longer than that many steps and its excess was dropped.

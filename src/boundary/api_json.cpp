@@ -118,7 +118,9 @@ std::string limitsJson() {
   out.key("maxStepHz").value(kMaxStepHz);
   out.key("maxSubsteps").value(kMaxSubsteps);
   out.key("maxWindStrength").value(kMaxWindStrength);
+  out.key("maxSettleSeconds").value(kMaxSettleSeconds);
   out.key("maxXpbdIterations").value(kMaxXpbdIterations);
+  out.key("settleSeconds").value(kDefaultSettleSeconds);
   out.endObject();
   return out.take();
 }

@@ -29,11 +29,22 @@
 #include "common/transform_math.h"
 #include "simulation/driver_poses.h"
 #include "simulation/joint_limits.h"
+#include "simulation/grab.h"
 #include "simulation/jump_carry.h"
+#include "simulation/motion_controls.h"
 #include "simulation/spring_lanes.h"
 #include "simulation/wind.h"
 #include "simulation/xpbd_solver.h"
 #include "springbones/springbones.h"
+
+// Functions with several callers (run and prepareDrivers: a frame's steps, the seed, settle) and
+// the rare paths (settle, inertia, a change of path) stay calls: inlined at -O3 into each caller
+// they cost the module kilobytes, and one call per step is nothing beside a step.
+#if defined(__GNUC__)
+#define SPRINGBONES_NOINLINE __attribute__((noinline))
+#else
+#define SPRINGBONES_NOINLINE
+#endif
 
 namespace springbones {
 namespace {
@@ -78,7 +89,20 @@ struct SpringInput {
   glm::vec3 rest_offset;  // world, rest_dir * length
   float length;
   glm::quat limit_frame{1.0f, 0.0f, 0.0f, 0.0f};  // the joint's limit space in the world, when it has a limit
+  glm::mat3 rest_linear;  // the joint at its rest rotation under its current parent (a grab's anchor)
 };
+
+// settle(): a step that turns no joint by more than this (radians) ends it.
+constexpr float kSettledTurn = 1e-5f;
+
+// sin(angle / 2) of the turn between two unit quaternions (x, y, z, w): the length of the vector
+// part of their difference rotation, accurate for small angles, where 1 - |dot| is lost to float
+// rounding (and no trigonometry: below 1e-5 rad, sin(a / 2) is a / 2 to float precision).
+float halfTurnSine(const float* a, const float* b) {
+  const glm::quat qa(a[3], a[0], a[1], a[2]), qb(b[3], b[0], b[1], b[2]);
+  const glm::quat d = glm::conjugate(qa) * qb;
+  return glm::length(glm::vec3(d.x, d.y, d.z));
+}
 
 }  // namespace
 
@@ -137,6 +161,91 @@ struct Instance::State {
   std::uint64_t wind_steps = 0;
   glm::vec3 step_wind{0.0f};
 
+  // Where the tail state lives when the instance has a lane copy: in the lanes (the fast path) or
+  // in current_tail / previous_tail (the general path); moved over when a frame changes path.
+  bool tails_in_lanes = false;
+
+  // Grab (Instance::grab, grab.h). A grabbing instance takes the general path.
+  HeldJoints held;
+  int grab_joint = -1;
+  glm::vec3 grab_point{0.0f};
+
+  // Inertia (InstanceOptions::inertia): per chain (Rig::chain_roots order), and per joint its
+  // chain's index (-1: none). Below 1 on any chain, the instance takes the general path and keeps
+  // the previous step's driver matrices.
+  std::vector<float> chain_inertia;
+  std::vector<int> joint_chain;
+  bool inertia_active = false;
+  std::vector<glm::mat4> last_step_drivers;
+  std::vector<float> settle_rotations;  // settle(): the rotations before a step
+
+  bool needsGeneralPath() const { return held.active || inertia_active; }
+
+  // Moves the tail state to the path this frame uses (the lanes or the general path's arrays),
+  // with the joints' world transforms a grab starts from.
+  SPRINGBONES_NOINLINE void usePathState() {
+    if (!lanes || xpbd || tails_in_lanes == fast_path) return;
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
+      if (fast_path) {
+        lanes->setTailState(lane_copy, j, current_tail[j], previous_tail[j]);
+      } else {
+        lanes->tailState(lane_copy, j, current_tail[j], previous_tail[j]);
+        Similarity world;
+        lanes->jointWorld(lane_copy, j, world.position, world.rotation, world.scale);
+        joint_world[j] = world.matrix();
+      }
+    }
+    tails_in_lanes = fast_path;
+  }
+
+  // Every tail's velocity set to zero (settle): the previous tail put on the current one.
+  SPRINGBONES_NOINLINE void holdTails() {
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
+      glm::vec3 now, before;
+      if (xpbd) {
+        xpbd->tailState(j, now, before);
+        xpbd->setTailState(j, now, now);
+      } else if (lanes && tails_in_lanes) {
+        lanes->tailState(lane_copy, j, now, before);
+        lanes->setTailState(lane_copy, j, now, now);
+      } else {
+        previous_tail[j] = current_tail[j];
+      }
+    }
+  }
+
+  // settle(): every tail put where its pulls balance without colliders, parents first, with no
+  // velocity (balanceTails, docs/semantics.md "Settle"): the settle steps after it only have the
+  // colliders (and a grab) left to resolve. Writes every path's state, the rotations and the
+  // joints' world matrices; current_tail is the scratch for the paths that keep their own.
+  SPRINGBONES_NOINLINE void seedBalance(const glm::vec3& wind_pull) {
+    balanceTails(*rig, currentPoses(), rest_local_matrix.data(), tail_axis.data(), tail_distance.data(), wind_pull,
+                 joint_world.data(), current_tail.data(), rotations.data());
+    for (std::size_t j = 0; j < current_tail.size(); ++j) {
+      if (xpbd) {
+        xpbd->setTailState(j, current_tail[j], current_tail[j]);
+      } else if (lanes && tails_in_lanes) {
+        lanes->setTailState(lane_copy, j, current_tail[j], current_tail[j]);
+      } else {
+        previous_tail[j] = current_tail[j];
+      }
+    }
+    world_from_similarity = false;
+  }
+
+  // Inertia below 1 (motion_controls.h): XPBD's tails go through current_tail / previous_tail,
+  // which that integrator does not use otherwise.
+  SPRINGBONES_NOINLINE void carryInertiaTails() {
+    if (xpbd) {
+      for (std::size_t j = 0; j < current_tail.size(); ++j) xpbd->tailState(j, current_tail[j], previous_tail[j]);
+    }
+    carryInertia(*rig, joint_chain.data(), chain_inertia.data(), last_step_drivers.data(), step_drivers.data(),
+                 current_tail.data(), previous_tail.data());
+    if (xpbd) {
+      for (std::size_t j = 0; j < current_tail.size(); ++j) xpbd->setTailState(j, current_tail[j], previous_tail[j]);
+    }
+  }
+
   // Jumps (see carryAcrossJump).
   bool jump_requested = false;
   int jump_count = 0;
@@ -170,7 +279,7 @@ struct Instance::State {
 
   bool driversAreSimilarities() const { return currentPoses().allSimilar() && previousPoses().allSimilar(); }
 
-  void prepareDrivers(float t) {
+  SPRINGBONES_NOINLINE void prepareDrivers(float t) {
     if (fast_path) {
       DriverPoses::blend(previousPoses(), currentPoses(), t, lanes->drivers(), lanes->driverIndex(lane_copy, 0),
                          lanes->driverStride());
@@ -233,13 +342,14 @@ struct Instance::State {
   // Moves a tail out of (or into, or onto the side of) the joint's colliders, each followed by
   // the length constraint again (VRMC_springBone order).
   // A limited joint is kept inside its limit after each push too (VRMC_springBone_limit's order).
-  glm::vec3 collide(const Joint& joint, const SpringInput& in, glm::vec3 tail) const {
+  glm::vec3 collide(const Joint& joint, const SpringInput& in, glm::vec3 tail, int passes) const {
     const glm::vec3& head = in.head;
     const float length = in.length;
     const bool limited = joint.limit.kind != JointLimit::Kind::kNone;
-    // Rig::collider_passes: 1 but with the body preset; a pass that moves nothing ends them (the
-    // lane path runs them all, and a pass without a push changes no bit there either).
-    for (int pass = 0; pass < rig->collider_passes; ++pass) {
+    // `passes`: Rig::collider_passes (1 but with the body preset), or more for a held tail; a pass
+    // that moves nothing ends them (the lane path runs them all, and a pass without a push changes
+    // no bit there either).
+    for (int pass = 0; pass < passes; ++pass) {
       bool pushed = false;
       for (int c : joint.colliders) {
         const glm::vec3 start(collider_table.x0[c], collider_table.y0[c], collider_table.z0[c]);
@@ -289,6 +399,7 @@ struct Instance::State {
     next += in.rest_dir * (p.stiffness * h);
     next += toGlm(p.gravity_dir) * (p.gravity_power * h);
     next += step_wind;
+    if (held.active && held.slot[j] >= 0) next = held.tail(held.slot[j], in.head, in.rest_linear, in.rest_offset, next);
     glm::vec3 offset = next - in.head;
     const float offset_length = glm::length(offset);
     offset = offset_length > kMinLength && std::isfinite(offset_length)
@@ -297,7 +408,11 @@ struct Instance::State {
     glm::vec3 tail = in.head + offset;
     // The limit after inertia, stiffness and gravity, then again after each collider (collide).
     if (joint.limit.kind != JointLimit::Kind::kNone) applyLimit(joint.limit, in.limit_frame, in.head, in.length, tail);
-    tail = collide(joint, in, tail);
+    // A held tail is pulled toward its point every step, into a collider if the point is in one:
+    // one pass (a push, then the length back) can leave it inside, so it gets the passes XPBD
+    // takes, while a collider still moves it.
+    const bool held_tail = held.active && held.slot[j] >= 0;
+    tail = collide(joint, in, tail, held_tail ? std::max(kDefaultXpbdIterations, rig->collider_passes) : rig->collider_passes);
     previous_tail[j] = current;
     current_tail[j] = toCenter(joint, tail);
     return tail - in.head;
@@ -335,6 +450,7 @@ struct Instance::State {
       }
       in.rest_dir = in.rest_offset / in.length;
       if (joint.limit.kind != JointLimit::Kind::kNone) in.limit_frame = worldRotationOf(rest_linear) * limit_local[j];
+      in.rest_linear = rest_linear;
       const glm::vec3 offset = integrate(j, joint, in, h);
       const glm::quat rotation = aimedRotation(j, joint, glm::inverse(rest_linear) * offset);
       joint_world[j] =
@@ -343,7 +459,13 @@ struct Instance::State {
     }
   }
 
-  void run(float h, bool seed_only) {
+  SPRINGBONES_NOINLINE void run(float h, bool seed_only) {
+    if (seed_only) {
+      tails_in_lanes = fast_path;
+    } else if (!fast_path) {
+      if (inertia_active) carryInertiaTails();
+      if (held.active) held.prepare(grab_point, joint_world.data());
+    }
     if (xpbd) {
       // The XPBD integrator reads the general path's driver matrices and the shared collider
       // table, and writes the general path's outputs.
@@ -378,7 +500,7 @@ struct Instance::State {
     const bool was_seeded = seeded;
     if (!seeded) {
       holdPoses();
-      fast_path = lanes && driversAreSimilarities();
+      fast_path = lanes && driversAreSimilarities() && !needsGeneralPath();
       prepareDrivers(1.0f);
       run(0.0f, /*seed_only=*/true);
       seeded = true;
@@ -396,7 +518,8 @@ struct Instance::State {
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
     if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps, options.jump_distance, options.jump_angle))) carryAcrossJump();
     jump_requested = false;
-    fast_path = lanes && driversAreSimilarities();
+    fast_path = lanes && driversAreSimilarities() && !needsGeneralPath();
+    usePathState();
     return true;
   }
 
@@ -404,6 +527,11 @@ struct Instance::State {
     // Where this step falls inside the frame, for driver interpolation.
     const double h = step_seconds;
     const double at = frame_dropped ? double(i + 1) / frame_steps : ((i + 1) * h - frame_start) / frame_dt;
+    if (inertia_active && !fast_path) {  // the drivers of the step before, for carryInertia
+      for (std::size_t d = 0; d < last_step_drivers.size(); ++d) {
+        last_step_drivers[d] = i == 0 ? previousPoses().matrix(d) : step_drivers[d];
+      }
+    }
     prepareDrivers(static_cast<float>(std::clamp(at, 0.0, 1.0)));
     prepareWind();
   }
@@ -412,6 +540,10 @@ struct Instance::State {
   void prepareWind() {
     const glm::vec3 pull = windAt(wind, static_cast<double>(wind_steps) * step_seconds);
     ++wind_steps;
+    applyWind(pull);
+  }
+
+  void applyWind(const glm::vec3& pull) {
     if (xpbd) {
       xpbd->setWind(pull);
       return;
@@ -502,6 +634,22 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
     s.lanes = SpringLanes::acquire(s.rig);
     s.lane_copy = s.lanes->addCopy(s.rotations.data());
   }
+  // Grab and inertia, sized once so that grab() and the steps allocate nothing.
+  s.held.slot.assign(joints, -1);
+  s.held.path.reserve(joints);
+  s.held.anchor.reserve(joints);
+  s.held.reach.reserve(joints);
+  s.settle_rotations.resize(4 * joints);
+  s.last_step_drivers.resize(drivers);
+  const auto& roots = s.rig->chain_roots;
+  s.chain_inertia.assign(roots.size(), kDefaultInertia);
+  s.joint_chain.assign(joints, -1);
+  for (std::size_t j = 0; j < joints; ++j) {
+    const auto found = std::find(roots.begin(), roots.end(), s.rig->joints[j].chain);
+    if (found != roots.end()) s.joint_chain[j] = static_cast<int>(found - roots.begin());
+  }
+  s.options.inertia = kDefaultInertia;
+  setInertia(options.inertia, -1);
 }
 
 Instance::~Instance() = default;
@@ -551,6 +699,99 @@ void Instance::reset() {
 }
 
 void Instance::jump() { state_->jump_requested = true; }
+
+int Instance::settle(double seconds) {
+  State& s = *state_;
+  seconds = std::isnan(seconds) ? 0.0 : std::clamp(seconds, 0.0, kMaxSettleSeconds);
+  // The tolerance keeps 2 s at 60 Hz at 120 steps despite rounding in the product.
+  const int most = static_cast<int>(std::ceil(seconds * s.options.step_hz - 1e-6));
+  // Put at rest under the drivers as they are, which become the last frame's too (no motion).
+  s.currentPoses().read(s.driver_input.data(), s.previousPoses());
+  s.holdPoses();
+  s.fast_path = s.lanes && s.driversAreSimilarities() && !s.needsGeneralPath();
+  s.prepareDrivers(1.0f);
+  s.run(0.0f, /*seed_only=*/true);
+  s.seeded = true;
+  s.accumulator = 0.0;
+  s.jump_requested = false;
+  if (s.rig->joints.empty()) return 0;
+  s.last_step_drivers = s.step_drivers;  // still drivers: inertia carries nothing
+  const glm::vec3 pull = windAt(s.wind, static_cast<double>(s.wind_steps) * s.step_seconds);
+  s.applyWind(pull);
+  if (most > 0) s.seedBalance(pull);
+  // Steps with no velocity: each moves the tails by what still pulls them off their balance
+  // (colliders, a grab), and never overshoots it as a swing would.
+  int steps = 0;
+  while (steps < most) {
+    s.settle_rotations = s.rotations;
+    s.holdTails();
+    s.run(static_cast<float>(s.step_seconds), /*seed_only=*/false);
+    ++steps;
+    float turn = 0.0f;
+    for (std::size_t j = 0; j < s.rig->joints.size(); ++j) {
+      turn = std::max(turn, halfTurnSine(s.settle_rotations.data() + 4 * j, s.rotations.data() + 4 * j));
+    }
+    if (!(turn > 0.5f * kSettledTurn)) break;
+  }
+  s.holdTails();
+  return steps;
+}
+
+void Instance::grab(std::size_t joint, const Vec3& point) {
+  State& s = *state_;
+  const auto& joints = s.rig->joints;
+  if (joint >= joints.size() || !isFinite(toGlm(point))) return;
+  s.grab_point = toGlm(point);
+  if (s.grab_joint != static_cast<int>(joint)) {
+    HeldJoints& held = s.held;
+    for (int j : held.path) held.slot[j] = -1;
+    held.path.clear();
+    held.anchor.clear();
+    // From the grabbed joint up to its chain root (a parent joint always comes first in the
+    // rig, so this ends), then turned root first.
+    for (int j = static_cast<int>(joint); j >= 0 && held.path.size() < joints.size(); j = joints[j].parent_joint) {
+      held.anchor.push_back(held.path.empty() ? toGlm(joints[j].tail_local)
+                                              : toGlm(joints[held.path.back()].rest_local.translation));
+      held.path.push_back(j);
+    }
+    std::reverse(held.path.begin(), held.path.end());
+    std::reverse(held.anchor.begin(), held.anchor.end());
+    held.reach.assign(held.path.size(), glm::vec3(0.0f));
+    for (std::size_t k = 0; k < held.path.size(); ++k) held.slot[held.path[k]] = static_cast<int>(k);
+    s.grab_joint = static_cast<int>(joint);
+  }
+  s.held.active = true;
+  if (s.xpbd) s.xpbd->setHeld(&s.held);
+}
+
+void Instance::release() {
+  State& s = *state_;
+  for (int j : s.held.path) s.held.slot[j] = -1;
+  s.held.path.clear();
+  s.held.active = false;
+  s.grab_joint = -1;
+  if (s.xpbd) s.xpbd->setHeld(nullptr);
+}
+
+int Instance::grabbedJoint() const { return state_->grab_joint; }
+
+void Instance::setInertia(float value, int chain) {
+  State& s = *state_;
+  if (chain >= static_cast<int>(s.chain_inertia.size())) return;
+  value = std::isnan(value) ? kDefaultInertia : std::clamp(value, 0.0f, 1.0f);
+  if (chain < 0) {
+    std::fill(s.chain_inertia.begin(), s.chain_inertia.end(), value);
+    s.options.inertia = value;
+  } else {
+    s.chain_inertia[chain] = value;
+  }
+  s.inertia_active = std::any_of(s.chain_inertia.begin(), s.chain_inertia.end(), [](float k) { return k < 1.0f; });
+}
+
+float Instance::inertia(std::size_t chain) const {
+  const State& s = *state_;
+  return chain < s.chain_inertia.size() ? s.chain_inertia[chain] : kDefaultInertia;
+}
 int Instance::jumps() const { return state_->jump_count; }
 
 void Instance::setJumpThresholds(float distance, float angle) {

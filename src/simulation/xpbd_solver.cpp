@@ -18,6 +18,7 @@
 
 #include "common/transform_math.h"
 #include "simulation/joint_limits.h"
+#include "simulation/grab.h"
 #include "simulation/spring_lanes.h"
 
 namespace springbones {
@@ -185,6 +186,10 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
       x = head + rest_offset;
       previous = toCenter(joint.center_driver, x);
     }
+    // A grabbed chain's joint: its tail turned toward the grab's reach (grab.h), the constraints
+    // below still applied (its bend aside, solveJoint).
+    const int held_at = held_ != nullptr && held_->active ? held_->slot[j] : -1;
+    if (held_at >= 0) x = held_->tail(static_cast<std::size_t>(held_at), head, rest_linear, rest_offset, x);
 
     // 2. Constraints.
     const glm::quat limit_frame = joint.limit.kind != JointLimit::Kind::kNone
@@ -210,7 +215,9 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
   const float w = inverse_mass_[j];
   const glm::vec3 target = head + rest_offset;
   // alpha~ = alpha / h^2 with alpha = L / stiffness (see the opening comment).
-  const bool bend = stiffness > 0.0f && w > 0.0f;
+  // A held joint (a grab) has no bend: the hand, not the stiffness, sets its direction.
+  const bool held = held_ != nullptr && held_->active && held_->slot[j] >= 0;
+  const bool bend = stiffness > 0.0f && w > 0.0f && !held;
   const float alpha_tilde = bend ? length / (stiffness * h * h) : 0.0f;
   const float inverse_denominator = bend ? 1.0f / (w + alpha_tilde) : 0.0f;
   glm::vec3 lambda(0.0f);

@@ -16,6 +16,7 @@
 namespace springbones {
 
 struct ColliderTable;  // spring_lanes.h
+struct HeldJoints;     // grab.h
 
 /// The substep rate the XPBD integrator is meant to run at (docs/xpbd.md): its default step rate
 /// (integratorDefaults in springbones.h).
@@ -65,6 +66,10 @@ class XpbdSolver {
   /// The wind's pull for the following steps (windAt, world space): a force on every tail like
   /// gravityPower x gravityDir.
   void setWind(const glm::vec3& pull) { wind_ = pull; }
+
+  /// The joints a grab holds (Instance::grab), read by every step until set again; null: none.
+  /// The holder owns it and keeps it alive while set.
+  void setHeld(const HeldJoints* held) { held_ = held; }
 
   /// World position of a joint's tail particle after the last seed/step (tests, reports).
   glm::vec3 tailWorld(std::size_t joint) const { return tail_world_[joint]; }
@@ -116,6 +121,8 @@ class XpbdSolver {
   std::vector<int> center_drivers_;
   std::vector<glm::mat4> center_inverse_;
   std::vector<unsigned char> center_inverse_valid_;
+
+  const HeldJoints* held_ = nullptr;  // setHeld
 
   // Colliders of the current step (the ColliderTable overload copies into it).
   std::vector<XpbdCollider> collider_scratch_;

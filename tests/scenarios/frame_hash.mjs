@@ -21,12 +21,12 @@ function fnv1a64(bytes, hash) {
 }
 
 /**
- * The hash of `frames` frames at `fps` of a fresh instance of `rig` with default options, its
- * drivers swayed frame k at time k / fps.
+ * The hash of `frames` frames at `fps` of a fresh instance of `rig` (createInstance's `options`,
+ * default none), its drivers swayed frame k at time k / fps.
  * @returns {{frames: number, joints: number, hash: string}} as dump_rotations --hash prints it
  */
-export function frameHash(rig, { frames = 1000, fps = 60 } = {}) {
-  const inst = rig.createInstance();
+export function frameHash(rig, { frames = 1000, fps = 60, options } = {}) {
+  const inst = rig.createInstance(options);
   try {
     const rest = Float32Array.from(inst.driverMatrices);
     let hash = kOffset;

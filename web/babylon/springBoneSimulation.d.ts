@@ -126,6 +126,22 @@ export class SpringBoneSimulation {
   dispose(scene?: BabylonSceneLike): void;
   /** Forgets the motion of every wearable (or itemId's): the next frame starts at rest. */
   reset(itemId?: string): void;
+  /**
+   * The springs of every wearable (or itemId's) at rest in the avatar's current pose, without
+   * rendering (instance.settle): thumbnails, turntables, emote starts. Returns the most steps one
+   * of them ran; 0 before the module is there.
+   * @param seconds at most this long (default 2, in [0, 60]); RangeError outside
+   */
+  settle(itemId?: string, seconds?: number): number;
+  /**
+   * Holds joint `joint` (an index into rigOf(itemId).joints) toward a point of Babylon's world,
+   * as far as its chain reaches, colliders still holding (instance.grab): call it every frame of
+   * a drag. Nothing before the module is there.
+   * @throws Error for an unregistered itemId; RangeError for a joint out of range or a non-finite point
+   */
+  grab(itemId: string, joint: number, point: { x: number; y: number; z: number } | readonly number[]): void;
+  /** Lets go (every wearable, or itemId's): the hair swings back from where it is. */
+  release(itemId?: string): void;
   /** The avatar moves discontinuously before the next frame (a teleport): carry the hair across. */
   jump(itemId?: string): void;
   /**

@@ -537,6 +537,43 @@ export class SpringBoneSimulation {
   }
 
   /**
+   * Brings every wearable's springs (or only itemId's) to rest in the avatar's current pose
+   * without rendering (instance.settle): for thumbnails, turntables and emote starts. Returns the
+   * most steps one of them ran (0 before the module is there).
+   * @param seconds at most this long (default 2, in [0, 60])
+   * @throws RangeError for seconds out of range
+   */
+  settle(itemId, seconds) {
+    const settling = this._selected(itemId).filter((wearable) => wearable.instance);
+    if (settling.length === 0) return 0;
+    this._copies.readDrivers(this._mirrored);
+    let most = 0;
+    for (const wearable of settling) most = Math.max(most, wearable.instance.settle(seconds));
+    this._copies.writeRotations();
+    return most;
+  }
+
+  /**
+   * Holds joint `joint` (an index into rigOf(itemId).joints) of a wearable toward `point`, a point
+   * of Babylon's world ({x, y, z} or [x, y, z]), as far as its chain reaches (instance.grab): call
+   * it every frame of a drag, then release(itemId). Nothing before the module is there.
+   * @throws Error for an itemId never registered; RangeError for a joint out of range or a
+   *   non-finite point
+   */
+  grab(itemId, joint, point) {
+    if (typeof itemId !== 'string') throw new TypeError('grab: itemId must be a string');
+    const [wearable] = this._selected(itemId);
+    if (!wearable.instance) return;
+    const p = Array.isArray(point) ? point : [point?.x, point?.y, point?.z];
+    wearable.instance.grab(joint, [this._mirrored ? -p[0] : p[0], p[1], p[2]]);
+  }
+
+  /** Lets go of what grab() holds, on every wearable (or itemId's): the hair swings back. */
+  release(itemId) {
+    for (const wearable of this._selected(itemId)) wearable.instance?.release();
+  }
+
+  /**
    * Tells the simulation that the avatar (every wearable, or only itemId's) moves discontinuously
    * before the next frame: a teleport, a jump cut. The hair is carried across it instead of
    * whipping after it. An animation group starting to play does this by itself.

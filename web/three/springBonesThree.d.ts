@@ -142,6 +142,13 @@ export class SpringBonesAttachment {
   /** Forgets the motion (avatar swap); nothing before the rig arrives. A teleport is a jump (instance.jump()). */
   reset(): void;
   /**
+   * The springs at rest in the avatar's current pose, without rendering (instance.settle): reads
+   * the drivers' matrixWorld (update world matrices first), settles, writes the joints. Returns
+   * the steps it ran; 0 before the rig arrives.
+   * @param seconds at most this long (default 2, in [0, 60])
+   */
+  settle(seconds?: number): number;
+  /**
    * Every action of `mixer` that becomes active is announced to the instance as a jump
    * (instance.jump()) on the next update, so an animation start carries the chains instead of
    * whipping them. null stops watching. Allocation-free per frame.
@@ -223,6 +230,11 @@ export class SpringBonesGroup {
    * @throws SpringBonesError 'disposed' when an attachment's instance is disposed of
    */
   writeRotations(): void;
+  /**
+   * attachment.settle(seconds) for every attachment in the group (update world matrices first);
+   * returns the most steps one of them ran.
+   */
+  settle(seconds?: number): number;
   /** Frees the scene; the attachments are not disposed of and can update() on their own. */
   dispose(): void;
 }

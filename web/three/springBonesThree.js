@@ -384,6 +384,21 @@ export class SpringBonesAttachment {
   }
 
   /**
+   * Brings the springs to rest in the avatar's current pose without rendering (instance.settle):
+   * reads the drivers' matrixWorld (update world matrices first), settles and writes the joints.
+   * For thumbnails, turntables and emote starts. Returns the steps it ran (0 before the rig arrives).
+   */
+  settle(seconds) {
+    if (this.instance === null) return 0;
+    // An animation that started before this is the pose settled in, not a jump after it.
+    this._animationStarts?.started();
+    this._copies.readDrivers();
+    const steps = this.instance.settle(seconds);
+    this.writeRotations();
+    return steps;
+  }
+
+  /**
    * Disposes of the instance (update() then throws the API's 'disposed' error) and, with detach
    * (the default), takes the wearable's objects off the avatar, restores the joints' rest
    * rotations and frees the re-bound skeletons' bone textures. The rig, geometries and materials
@@ -501,6 +516,16 @@ export class SpringBonesGroup {
    */
   writeRotations() {
     this._copies.writeRotations(this.scene.active);
+  }
+
+  /**
+   * attachment.settle(seconds) for every attachment (update world matrices first); returns the
+   * most steps one of them ran.
+   */
+  settle(seconds) {
+    let most = 0;
+    for (const attachment of this.attachments) most = Math.max(most, attachment.settle(seconds));
+    return most;
   }
 
   /** Frees the scene; the attachments stay usable on their own (their update()). */

@@ -14,6 +14,7 @@ import { createSpringBones } from '../../springbones.js';
 import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
+import { HairDrag } from './drag.js';
 import { RecentFrames } from './readout.js';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from './motion.js';
 
@@ -76,6 +77,8 @@ class Preview {
     this.controls = new OrbitControls(this.camera, canvas);
     this.controls.enableDamping = true;
     this.setView('body');
+    // A press on a chain's tail drags the hair (instance.grab); elsewhere it orbits.
+    this.drag = new HairDrag(canvas, this.camera, () => this.avatars.map((a) => a.attachment).filter(Boolean));
 
     // Image-based light for the metals, plus a key light.
     const pmrem = new THREE.PMREMGenerator(this.renderer);
@@ -324,7 +327,10 @@ class Preview {
     this.shakeTime = 0;
   }
 
-  /** The springs back to rest, the animation to its start, the avatar facing forward. */
+  /**
+   * The springs back to rest, the animation to its start, the avatar facing forward: the hair is
+   * settled in the clip's first pose (attachment.settle), so it starts hanging, not falling.
+   */
   reset() {
     this.shakeTime = -1;
     this.spin = false;
@@ -337,8 +343,13 @@ class Preview {
       a.mixer.setTime(i * 0.37);
     });
     this.placeAvatars();
+    this.drag.release();
     this.scene.updateMatrixWorld();
-    for (const a of this.avatars) a.attachment?.reset();
+    for (const a of this.avatars) {
+      if (!a.attachment) continue;
+      this.writeExtraDrivers(a);
+      a.attachment.settle();
+    }
   }
 
   setShowChains(show) {
@@ -464,13 +475,8 @@ class Preview {
    */
   simulate(dt) {
     const t0 = performance.now();
-    for (const a of this.avatars) {
-      if (!a.attachment || a.extraDrivers.length === 0) continue;
-      const matrices = a.attachment.instance.driverMatrices;
-      for (const { index, elements } of a.extraDrivers) {
-        for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
-      }
-    }
+    for (const a of this.avatars) this.writeExtraDrivers(a);
+    this.drag.apply();
     if (this.budget === null) {
       this.group.scene.setBudget(null);
     } else {
@@ -485,6 +491,15 @@ class Preview {
     for (const a of this.avatars) if (a.attachment) steps = Math.max(steps, a.attachment.instance.lastSteps);
     this.lastSubsteps = steps;
     this.lastDt = dt;
+  }
+
+  /** The avatar bones found by name for node -1 drivers, into the instance (see simulate). */
+  writeExtraDrivers(a) {
+    if (!a.attachment || a.extraDrivers.length === 0) return;
+    const matrices = a.attachment.instance.driverMatrices;
+    for (const { index, elements } of a.extraDrivers) {
+      for (let i = 0; i < 16; i++) matrices[index * 16 + i] = elements[i];
+    }
   }
 
   /** The median ms per frame of the springs over the last second (NaN without a frame in it). */
@@ -622,6 +637,20 @@ function debugHook(preview, creator) {
     shake: () => preview.shake(),
     setSpin: (on) => { $('spin').checked = Boolean(on); preview.spin = Boolean(on); },
     reset: () => preview.reset(),
+    /** The springs back to the rest pose (attachment.reset()): the next frame falls from it. */
+    restartSprings: () => { for (const a of preview.avatars) a.attachment?.reset(); },
+    /** Where the first avatar draws a joint's tail, in the page's CSS pixels (null: not drawn). */
+    tailOnScreen: (name) => {
+      const attachment = first();
+      const j = attachment ? attachment.rig.joints.findIndex((x) => x.name === name) : -1;
+      const tail = j >= 0 ? attachment.tailObjects[j] : null;
+      if (!tail) return null;
+      const p = tail.getWorldPosition(new THREE.Vector3()).project(preview.camera);
+      const rect = preview.renderer.domElement.getBoundingClientRect();
+      return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+    },
+    /** The joint the mouse holds on the first avatar (instance.grabbedJoint), -1 for none. */
+    grabbedJoint: () => first()?.instance.grabbedJoint ?? -1,
     /** Advances `seconds` in fixed frames of dt (use while paused: deterministic). */
     advance: (seconds, dt = 1 / 60) => {
       for (let t = 0; t < seconds - 1e-9; t += dt) preview.advance(dt);

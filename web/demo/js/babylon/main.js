@@ -9,6 +9,7 @@
 import { createSpringBones } from '../../../springbones.js';
 import { SpringBoneSimulation } from '../../../babylon/index.js';
 import { ChainPanel } from './chainPanel.js';
+import { HairDrag } from './drag.js';
 
 const BABYLON = globalThis.BABYLON;
 const ASSETS = new URL('../../assets/', import.meta.url);
@@ -97,7 +98,12 @@ function teleport() {
   simulation.jump();  // carried across the move: no whip
 }
 document.getElementById('teleport').addEventListener('click', teleport);
-document.getElementById('reset').addEventListener('click', () => simulation.reset());
+// Reset: the hair at rest in the pose the avatar has now (settle), not falling from its rest pose.
+document.getElementById('reset').addEventListener('click', () => {
+  drag?.letGo({ pointerId: -1 });
+  simulation.settle();
+});
+let drag = null;  // the mouse drag of the hair, once the rig is there
 document.getElementById('wind').addEventListener('input', (event) => {
   const strength = Number(event.target.value);
   document.getElementById('wind-value').textContent = strength.toFixed(1);
@@ -115,6 +121,9 @@ const showRig = () => {
   document.getElementById('readout-chains').textContent = rig.chains.length;
   document.getElementById('warnings').textContent = rig.warnings.map((w) => `${w.code}: ${w.message}`).join('\n');
 };
+// A press on a chain's tail drags the hair; elsewhere it turns the camera.
+drag = new HairDrag(BABYLON, scene, camera, simulation, itemHash,
+  () => simulation.rigOf(itemHash)?.joints.map((j) => (j.tail ? wearableNodes.get(j.tail) ?? null : null)) ?? []);
 const panel = new ChainPanel(springBones.models[itemHash], (entry) => {
   simulation.updateParams(itemHash, entry);
   showRig();
@@ -175,4 +184,15 @@ window.springbonesBabylonDemo = {
     };
   },
   teleport,
+  /** Where a node (a chain's tail) is drawn, in the page's CSS pixels (null: no such node). */
+  tailOnScreen: (name) => {
+    const node = wearableNodes.get(name);
+    if (!node) return null;
+    const p = BABYLON.Vector3.Project(node.getAbsolutePosition(), BABYLON.Matrix.Identity(), scene.getTransformMatrix(),
+      camera.viewport.toGlobal(canvas.clientWidth, canvas.clientHeight));
+    const rect = canvas.getBoundingClientRect();
+    return { x: rect.left + p.x, y: rect.top + p.y };
+  },
+  /** Whether the mouse holds a joint of the hair. */
+  dragging: () => drag.dragging,
 };
