@@ -15,7 +15,7 @@
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
 // copied next to this file; module_loader.js fetches, compiles and instantiates them.
 
-import { checkDenseArray, checkKeys, checkNonEmptyString, kHashOptions, optionsObject, toBytes } from './arguments.js';
+import { checkDenseArray, checkKeys, checkNonEmptyString, checkWellFormed, kHashOptions, optionsObject, toBytes } from './arguments.js';
 import { SpringBonesError, call, takeError, withCause } from './errors.js';
 import { instantiateModule, kIsNode, loadFailed, moduleSource } from './module_loader.js';
 import { encodeGltf, encodeTyped } from './typed_value.js';
@@ -727,6 +727,7 @@ function resolveHash(m, where, options) {
 // not parse).
 function parsedArgument(what, value, badJsonCode, described) {
   if (typeof value === 'string') {
+    checkWellFormed(what, value);
     try {
       return JSON.parse(value);
     } catch (cause) {

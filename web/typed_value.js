@@ -5,13 +5,15 @@
 // object), so a stiffness given as a string still earns the core's warning and default.
 //
 // The value is seen as JSON.stringify sees it: toJSON() is called, members that are undefined,
-// functions or symbols are left out of objects (functions and symbols become null in arrays),
-// boxed primitives are unwrapped, and a cycle or a BigInt is a TypeError. What differs, on
-// purpose: non-finite numbers stay numbers (the core names them, where JSON would turn them into
-// null), a hole or an undefined element of an array is a TypeError (not a silent null), and a
-// string that is not well-formed Unicode (a lone surrogate) is a RangeError rather than a silent
-// U+FFFD.
+// functions or symbols are left out of objects, boxed primitives are unwrapped, and a cycle or a
+// BigInt is a TypeError. What JSON.stringify would change silently is refused, as arguments.js
+// refuses it for the JSON the creator tools take: a hole or an undefined, function or symbol
+// element of an array, and a typed array, are TypeErrors; a string or key with a lone surrogate
+// is a RangeError (UTF-8 cannot encode it). Non-finite numbers stay numbers: the core names them
+// (param-not-finite), where JSON would have turned them into null.
 // Iterative: a value nested any depth is written without recursion.
+
+import { checkWellFormed } from './arguments.js';
 
 const kNull = 0, kFalse = 1, kTrue = 2, kNumber = 3, kString = 4, kArray = 5, kObject = 6;
 const encoder = new TextEncoder();
@@ -51,11 +53,10 @@ class Writer {
     this.length += 8;
   }
 
-  // A u32 byte length, then the UTF-8 bytes (at most 3 per UTF-16 unit).
-  sized(what, where, s) {
-    if (!s.isWellFormed()) {
-      throw new RangeError(`${what}: the string ${where()} has a lone surrogate (not well-formed Unicode)`);
-    }
+  // A u32 byte length, then the UTF-8 bytes (at most 3 per UTF-16 unit). `name()` names the string
+  // for the RangeError of a lone surrogate, which UTF-8 cannot encode (arguments.js).
+  sized(name, s) {
+    if (!s.isWellFormed()) checkWellFormed(name(), s);
     this.room(4 + 3 * s.length);
     const { written } = encoder.encodeInto(s, this.bytes.subarray(this.length + 4));
     this.view.setUint32(this.length, written, true);
@@ -67,8 +68,14 @@ class Writer {
   }
 }
 
-function describePath(keys) {
-  return keys.length === 0 ? 'at the top' : `at ${keys.map((k) => JSON.stringify(String(k))).join(' > ')}`;
+// The path of a value from the argument, as JavaScript would write it (`.key`, `["odd key"]`,
+// `[index]`), as arguments.js spells it.
+function pathOf(what, steps) {
+  let path = what;
+  for (const { key, isArray } of steps) {
+    path += isArray ? `[${key}]` : /^[A-Za-z_$][\w$]*$/.test(key) ? `.${key}` : `[${JSON.stringify(key)}]`;
+  }
+  return path;
 }
 
 // The value JSON.stringify would write for `value` under `key`, or undefined where it writes none.
@@ -90,7 +97,7 @@ export function encodeTyped(what, value) {
   const onPath = new Set();
   // Open containers: their children ([key, value] pairs) and the one being written.
   const open = [];
-  const where = () => describePath(open.map((frame) => frame.key));
+  const here = () => pathOf(what, open);
   const write = (v) => {
     if (v === null) {
       w.tag(kNull);
@@ -100,19 +107,23 @@ export function encodeTyped(what, value) {
       w.number(v);
     } else if (typeof v === 'string') {
       w.tag(kString);
-      w.sized(what, where, v);
+      w.sized(here, v);
     } else if (typeof v === 'bigint') {
-      throw new TypeError(`${what}: a BigInt ${where()} has no JSON value`);
+      throw new TypeError(`${here()} is a BigInt, which JSON cannot hold`);
     } else {
-      if (onPath.has(v)) throw new TypeError(`${what}: the value is circular ${where()}`);
+      if (onPath.has(v)) throw new TypeError(`${here()} is circular: it contains itself`);
+      if (ArrayBuffer.isView(v)) throw new TypeError(`${here()} is a ${v.constructor?.name ?? 'typed array'}: give a plain array`);
       const isArray = Array.isArray(v);
       const children = [];
       if (isArray) {
         for (let i = 0; i < v.length; ++i) {
-          if (!(i in v) || v[i] === undefined) {
-            throw new TypeError(`${what}: ${i in v ? 'an undefined element' : 'a hole'} at index ${i} ${where()}`);
+          const at = () => `${here()}[${i}]`;
+          if (!(i in v)) throw new TypeError(`${at()} is a hole (a sparse array); give every element`);
+          const child = jsonValue(v[i], String(i));
+          if (child === undefined) {
+            throw new TypeError(`${at()} is ${v[i] === undefined ? 'undefined' : `a ${typeof v[i]}`}, which JSON cannot hold`);
           }
-          children.push([i, jsonValue(v[i], String(i)) ?? null]);
+          children.push([i, child]);
         }
       } else {
         for (const key of Object.keys(v)) {
@@ -137,7 +148,7 @@ export function encodeTyped(what, value) {
     }
     const [key, child] = frame.children[frame.next++];
     frame.key = key;
-    if (!frame.isArray) w.sized(what, where, key);
+    if (!frame.isArray) w.sized(() => `${here()}: its key`, key);
     write(child);
   }
   return w.result();
