@@ -99,6 +99,35 @@ for (const which of kBabylonVersions) {
       b.simulation.dispose(b.scene);
     });
 
+    test('setInertia: at 0 the hair feels none of the head\'s motion, at 1 all of it; on wearables registered later too', async () => {
+      // How far the hair of a swaying, turning head moves from the hair of a still one (both
+      // settling from rest alike), at most over 40 frames.
+      const swing = async (inertia, before) => {
+        const scenes = [];
+        for (let k = 0; k < 2; k++) {
+          const simulation = new SpringBoneSimulation(sb);
+          if (before) simulation.setInertia(inertia);
+          scenes.push(await previewScene({ simulation }));
+          if (!before) simulation.setInertia(inertia);
+        }
+        const [moving, still] = scenes;
+        let moved = 0;
+        for (let f = 0; f < 40; f++) {
+          moving.frame(f);
+          still.scene.render();
+          moved = Math.max(moved, ...moving.springs.map((n, i) => turn(quaternionOf(n), quaternionOf(still.springs[i]))));
+        }
+        for (const s of scenes) s.simulation.dispose(s.scene);
+        return moved;
+      };
+      const all = await swing(1, false);
+      const none = await swing(0, false);
+      assert.ok(all > 0.02, `at 1 the hair swings (${all})`);
+      assert.ok(none < all / 4, `at 0 it barely moves (${none} against ${all})`);
+      assert.equal(await swing(0, true), none, 'set before registering: the same');
+      assert.throws(() => new SpringBoneSimulation(sb).setInertia(1.5), RangeError);
+    });
+
     test('URN ids with the models entry; the whole springBones resolves when it is unambiguous', async () => {
       const { simulation, scene, container } = await previewScene();
       assert.equal(simulation.rigOf(urn).joints.length, 15);

@@ -150,6 +150,12 @@ export class SpringBoneSimulation {
    * @throws TypeError / RangeError for a bad wind once the module is there
    */
   setWind(wind: WindOptions | null): void;
+  /**
+   * How much of the avatar's own motion the hair feels (instance.setInertia), in [0, 1]: 1 (the
+   * default) all of it, 0 none, as in a vehicle. On every wearable, those registered later too.
+   * @throws RangeError for a value outside [0, 1]
+   */
+  setInertia(value: number): void;
   /** The rig of a registered wearable; null before the module is there or after a load error. */
   rigOf(itemId: string): Rig | null;
 }

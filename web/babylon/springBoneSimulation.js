@@ -425,6 +425,7 @@ export class SpringBoneSimulation {
   _build(wearable, options) {
     try {
       wearable.build(this._sb, options);
+      if (this._inertia !== undefined) wearable.instance?.setInertia(this._inertia);
       return true;
     } catch (error) {
       wearable.error = error;
@@ -591,6 +592,19 @@ export class SpringBoneSimulation {
   setWind(wind) {
     if (this._sb) this._sceneFor().setWind(wind);
     this._wind = wind;
+  }
+
+  /**
+   * How much of the avatar's own motion the hair feels (instance.setInertia): 1, the default, all
+   * of it; 0 none (as in a vehicle or on a moving platform). On every wearable now and later.
+   * @throws RangeError for a value outside [0, 1]
+   */
+  setInertia(value) {
+    if (!(typeof value === 'number' && value >= 0 && value <= 1)) {
+      throw new RangeError(`setInertia: value must be a number in [0, 1], got ${value}`);
+    }
+    for (const wearable of this._wearables.values()) wearable.instance?.setInertia(value);
+    this._inertia = value;
   }
 
   /** The rig of a registered wearable (null before the module is there or on a load error). */

@@ -56,6 +56,7 @@ class Preview {
     this.showColliders = false;
     this.headSphere = null;    // the body colliders' head sphere (headClearance)
     this.wind = 0;             // the wind slider's strength, world units per second
+    this.inertia = 1;          // the inertia slider: how much of the avatar's motion the hair feels
     this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
     this.springFrames = new RecentFrames(1000);  // ms per frame in group.update (drivers, scene.step, rotations)
@@ -231,7 +232,7 @@ class Preview {
     const { gltf, rig, onWarning } = this.wearable;
     const clone = SkeletonUtils.clone(gltf.scene);
     avatar.attachment = attachWearable(avatar.root, clone, rig, {
-      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator }, onWarning,
+      nodes: wearableNodes(gltf, clone), instance: { integrator: this.integrator, inertia: this.inertia }, onWarning,
       mixer: avatar.mixer,  // a clip starting is a jump: the hair is carried, not whipped
     });
     avatar.wearableRoot = clone;
@@ -396,6 +397,18 @@ class Preview {
     this.showColliders = show;
     $('show-colliders').checked = show;
     for (const a of this.avatars) a.colliderHelper?.setVisible(show);
+  }
+
+  /**
+   * How much of each avatar's own motion its hair feels (instance.setInertia), 0 to 1: on every
+   * avatar now, and on every instance made later (a new rig, another integrator).
+   */
+  setInertia(value) {
+    this.inertia = Math.min(1, Math.max(0, Number(value)));
+    if (!Number.isFinite(this.inertia)) this.inertia = 1;
+    $('inertia').value = String(this.inertia);
+    $('inertia-num').textContent = this.inertia.toFixed(2);
+    for (const a of this.group?.attachments ?? []) a.instance?.setInertia(this.inertia);
   }
 
   /**
@@ -579,6 +592,7 @@ function wireControls(preview) {
   $('colliders').addEventListener('change', (e) => preview.setColliders(e.target.checked));
   $('show-colliders').addEventListener('change', (e) => preview.setShowColliders(e.target.checked));
   $('wind').addEventListener('input', (e) => preview.setWind(e.target.value));
+  $('inertia').addEventListener('input', (e) => preview.setInertia(e.target.value));
   $('budget').addEventListener('change', (e) => preview.setBudget(e.target.value === 'all' ? null : Number(e.target.value)));
   $('avatars').addEventListener('change', (e) => {
     preview.setAvatarCount(Number(e.target.value));
@@ -736,6 +750,7 @@ function debugHook(preview, creator) {
     },
     setBudget: (n) => preview.setBudget(n),
     setWind: (strength) => preview.setWind(strength),
+    setInertia: (value) => preview.setInertia(value),
     setColliders: (on) => preview.setColliders(Boolean(on)),
     setShowColliders: (show) => preview.setShowColliders(Boolean(show)),
     /**

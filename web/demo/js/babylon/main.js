@@ -104,6 +104,11 @@ document.getElementById('reset').addEventListener('click', () => {
   simulation.settle();
 });
 let drag = null;  // the mouse drag of the hair, once the rig is there
+document.getElementById('inertia').addEventListener('input', (event) => {
+  const inertia = Number(event.target.value);
+  document.getElementById('inertia-value').textContent = inertia.toFixed(2);
+  simulation.setInertia(inertia);
+});
 document.getElementById('wind').addEventListener('input', (event) => {
   const strength = Number(event.target.value);
   document.getElementById('wind-value').textContent = strength.toFixed(1);
