@@ -5,11 +5,11 @@
 // and every file of ../shared/fixtures/real (VRM avatars made by others, read in place). Babylon's
 // document has the nodes only (no root extensions): for a VRM it is compared by its node table.
 import assert from 'node:assert/strict';
-import { existsSync, readFileSync, readdirSync } from 'node:fs';
+import { readFileSync, readdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { before, describe, test } from 'node:test';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import { fixture, fixturesDir, metadataKeyOf, root } from './helpers.mjs';
+import { fixture, fixturesDir, metadataKeyOf, realFixturesDir } from './helpers.mjs';
 import { decodeTyped } from './typed_decode.mjs';
 import { babylonKit } from './babylon_kit.mjs';
 import { registerSpringBonesLoaderExtension, springBonesOf } from '../../web/babylon/index.js';
@@ -17,7 +17,7 @@ import { loadReaders } from '../../web/readers.js';
 import { createSpringBones } from '../../web/springbones.js';
 import { encodeGltf } from '../../web/typed_value.js';
 
-const realDir = join(root, '..', 'shared', 'fixtures', 'real');
+const realDir = realFixturesDir();
 
 /** parser.json of three.js's GLTFLoader for these bytes (the rest of its parse is not waited for). */
 function threeJson(bytes) {
@@ -44,7 +44,6 @@ function inputs() {
   for (const name of readdirSync(fixturesDir).filter((f) => f.endsWith('.vrm'))) {
     list.push({ name, bytes: new Uint8Array(fixture(name)), vrm: true });
   }
-  assert.ok(existsSync(realDir), `the real fixtures are missing: ${realDir}`);
   const real = readdirSync(realDir).filter((f) => /\.(gltf|vrm)$/.test(f)).map((f) => join(realDir, f));
   real.push(...readdirSync(join(realDir, 'originals')).map((f) => join(realDir, 'originals', f)));
   for (const path of real) list.push({ name: path.slice(realDir.length + 1), bytes: new Uint8Array(readFileSync(path)), vrm: true });

@@ -9,6 +9,20 @@ import { swayDrivers } from '../../scripts/lib/sway.mjs';
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const fixturesDir = join(root, 'tests', 'fixtures');
 
+/**
+ * Where the spring-bone files made by others are read in place (never copied into the repository):
+ * $SPRINGBONES_REAL_FIXTURES, else the team's shared folder beside the checkout, else where that
+ * folder lives on the development machines, for a clone made elsewhere (CI's). A test that needs
+ * them fails when none is there.
+ */
+export function realFixturesDir() {
+  const candidates = [process.env.SPRINGBONES_REAL_FIXTURES, join(root, '..', 'shared', 'fixtures', 'real'),
+    '/work/shared/fixtures/real'].filter(Boolean);
+  const found = candidates.find((dir) => existsSync(dir));
+  if (!found) throw new Error(`the real fixtures are missing: looked in ${candidates.join(', ')} (set SPRINGBONES_REAL_FIXTURES)`);
+  return found;
+}
+
 export function fixture(name) {
   return readFileSync(join(fixturesDir, name));
 }

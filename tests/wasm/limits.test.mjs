@@ -16,9 +16,9 @@ import { createSpringBones } from '../../web/springbones.js';
 import { applyLimits, jointLimitOf } from '../../scripts/lib/three_vrm_limits.mjs';
 import { countCollisions } from '../../scripts/lib/three_vrm_collisions.mjs';
 import { useExactBoneLength } from '../../scripts/lib/three_vrm_equalized.mjs';
-import { root, springRig } from './helpers.mjs';
+import { realFixturesDir, root, springRig } from './helpers.mjs';
 
-const realDir = path.resolve(root, '../shared/fixtures/real');
+const realDir = realFixturesDir();
 const kFiles = ['threevrm-cone-limit.gltf', 'threevrm-hinge-limit.gltf', 'threevrm-spherical-limit.gltf'];
 const fps = 60;
 
