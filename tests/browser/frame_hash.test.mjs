@@ -18,6 +18,7 @@ test('1,000 frames hash the same natively and in Chromium', { skip }, async (t) 
     const { createSpringBones } = await import('/web/springbones.js');
     const { frameHashes } = await import('/tests/scenarios/frame_hash.mjs');
     const sb = await createSpringBones();
+    await sb.readers();  // the scenario loads the fixtures' bytes
     return frameHashes(sb, async (path) => new Uint8Array(await (await fetch(`/${path}`)).arrayBuffer()));
   });
   for (const [name, { joints, hash }] of Object.entries(native)) {

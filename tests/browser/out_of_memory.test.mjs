@@ -19,7 +19,12 @@ test('a capped memory: out-of-memory errors, then the module keeps working', { s
     const { outOfMemoryScenario } = await import('/tests/scenarios/out_of_memory.mjs');
     const bytes = async (url) => new Uint8Array(await (await fetch(url)).arrayBuffer());
     return outOfMemoryScenario({
-      createSpringBones,
+      // The scenario loads GLB and VRM bytes: a page reads them with the readers module.
+      createSpringBones: async () => {
+        const sb = await createSpringBones();
+        await sb.readers();
+        return sb;
+      },
       wearable: {
         glb: await bytes('/web/demo/assets/hair_wearable.glb'),
         springBones: await (await fetch('/web/demo/assets/hair_wearable.metadata.json')).json(),

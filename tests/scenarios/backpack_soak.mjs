@@ -25,6 +25,7 @@ const bytesOf = async (url) => (await fetch(url)).arrayBuffer();
 /** Opens the soak: the module, the avatar in a scene, the wearables' bytes. */
 export async function openSoak() {
   const sb = await createSpringBones();
+  await sb.readers();  // the wearables arrive as bytes
   const [avatarBytes, hairBytes, entity, vrm0, vrm10] = await Promise.all([
     bytesOf('/web/demo/assets/avatar.glb'), bytesOf('/web/demo/assets/hair_wearable.glb'),
     (await fetch('/web/demo/assets/hair_wearable.entity.json')).json(),
