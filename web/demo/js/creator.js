@@ -705,12 +705,14 @@ export class Creator {
 
   /**
    * A message of the core or the catalyst about the value at `path`, with a NaN or Infinity named:
-   * both saw it as JSON, where it is null ("stiffness is null, not a number").
+   * the catalyst saw it as JSON, where it is null ("stiffness must be number"); the runtime, which
+   * takes the object as it is, says it is not finite.
    */
   nameNonFinite(text, path) {
     if (!path) return text;
     const value = this.valueAt(path);
     if (!hasNonFinite(value)) return text;
+    if (/ is not finite;/.test(text)) return text.replace(' is not finite;', ` is ${jsText(value)}, not a finite number;`);
     const json = JSON.stringify(value);
     let named = text.includes(json) ? text.split(json).join(jsText(value)) : text;
     named = named.replace('not a number', 'not a finite number');
