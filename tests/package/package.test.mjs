@@ -225,7 +225,7 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './creator-tools-wasm', './inline', './package.json', './three', './wasm']);
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './creator-tools-wasm', './inline', './package.json', './readers-wasm', './three', './wasm']);
     for (const entry of ['.', './three', './babylon', './inline']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);
