@@ -27,6 +27,13 @@ namespace springbones {
 
 [[gnu::always_inline]] inline Vec3 fromGlm(const glm::vec3& v) { return Vec3{v.x, v.y, v.z}; }
 [[gnu::always_inline]] inline Quat fromGlm(const glm::quat& q) { return Quat{q.x, q.y, q.z, q.w}; }
+/// A rotation into an instance's rotations buffer: x, y, z, w at `out`.
+[[gnu::always_inline]] inline void storeQuat(float* out, const glm::quat& q) {
+  out[0] = q.x;
+  out[1] = q.y;
+  out[2] = q.z;
+  out[3] = q.w;
+}
 [[gnu::always_inline]] inline Mat4 fromGlm(const glm::mat4& m) {
   Mat4 out;
   for (int i = 0; i < 16; ++i) out.m[i] = glm::value_ptr(m)[i];

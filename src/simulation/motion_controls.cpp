@@ -10,13 +10,6 @@ namespace {
 
 constexpr float kMinLength = 1e-6f;
 
-void writeRotation(float* out, const glm::quat& q) {
-  out[0] = q.x;
-  out[1] = q.y;
-  out[2] = q.z;
-  out[3] = q.w;
-}
-
 }  // namespace
 
 // With no velocity, a step of either integrator leaves a tail in place exactly when the sum of its
@@ -53,7 +46,7 @@ void balanceTails(const Rig& rig, const DriverPoses& poses, const glm::mat4* res
       rotation = glm::normalize(rotation * rotationBetween(tail_axis[j], local));
     }
     joint_world[j] = parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
-    writeRotation(rotations + 4 * j, rotation);
+    storeQuat(rotations + 4 * j, rotation);
     glm::mat4 center_inverse;
     stored_tails[j] = joint.center_driver >= 0 && affineInverse(poses.matrix(joint.center_driver), center_inverse)
                           ? glm::vec3(center_inverse * glm::vec4(tail, 1.0f))

@@ -382,13 +382,7 @@ struct Instance::State {
     return glm::vec3(step_drivers[c] * glm::vec4(local, 1.0f));
   }
 
-  void writeRotation(std::size_t j, const glm::quat& q) {
-    float* out = rotations.data() + 4 * j;
-    out[0] = q.x;
-    out[1] = q.y;
-    out[2] = q.z;
-    out[3] = q.w;
-  }
+  void writeRotation(std::size_t j, const glm::quat& q) { storeQuat(rotations.data() + 4 * j, q); }
 
   // Returns the new world tail offset from the head and advances the joint's tail state.
   glm::vec3 integrate(std::size_t j, const Joint& joint, const SpringInput& in, float h) {

@@ -46,13 +46,6 @@ inline void projectLength(const glm::vec3& head, const glm::vec3& rest_offset, f
                                                                  : head + rest_offset;
 }
 
-void writeRotation(float* out, const glm::quat& q) {
-  out[0] = q.x;
-  out[1] = q.y;
-  out[2] = q.z;
-  out[3] = q.w;
-}
-
 }  // namespace
 
 XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), options_(options) {
@@ -134,7 +127,7 @@ void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::
     current_tail_[j] = previous_tail_[j] = toCenter(joint.center_driver, tail);
     tail_world_[j] = tail;
     joint_world_out[j] = rest_world;
-    writeRotation(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
+    storeQuat(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
   }
 }
 
@@ -171,7 +164,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
       // A zero-length bone (or a collapsed parent) has no direction: keep the rest pose.
       tail_world_[j] = head + rest_offset;
       joint_world_out[j] = rest_world;
-      writeRotation(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
+      storeQuat(rotations_out + 4 * j, toGlm(joint.rest_local.rotation));
       continue;
     }
 
@@ -267,7 +260,7 @@ void XpbdSolver::writeOutputs(std::size_t j, const glm::mat4& parent, const glm:
   const glm::quat rotation = glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(tail_axis_[j], local_dir));
   joint_world_out[j] =
       parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
-  writeRotation(rotations_out + 4 * j, rotation);
+  storeQuat(rotations_out + 4 * j, rotation);
 }
 
 }  // namespace springbones
