@@ -1,9 +1,9 @@
 // Cold start with springbones: the API and the three.js adapter, createSpringBones, then loadRig
 // and attachWearable as the demo wears the sample (web/demo/js/main.js), one attachment.update.
 // The page draws first: it wears and draws the item without waiting for the module
-// (attachWearable gets the rig as a promise, README "three.js"), and the module's download starts
-// after that first drawable frame (cold_start.mjs calls start then), compiled by createSpringBones
-// as it streams in; the springs take over once it is there.
+// (attachWearable gets the rig as a promise, README "three.js"); the module's download starts when
+// the page's fetch order says (cold_start.mjs), compiled by createSpringBones as it streams in; the
+// springs take over once it is there.
 import { coldStart } from './cold_start.mjs';
 
 const MODULE = new URL('../../web/dist/springbones_wasm.wasm', import.meta.url);
@@ -14,7 +14,7 @@ coldStart({
     const [api, adapter] = await Promise.all([import('../../web/springbones.js'), import('../../web/three/springBonesThree.js')]);
     return { api, adapter };
   },
-  start: (lib) => lib.api.createSpringBones({ wasm: fetch(MODULE) }),
+  start: (lib, { priority }) => lib.api.createSpringBones({ wasm: fetch(MODULE, priority ? { priority } : {}) }),
   wear: (lib, { avatar, wearable, springBones, contentHash }, started) => {
     let loadStart = 0, loadRigMs = 0;
     const rig = started.then((sb) => {

@@ -3,21 +3,24 @@
 // simulated by one library. The page around the library is the same for both libraries (this
 // module); each library's page passes what is its own:
 //   importLibrary()           its JavaScript (timed: "import")
-//   start(lib)                its start-up, e.g. downloading and compiling WebAssembly: a
-//                             promise, or null when there is none; called once the first
-//                             drawable frame is set (timed: "start", from the call to its
-//                             resolution)
+//   start(lib, {priority})    its start-up, e.g. downloading and compiling WebAssembly: a
+//                             promise, or null when there is none; called when the page's
+//                             fetch order says (below; timed: "start", from the call to its
+//                             resolution); priority: the fetch priority to ask for, or undefined
 //   wear(lib, item, started)  puts the wearable on the avatar, at once (the avatar wearing it can
 //                             be drawn: it must not wait for `started`); returns a promise of
 //                             { joints, step(dt), loadMs, details } once the library can simulate
 //                             (loadMs: its own loading of the joints, timed by the library)
-// As a preview should, the page draws before the library is ready, and the library's start
-// (its download and compilation) comes after the drawing, so that on a slow link its bytes do not
-// share the bandwidth with the GLBs' and on a fast one its compilation does not hold the main
-// thread while they are parsed: the first animation frame after wear() sets the performance mark
-// 'first-drawable-frame', then start(lib) is called; the first frame after the
-// simulation is ready steps it once and sets 'first-simulated-frame' (startTime: milliseconds
-// since navigation). Nothing is rendered: WebGL would cost both pages alike. The result goes to
+// As a preview should, the page draws before the library is ready: the first animation frame after
+// wear() sets the performance mark 'first-drawable-frame'; the first frame after the simulation is
+// ready steps it once and sets 'first-simulated-frame' (startTime: milliseconds since navigation).
+// When the library starts is the page's fetch order, the query's `fetch` (scripts/bench_fetch_order.mjs
+// compares them; the preload orders also need the link cold_springbones.html adds):
+//   after-draw       once the first drawable frame is set (the default): its bytes never share the
+//                    link with the GLBs'
+//   after-downloads  once the GLBs' bytes are in, before they are parsed
+//   with-glbs        at once, while the GLBs download; with-glbs-low: asking for low priority
+//   preload, preload-low  a <link rel=preload> (fetchpriority=low) in the HTML, used after-draw Nothing is rendered: WebGL would cost both pages alike. The result goes to
 // window.coldResult (or the error to window.benchError). The pages are not cross-origin isolated
 // (as a marketplace's preview iframe is not); the timer's 0.1 ms step is far below what is timed.
 import { Group } from 'three';
@@ -39,15 +42,23 @@ export async function coldStart(library) {
   try {
     // The page's own downloads start first and run while the library loads, as a page would.
     const downloads = Promise.all([fetchBytes('avatar.glb'), fetchBytes(WEARABLE), fetchBytes('hair_wearable.entity.json')]);
+    const order = fetchOrder();
     const times = {};
     let t = performance.now();
     const lib = await library.importLibrary();
     times.importMs = performance.now() - t;
+    let startCalledAt = 0;
     let callStart;
     const started = new Promise((resolve) => { callStart = resolve; });
     started.catch(() => {});  // reported where it is awaited
+    const startNow = () => {
+      startCalledAt = performance.now();
+      callStart(library.start(lib, { priority: order.priority }));
+    };
+    if (order.when === 'with-glbs') startNow();
 
     const [avatarBuffer, wearableBuffer, entityBuffer] = await downloads;
+    if (order.when === 'after-downloads') startNow();
     const entity = JSON.parse(new TextDecoder().decode(entityBuffer));
     const contentHash = entity.content.find((c) => c.file === WEARABLE).hash;
     const springBones = entity.metadata.data.springBones;
@@ -67,10 +78,9 @@ export async function coldStart(library) {
     world.updateMatrixWorld();
     times.navigationToDrawableMs = performance.mark('first-drawable-frame').startTime;
 
-    t = performance.now();
-    callStart(library.start(lib));
+    if (order.when === 'after-draw') startNow();
     await started;
-    times.startMs = performance.now() - t;
+    times.startMs = performance.now() - startCalledAt;
     const simulation = await simulating;
     times.loadMs = simulation.loadMs;
 
@@ -89,12 +99,29 @@ export async function coldStart(library) {
     times.libraryMs = times.importMs + times.startMs + times.wearMs + times.loadMs + times.stepMs;
     times.longestTaskMs = longestTaskBefore(times.navigationToFirstFrameMs);
     window.coldResult = {
-      library: library.name, joints: simulation.joints, crossOriginIsolated: globalThis.crossOriginIsolated === true,
+      library: library.name, fetchOrder: order.name, joints: simulation.joints, crossOriginIsolated: globalThis.crossOriginIsolated === true,
       ...times, ...(simulation.details ?? {}),
     };
   } catch (error) {
     window.benchError = `${error.message}\n${error.stack ?? ''}`;
   }
+}
+
+const kFetchOrders = {
+  'after-draw': { when: 'after-draw' },
+  'after-downloads': { when: 'after-downloads' },
+  'with-glbs': { when: 'with-glbs' },
+  'with-glbs-low': { when: 'with-glbs', priority: 'low' },
+  preload: { when: 'after-draw' },
+  'preload-low': { when: 'after-draw' },
+};
+
+/** The page's fetch order (the query's `fetch`): { name, when, priority }. */
+function fetchOrder() {
+  const name = new URLSearchParams(location.search).get('fetch') ?? 'after-draw';
+  const order = kFetchOrders[name];
+  if (!order) throw new Error(`unknown fetch order ${name} (expected ${Object.keys(kFetchOrders).join(', ')})`);
+  return { name, ...order };
 }
 
 /**

@@ -33,7 +33,7 @@ const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
 const COLD_SAMPLES = Number(process.env.BENCH_COLD_SAMPLES ?? 5);
 // The links of the cold start. Download and RTT as the issue states them (9 Mbps / 85 ms, 1.6 Mbps
 // / 150 ms); upload as Chrome's and Lighthouse's presets for such links. Throughputs in bytes/s.
-const LINKS = [
+export const LINKS = [
   { name: 'LAN', conditions: null },
   { name: '4G', conditions: { latency: 85, downloadThroughput: 9e6 / 8, uploadThroughput: 1.5e6 / 8 } },
   { name: 'slow 4G', conditions: { latency: 150, downloadThroughput: 1.6e6 / 8, uploadThroughput: 0.75e6 / 8 } },
@@ -56,7 +56,7 @@ const ARGS = [
 ];
 
 /** A new Chromium with a new, empty profile (no HTTP cache, no code cache); close() removes it. */
-async function freshBrowser() {
+export async function freshBrowser() {
   const profile = mkdtempSync(join(tmpdir(), 'springbones-bench-'));
   const context = await chromium.launchPersistentContext(profile, { executablePath: chromiumPath, headless: true, args: ARGS })
     .catch((error) => { rmSync(profile, { recursive: true, force: true }); throw error; });
@@ -117,7 +117,7 @@ function libraryOfPath(path) {
  * (Network.loadingFinished's encodedDataLength: headers and the gzip body). Returns the page's
  * result with pageKB, libraryKB and the library's paths.
  */
-async function coldVisit(browser, url, link) {
+export async function coldVisit(browser, url, link) {
   const cdp = await browser.context.newCDPSession(browser.page);
   await cdp.send('Network.enable');
   if (link.conditions) await cdp.send('Network.emulateNetworkConditions', { offline: false, ...link.conditions });

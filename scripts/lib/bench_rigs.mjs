@@ -162,7 +162,8 @@ export function setupThreeVrm([A, C, J], wearable) {
  */
 export function setupSolver(sb, [A, C, J], wearable, budget = null) {
   const t0 = performance.now();
-  const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
+  // The parsed document, as a preview's loader hands it over (the bytes would need the readers).
+  const rig = sb.loadRig(wearable.doc, wearable.springBones, { contentHash: 'bench' });
   const loadMs = performance.now() - t0;
   const scene = sb.createScene();
   const instances = [];
@@ -198,7 +199,7 @@ export function setupSolver(sb, [A, C, J], wearable, budget = null) {
 
 /** The adapter's update (SpringBonesGroup: every avatar, one scene.step); budget as setupSolver. */
 export function setupAdapter(sb, [A, C, J], wearable, budget = null) {
-  const rig = sb.loadRig(wearable.bytes, wearable.springBones, { contentHash: 'bench' });
+  const rig = sb.loadRig(wearable.doc, wearable.springBones, { contentHash: 'bench' });
   const group = new SpringBonesGroup(sb);
   group.scene.setBudget(budget, 0, 0, 0);
   const avatars = [];
@@ -206,7 +207,9 @@ export function setupAdapter(sb, [A, C, J], wearable, budget = null) {
     const { gltf, objects } = threeWearable(wearable.doc);
     const avatarRoot = new THREE.Group();
     avatarRoot.position.x = a;
-    const attachment = attachWearable(avatarRoot, gltf, rig, { instance: ONE_STEP_PER_FRAME });
+    // The bench's avatars are bare groups, so every chain hangs from the avatar root: the
+    // bone-not-matched warning is expected here, once per avatar, and would bury the numbers.
+    const attachment = attachWearable(avatarRoot, gltf, rig, { instance: ONE_STEP_PER_FRAME, onWarning: () => {} });
     group.add(attachment);
     const parents = [];
     for (let c = 0, i = 1; c < C; c++, i += J + 2) parents.push(attachment.nodes[i] ?? objects[i]);
