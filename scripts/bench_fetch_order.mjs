@@ -11,7 +11,7 @@ import { coldVisit, freshBrowser, LINKS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
 import { startServer } from './serve.mjs';
 
-const ORDERS = ['after-draw', 'after-downloads', 'with-glbs', 'with-glbs-low', 'preload', 'preload-low'];
+const ORDERS = ['after-draw', 'at-wear', 'after-downloads', 'with-glbs', 'with-glbs-low', 'preload', 'preload-low'];
 const samples = Number(process.argv[2] ?? 5);
 const orders = process.argv.length > 3 ? process.argv.slice(3) : ORDERS;
 for (const order of orders) {

@@ -13,7 +13,9 @@
 //  - three.min.js: the three.js adapter and loader plugin (web/three/index.js; `three` stays an
 //    import of the page's);
 //  - babylon.min.js: the Babylon.js drop-in and loader extension (web/babylon/index.js; it imports
-//    nothing of Babylon's: the page hands its objects in; it imports springbones.min.js);
+//    nothing of Babylon's: the page hands its objects in);
+//  - page_module.min.js: the page's module for adapters given none (web/page_module.js), which
+//    imports springbones.min.js when it starts;
 //  - inline.min.js: `springbones/inline`, the API with the runtime module inlined as base64
 //    (web/inline.js over springbones.min.js);
 //  - springbones_wasm_base64.js: that base64 as a module (what web/inline.js imports from source);
@@ -76,13 +78,17 @@ await build({
     springbones: join(web, 'springbones.js'),
     three: join(web, 'three', 'index.js'),
     babylon: join(web, 'babylon', 'index.js'),
+    page_module: join(web, 'page_module.js'),
   },
   splitting: true,
   entryNames: '[name].min',
   chunkNames: '[name].min',
-  // The Babylon drop-in starts the module itself when given none: it imports the API's own
-  // bundle, so a page has one copy of it (and one module per page) whichever entry it imports.
-  plugins: [importsOf('../springbones.js', './springbones.min.js'), distRelativeUrls],
+  // The adapters start the module themselves when given none, through the page's module
+  // (web/page_module.js), a file of its own that both adapters import: one module per page
+  // whichever adapter a page uses, and no second shared chunk (the first is "chunk", and esbuild
+  // names every shared chunk so). It imports the API's own bundle when the module starts, so the
+  // adapters carry none of the API until then.
+  plugins: [importsOf('./springbones.js', './springbones.min.js'), importsOf('../page_module.js', './page_module.min.js'), distRelativeUrls],
 });
 
 // springbones/inline: the runtime module inlined, the API imported from springbones.min.js. No

@@ -7,14 +7,23 @@
 import { coldStart } from './cold_start.mjs';
 
 const MODULE = new URL('../../web/dist/springbones_wasm.wasm', import.meta.url);
+// The orders that start the module after the drawing import the API then too: before the drawing
+// the page needs the adapter alone (attachWearable), so the API's bytes wait with the module's.
+const ORDER = new URLSearchParams(location.search).get('fetch') ?? 'after-draw';
+const API_BEFORE_DRAWING = !['after-draw', 'after-downloads', 'at-wear'].includes(ORDER);
+const importApi = () => import('../../web/springbones.js');
 
 coldStart({
   name: 'springbones',
   importLibrary: async () => {
-    const [api, adapter] = await Promise.all([import('../../web/springbones.js'), import('../../web/three/springBonesThree.js')]);
+    const [api, adapter] = await Promise.all([API_BEFORE_DRAWING ? importApi() : null, import('../../web/three/springBonesThree.js')]);
     return { api, adapter };
   },
-  start: (lib, { priority }) => lib.api.createSpringBones({ wasm: fetch(MODULE, priority ? { priority } : {}) }),
+  start: async (lib, { priority }) => {
+    const wasm = fetch(MODULE, priority ? { priority } : {});
+    const api = lib.api ?? await importApi();
+    return api.createSpringBones({ wasm });
+  },
   wear: (lib, { avatar, wearable, springBones, contentHash }, started) => {
     let loadStart = 0, loadRigMs = 0;
     const rig = started.then((sb) => {

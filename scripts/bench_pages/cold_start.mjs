@@ -19,6 +19,8 @@
 //   after-draw       once the first drawable frame is set (the default): its bytes never share the
 //                    link with the GLBs'
 //   after-downloads  once the GLBs' bytes are in, before they are parsed
+//   at-wear          once they are parsed and the item worn, before the drawing (the adapters' own
+//                    order when they start the module themselves)
 //   with-glbs        at once, while the GLBs download; with-glbs-low: asking for low priority
 //   preload, preload-low  a <link rel=preload> (fetchpriority=low) in the HTML, used after-draw Nothing is rendered: WebGL would cost both pages alike. The result goes to
 // window.coldResult (or the error to window.benchError). The pages are not cross-origin isolated
@@ -74,6 +76,7 @@ export async function coldStart(library) {
     t = performance.now();
     const simulating = library.wear(lib, { avatar, wearable, wearableBytes, springBones, contentHash }, started);
     times.wearMs = performance.now() - t;
+    if (order.when === 'at-wear') startNow();
     await nextFrame();
     world.updateMatrixWorld();
     times.navigationToDrawableMs = performance.mark('first-drawable-frame').startTime;
@@ -110,6 +113,7 @@ export async function coldStart(library) {
 const kFetchOrders = {
   'after-draw': { when: 'after-draw' },
   'after-downloads': { when: 'after-downloads' },
+  'at-wear': { when: 'at-wear' },
   'with-glbs': { when: 'with-glbs' },
   'with-glbs-low': { when: 'with-glbs', priority: 'low' },
   preload: { when: 'after-draw' },

@@ -194,6 +194,8 @@ describe('the tarball', () => {
       'package/web/dist/creator_tools.min.js',
       'package/web/dist/creator_tools.min.js.map',
       'package/web/dist/inline.min.js',
+      'package/web/dist/page_module.min.js',
+      'package/web/dist/page_module.min.js.map',
       'package/web/dist/readers.min.js',
       'package/web/dist/readers.min.js.map',
       'package/web/dist/springbones.min.js',

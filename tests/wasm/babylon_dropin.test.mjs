@@ -54,6 +54,16 @@ const turn = (a, b) => {
 const kSpringNodes = ['SpringBone_ponytail', 'SpringBone_ponytail_1', 'SpringBone_ponytail_2', 'SpringBone_ponytail_3',
   'hair_springbone_l', 'hair_springbone_r', 'springbone_earring_l', 'springbone_earring_r'];
 
+// First in this file, so that nothing has started the page's module yet (one per process).
+test('new SpringBoneSimulation() with no argument starts no module until a wearable is registered', async () => {
+  const simulation = new SpringBoneSimulation();
+  let settled = false;
+  simulation.ready.then(() => { settled = true; }, () => { settled = true; });
+  for (let i = 0; i < 20; i++) await new Promise((resolve) => setImmediate(resolve));
+  assert.equal(settled, false, 'no module before a wearable is registered');
+  assert.equal(simulation.springBones, null);
+});
+
 for (const which of kBabylonVersions) {
   describe(`Babylon ${which}`, () => {
     let kit;
@@ -81,7 +91,7 @@ for (const which of kBabylonVersions) {
       return { scene, container, simulation, frame, springs, rest, pose };
     }
 
-    test('new SpringBoneSimulation() with no argument starts the module itself, once, shared by every simulation', async () => {
+    test('new SpringBoneSimulation() with no argument starts the module itself at the first registerWearable, once, shared by every simulation', async () => {
       const a = await previewScene({ simulation: new SpringBoneSimulation() });
       const b = await previewScene({ simulation: new SpringBoneSimulation() });
       await Promise.all([a.simulation.ready, b.simulation.ready]);

@@ -77,9 +77,34 @@ describe('SpringBonesLoaderPlugin', () => {
       error instanceof TypeError && /contentHash, entity \+ bodyShape, or glb/.test(error.message));
     await assert.rejects(loadWithPlugin({ springBones: metadata, glb: wearableBytes, stepHz: 30 }),
         (error) => error instanceof TypeError && /unknown option stepHz/.test(error.message));
+    await assert.rejects(loadWithPlugin({ sb: 42, springBones: metadata, glb: wearableBytes }), /options.sb must be the springbones module/);
+  });
+
+  test('without sb, the page\'s module starts at the first wear(), not before, and drives the clone', async () => {
     const loader = new GLTFLoader();
-    loader.register((parser) => new SpringBonesLoaderPlugin(parser, { springBones: metadata, glb: wearableBytes }));
-    await assert.rejects(loader.parseAsync(wearableBytes.slice().buffer, ''), /options.sb must be the springbones module/);
+    loader.register((parser) => new SpringBonesLoaderPlugin(parser, { springBones: entity.metadata.data.springBones, entity, bodyShape }));
+    const wearable = (await loader.parseAsync(wearableBytes.slice().buffer, '')).userData.springBones;
+    let settled = false;
+    wearable.ready.then(() => { settled = true; }, () => { settled = true; });
+    // Nothing has asked for the module yet: however long the page waits, no rig comes.
+    for (let i = 0; i < 20; i++) await new Promise((resolve) => setImmediate(resolve));
+    assert.equal(settled, false, 'no module before the first wear()');
+    assert.equal(wearable.rig, null);
+    const avatar = SkeletonUtils.clone(avatarGltf.scene);
+    const attachment = wearable.wear(avatar);
+    await wearable.ready;
+    assert.deepEqual(wearable.rig.joints, rig.joints);
+    await attachment.ready;
+    assert.equal(attachment.simulating, true);
+    const joint = attachment.jointObjects[0];
+    const before = joint.quaternion.clone();
+    avatar.getObjectByName('Avatar_Head').rotation.z = 0.8;
+    for (let frame = 0; frame < 30; frame++) {
+      avatar.updateMatrixWorld(true);
+      attachment.update(1 / 60);
+    }
+    assert.ok(joint.quaternion.angleTo(before) > 0.05, `the turned head's ponytail moved by ${joint.quaternion.angleTo(before)}`);
+    wearable.dispose();
   });
 
   test('broken metadata fails the load with the API\'s SpringBonesError', async () => {

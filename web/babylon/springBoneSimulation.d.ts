@@ -75,15 +75,17 @@ export interface SpringBoneSimulationWarning {
 export class SpringBoneSimulation {
   /**
    * @param sb the springbones module, a promise of it, or nothing (null / undefined): the
-   *   simulation then starts the module itself (createSpringBones()), once per page, shared by
-   *   every simulation constructed without one. Wearables registered before the module is there
-   *   stay at rest until it is.
+   *   simulation then starts the module itself (createSpringBones()) when the first wearable is
+   *   registered (the page has that GLB by then: the module's download never shares the link with
+   *   it), once per page, shared by every simulation constructed without one. Wearables stay at
+   *   rest until the module is there.
    * @throws TypeError for a value that is not the module; RangeError for a bad gravityDirSpace
    */
   constructor(sb?: SpringBones | PromiseLike<SpringBones> | null, options?: SpringBoneSimulationOptions);
   /**
    * Resolves once the module is there and every wearable registered so far has its rig; rejects
-   * when the module fails to load (each wearable also warns `module-load-failed`).
+   * when the module fails to load (each wearable also warns `module-load-failed`). Without a
+   * module given, it waits for the first registerWearable, which starts the module.
    */
   readonly ready: Promise<void>;
   /** The springbones module once it is there, else null. */

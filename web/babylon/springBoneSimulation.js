@@ -24,7 +24,7 @@
 //
 // Babylon itself is never imported: everything comes from the scene and containers passed in,
 // so the same file serves Babylon 4.2 (`babylonjs` and `@babylonjs/core`) and the current major.
-import { createSpringBones } from '../springbones.js';
+import { pageModule } from '../page_module.js';
 import { nodesToRecompute } from './currentWorldMatrices.js';
 import { copyWorldMatrix, isMirroredScene } from './handedness.js';
 import { entryAsSpringBones, resolveMetadata, rigOptions } from './wearableMetadata.js';
@@ -40,20 +40,6 @@ const kNoView = new Float32Array(0);
  */
 export function carryAcrossJump(instance) {
   instance.jump();
-}
-
-/** The page's springbones module for simulations constructed without one: started once, shared. */
-let pageModule = null;
-
-function sharedModule() {
-  if (pageModule === null) {
-    pageModule = createSpringBones();
-    // A failed start is not kept: the next simulation constructed without a module tries again.
-    pageModule.catch(() => {
-      pageModule = null;
-    });
-  }
-  return pageModule;
 }
 
 const kMaxNamesListed = 6;
@@ -338,8 +324,9 @@ const isModule = (sb) => typeof sb?.loadRig === 'function' && typeof sb?.createS
 export class SpringBoneSimulation {
   /**
    * @param sb the springbones module (createSpringBones()), a promise of it, or nothing: the
-   *   simulation then starts the module itself, once per page, shared by every simulation
-   *   constructed without one. Wearables registered before it is there stay at rest until it is.
+   *   simulation then starts the module itself when the first wearable is registered, once per
+   *   page, shared by every simulation constructed without one. Wearables stay at rest until it
+   *   is there.
    * @param options { gravityDirSpace: 'gltf' (default, the standard's reading, as three.js and
    *   every other runtime of springbones) | 'scene' (Decentraland's preview's: gravityDir in the
    *   Babylon scene's own axes) }
@@ -369,7 +356,10 @@ export class SpringBoneSimulation {
       this._jumpPending = true;
     };
     this._frame = () => this._step();
-    const module = sb ?? sharedModule();
+    // Without a module, the page's: requested when the first wearable is registered (its GLB is
+    // in by then, so the module's bytes never share the link with it; page_module.js).
+    this._pageModule = sb === undefined || sb === null ? pageModule() : null;
+    const module = sb ?? this._pageModule.promise;
     if (isThenable(module)) {
       /**
        * Resolves once the module is there and every wearable registered so far has its rig;
@@ -452,6 +442,7 @@ export class SpringBoneSimulation {
       throw new TypeError('registerWearable: scene must be a Babylon Scene');
     }
     if (typeof itemId !== 'string' || itemId === '') throw new TypeError('registerWearable: itemId must be a non-empty string');
+    this._pageModule?.start();
     const loaded = springBonesOf(container);  // the loader extension's node list, when it ran
     const metadata = springBonesParams === undefined && loaded?.metadata
       ? { springBones: loaded.metadata.springBones, options: { ...loaded.metadata.options }, key: loaded.metadata.options.contentHash ?? null }

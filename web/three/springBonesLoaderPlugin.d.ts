@@ -8,9 +8,12 @@ import type { AttachOptions, SpringBonesAttachment, StaticHairWarning } from './
 export type SpringBonesLoaderPluginOptions = LoadOptions & {
   /**
    * The module from createSpringBones(), or the promise of it, not awaited: the GLB then loads
-   * without waiting for the module, and the rig follows (SpringBonesWearable.ready).
+   * without waiting for the module, and the rig follows (SpringBonesWearable.ready). Left out:
+   * the page's module, which the plugin starts at the first wear() (the page has its GLBs by
+   * then, so the module's download never shares the link with them) and shares with every
+   * plugin and Babylon simulation given none.
    */
-  sb: SpringBones | PromiseLike<SpringBones>;
+  sb?: SpringBones | PromiseLike<SpringBones>;
   /** The wearable's data.springBones, as an object or JSON text; null or left out: no spring bones. */
   springBones?: object | string | null;
   /**
@@ -34,7 +37,7 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
  */
 export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
   /**
-   * @throws TypeError for a non-parser, unknown options, a missing sb, or springBones without
+   * @throws TypeError for a non-parser, unknown options, an sb that is not the module, or springBones without
    * contentHash, entity + bodyShape or glb (the models are keyed by the GLB's content hash)
    */
   constructor(parser: GLTFParser, options: SpringBonesLoaderPluginOptions);
@@ -55,7 +58,7 @@ export class SpringBonesWearable {
   readonly gltf: GLTF;
   /**
    * The rig, owned by the wearable: dispose() frees it. Typed as loaded: with `sb` given as a
-   * promise it is null until `ready` resolves.
+   * promise, or left out, it is null until `ready` resolves.
    */
   readonly rig: Rig;
   /**

@@ -7,6 +7,9 @@
 //
 // `sb` may also be the promise createSpringBones() returns, not awaited: the GLB then loads and
 // wears without waiting for the module, and the rig follows (wearable.ready, attachment.ready).
+// Left out, the plugin starts the page's module itself (web/page_module.js) at the first wear():
+// the page has its GLBs by then, so on a slow link the module's download never shares the
+// bandwidth with them, and the API is imported then too.
 //
 // A thin layer over springBonesThree.js: the rig is sb.loadRig's, wearing is attachWearable on a
 // SkeletonUtils clone of the loaded scene, and what wear() returns is the adapter's attachment.
@@ -19,6 +22,7 @@
 // glTF JSON the parser already holds (parser.json), handed over as it is: no second parse.
 
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
+import { pageModule } from '../page_module.js';
 import { attachWearable, isThenable, wearableNodes } from './springBonesThree.js';
 import { consoleReporter, failureWarning, kWearableContext, rigWarnings, springNodeNamesOf } from './staticHair.js';
 
@@ -31,7 +35,8 @@ export class SpringBonesLoaderPlugin {
    * parser: GLTFLoader's parser (the argument of loader.register's callback).
    * options: { sb, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
    * sb is the module from createSpringBones() or the promise of it (the load then does not wait
-   * for the module: the rig follows, see SpringBonesWearable.ready); springBones the wearable's data.springBones
+   * for the module: the rig follows, see SpringBonesWearable.ready), or left out: the page's
+   * module, started at the first wear(); springBones the wearable's data.springBones
    * (object or JSON text; null or left out: no spring bones); the rest as for sb.loadRig.
    */
   constructor(parser, options) {
@@ -47,8 +52,8 @@ export class SpringBonesLoaderPlugin {
     if (options.onWarning !== undefined && typeof options.onWarning !== 'function') {
       throw new TypeError('SpringBonesLoaderPlugin: options.onWarning must be a function (it receives each warning)');
     }
-    if (typeof options.sb?.loadRig !== 'function' && !isThenable(options.sb)) {
-      throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module or its promise (the result of createSpringBones())');
+    if (options.sb !== undefined && typeof options.sb?.loadRig !== 'function' && !isThenable(options.sb)) {
+      throw new TypeError('SpringBonesLoaderPlugin: options.sb must be the springbones module or its promise (the result of createSpringBones()), or left out');
     }
     const hasSpringBones = options.springBones !== undefined && options.springBones !== null;
     if (hasSpringBones && options.glb === undefined && kHashOptions.every((k) => options[k] === undefined)) {
@@ -62,7 +67,9 @@ export class SpringBonesLoaderPlugin {
 
   /** GLTFLoader's hook once the scene is built: loads the rig into gltf.userData.springBones. */
   async afterRoot(gltf) {
-    const { sb, springBones, glb } = this.options;
+    const { springBones, glb } = this.options;
+    const page = this.options.sb === undefined ? pageModule() : null;
+    const sb = page?.promise ?? this.options.sb;
     const rigOptions = {};
     for (const key of kRigOptions) if (this.options[key] !== undefined) rigOptions[key] = this.options[key];
     // The rig needs only the nodes, which the JSON GLTFLoader parsed has: it goes to loadRig as it
@@ -84,7 +91,7 @@ export class SpringBonesLoaderPlugin {
       : load(sb);
     const { entity, contentHash, onWarning } = this.options;
     gltf.userData.springBones = new SpringBonesWearable(gltf, rig, {
-      springBones, onWarning, label: entity?.metadata?.id ?? entity?.id ?? contentHash ?? null,
+      springBones, onWarning, label: entity?.metadata?.id ?? entity?.id ?? contentHash ?? null, startModule: page?.start,
     });
   }
 }
@@ -117,8 +124,9 @@ function modelsEntry(springBones, hash) {
  */
 export class SpringBonesWearable {
   /** @private made by SpringBonesLoaderPlugin */
-  constructor(gltf, rig, { springBones = null, label = null, onWarning = undefined } = {}) {
+  constructor(gltf, rig, { springBones = null, label = null, onWarning = undefined, startModule = null } = {}) {
     this.gltf = gltf;
+    this._startModule = startModule;  // the page's module, when the plugin was given none
     // Why the spring bones would stay at rest (staticHair.js), said once per wearable however
     // many avatars wear it: the attachments wear() makes share this reporter.
     this._staticHair = [];
@@ -193,6 +201,7 @@ export class SpringBonesWearable {
    */
   wear(avatarRoot, options = {}) {
     if (options === null || typeof options !== 'object') throw new TypeError('wear: options must be an object');
+    this._startModule?.();
     const copy = cloneWithSkeletons(this.gltf.scene);
     // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
     const rig = this.rig ?? this._rigPromise;
