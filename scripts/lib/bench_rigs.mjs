@@ -160,7 +160,7 @@ export function setupThreeVrm([A, C, J], wearable) {
  * Our solver path: driver matrices in, one scene.step, rotations read. With a budget, avatar a
  * stands at x = a metres and only the `budget` nearest to the origin are simulated.
  */
-export function setupSolver(sb, [A, C, J], wearable, budget = null) {
+export function setupSolver(sb, [A], wearable, budget = null) {
   const t0 = performance.now();
   // The parsed document, as a preview's loader hands it over (the bytes would need the readers).
   const rig = sb.loadRig(wearable.doc, wearable.springBones, { contentHash: 'bench' });

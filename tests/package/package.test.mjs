@@ -70,6 +70,9 @@ function removeProject(dir) {
 const bin = (project, tool) => join(project, 'node_modules', '.bin', tool);
 
 const kGpuDriverNote = /^\[\.WebGL-0x[0-9a-f]+\]GL Driver Message \(OpenGL, Performance, /;
+// The colour codes of a terminal, which vite prints around its URL.
+// eslint-disable-next-line no-control-regex -- the escape character is what is matched
+const kAnsiColour = /\x1b\[[0-9;]*m/g;
 
 /**
  * Opens `url` in headless Chromium until the page reports window.springbonesResult. Returns the
@@ -136,7 +139,7 @@ function startViteDevServer(project, dir) {
     const timer = setTimeout(() => { stop(); reject(new Error(`vite did not start:\n${output}`)); }, 60_000);
     const read = (chunk) => {
       output += chunk;
-      const url = output.replace(/\x1b\[[0-9;]*m/g, '').match(/Local:\s+(http:\/\/127\.0\.0\.1:\d+\/)/)?.[1];
+      const url = output.replace(kAnsiColour, '').match(/Local:\s+(http:\/\/127\.0\.0\.1:\d+\/)/)?.[1];
       if (url) {
         clearTimeout(timer);
         resolve({ url, stop });

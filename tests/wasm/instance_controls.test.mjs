@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { readFile } from 'node:fs/promises';
 import { join } from 'node:path';
 import { before, describe, test } from 'node:test';
-import { SpringBonesError, createSpringBones } from '../../web/springbones.js';
+import { SpringBonesError } from '../../web/springbones.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { SpringBonesGroup } from '../../web/three/springBonesThree.js';
 import { frameHash, frameHashCases } from '../scenarios/frame_hash.mjs';

@@ -3,7 +3,7 @@
 // integrators, the lane path and the general path), the demo's motions never count as jumps, an
 // animation starting is one when the adapter watches the mixer, and the options are checked.
 import assert from 'node:assert/strict';
-import { before, describe, test } from 'node:test';
+import { describe, test } from 'node:test';
 import { turnAt } from '../../scripts/lib/fixtures/vec.mjs';
 import { loadSampleWearable } from './sample_wearable.mjs';
 import { kShakeSeconds, kSpinSpeed, shakeOffset } from '../../web/demo/js/motion.js';

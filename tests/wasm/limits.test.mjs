@@ -13,10 +13,10 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
 
 import { createSpringBones } from '../../web/springbones.js';
-import { applyLimits, jointLimitOf } from '../../scripts/lib/three_vrm_limits.mjs';
+import { applyLimits } from '../../scripts/lib/three_vrm_limits.mjs';
 import { countCollisions } from '../../scripts/lib/three_vrm_collisions.mjs';
 import { useExactBoneLength } from '../../scripts/lib/three_vrm_equalized.mjs';
-import { realFixturesDir, root, springRig } from './helpers.mjs';
+import { realFixturesDir, springRig } from './helpers.mjs';
 
 const realDir = realFixturesDir();
 const kFiles = ['threevrm-cone-limit.gltf', 'threevrm-hinge-limit.gltf', 'threevrm-spherical-limit.gltf'];

@@ -94,7 +94,7 @@ function run(frame, frames) {
 function windows(frame) {
   const perFrame = [];
   for (let w = 0; w < WINDOWS; w++) {
-    gc();
+    globalThis.gc();  // --expose-gc
     const before = newSpaceUsed();
     run(frame, FRAMES);
     perFrame.push((newSpaceUsed() - before) / FRAMES);
