@@ -10,6 +10,7 @@
 // (BENCH_FRAMES), one step per frame (dt = 1/60).
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { gzipSync } from 'node:zlib';
+import { loadavg } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
@@ -54,6 +55,7 @@ function measureAdapter(sb, rig, wearable, budget = null) {
 
 /** The Node table; returns the report it also writes to build/bench/. */
 async function runNodeBench() {
+  const loadBefore = loadavg();
   const wasmPath = join(root, 'web', 'dist', 'springbones_wasm.wasm');
   const jsPath = join(root, 'web', 'dist', 'springbones_wasm.js');
   const wasmBytes = readFileSync(wasmPath), jsBytes = readFileSync(jsPath);
@@ -143,13 +145,15 @@ async function runNodeBench() {
   const at5000 = results.find((r) => r.joints === 5000);
   const solverX = at5000.threeVrm.updateMs / at5000.solver.msPerFrame;
   const adapterX = at5000.threeVrm.updateMs / at5000.adapter.updateMs;
-  const report = { date: new Date().toISOString(), node: process.version, frames: FRAMES, runs: RUNS, module: moduleInfo, sampleLoad, results, budget: budgetRun, speedupAt5000: { solver: solverX, adapter: adapterX } };
+  const load = { before: loadBefore, after: loadavg() };
+  const report = { date: new Date().toISOString(), node: process.version, loadavg: load, frames: FRAMES, runs: RUNS, module: moduleInfo, sampleLoad, results, budget: budgetRun, speedupAt5000: { solver: solverX, adapter: adapterX } };
   const outDir = join(root, 'build', 'bench');
   mkdirSync(outDir, { recursive: true });
   const json = JSON.stringify(report, null, 2);
   writeFileSync(join(outDir, `${report.date.replace(/[:.]/g, '-')}.json`), json);
   writeFileSync(join(outDir, 'latest.json'), json);
-  console.log(`Node speedup at 5000 joints: solver ${solverX.toFixed(1)}x, three.js adapter ${adapterX.toFixed(1)}x`);
+  console.log(`Node speedup at 5000 joints: solver ${solverX.toFixed(1)}x, three.js adapter ${adapterX.toFixed(1)}x ` +
+    `(load average ${load.before.map((x) => x.toFixed(2)).join(' ')} before, ${load.after.map((x) => x.toFixed(2)).join(' ')} after: a busy machine slows three-vrm and us unevenly)`);
   return report;
 }
 
