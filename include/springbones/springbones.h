@@ -223,7 +223,7 @@ struct RigOptions {
   std::map<std::string, JointLimit> limits;
 };
 
-class SpringLanes;  // the simulation's lane pool (src/simulation/spring_lanes.h)
+struct RigConstants;  // what the simulation derives from a rig (src/simulation/rig_constants.h)
 
 struct Rig {
   Skeleton skeleton;
@@ -238,10 +238,11 @@ struct Rig {
   /// iterates its constraints on its own (xpbdIterations).
   int collider_passes = 1;
   std::vector<Warning> warnings;
-  /// The lane pool the rig's instances share (the fast path): made by the first instance that
-  /// takes it, freed with the last. Written by the instances, so a rig and its instances belong
-  /// to one thread at a time (docs/design.md, "Threads").
-  mutable std::weak_ptr<SpringLanes> lane_pool;
+  /// What the simulation derives from the rig, computed once and shared by the rig's instances
+  /// (with the lane pool of the fast path): made by the first instance, freed with the last.
+  /// Written by the instances, so a rig and its instances belong to one thread at a time
+  /// (docs/design.md, "Threads").
+  mutable std::weak_ptr<const RigConstants> constants;
 };
 
 /// Builds the chains of a skeleton from the chosen metadata entry (the rules: docs/semantics.md).

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/glm_interop.h"
+#include "springbones/springbones.h"
 
 namespace springbones {
 
@@ -27,6 +28,12 @@ struct HeldJoints {
                                   ///< rest translation, or the grabbed joint's tail
   std::vector<glm::vec3> reach;   ///< per path joint, world: where its anchor aims this step
   bool active = false;
+
+  /// Holds `joint` of `rig` (in range): the path from its chain root down to it, with anchors.
+  /// Allocates nothing once slot and the vectors are sized to the rig's joints.
+  void hold(const Rig& rig, std::size_t joint);
+  /// Holds nothing.
+  void letGo();
 
   /// Where a held joint's tail goes under a head and rest transform (rest_linear, the joint at its
   /// rest rotation under its current parent; rest_offset, its rest tail offset in world): the rest

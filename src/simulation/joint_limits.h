@@ -1,5 +1,5 @@
 // Angle limits (VRMC_springBone_limit 1.0-draft) on the scalar paths: the general VRM path
-// (solver.cpp) and the XPBD integrator. A rig with a limited joint never takes the lane path.
+// (general_integrator.cpp) and the XPBD integrator. A rig with a limited joint never takes the lane path.
 // docs/semantics.md, "Angle limits", states the rules; this is how the code holds to them:
 //  - The limit space is the joint's rest world rotation under its current parent (the rotation of
 //    parent world x rest local), then the shortest turn taking +Y onto the joint's rest bone axis

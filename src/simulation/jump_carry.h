@@ -1,5 +1,5 @@
 // Jumps of an instance's drivers (Instance::jump, docs/semantics.md "Jumps"): the arithmetic that
-// carries a chain's tails across one. Kept out of the per-frame files (solver.cpp and its
+// carries a chain's tails across one. Kept out of the per-frame files (instance.cpp and its
 // neighbours are built at -O3 for WebAssembly): a jump is rare, and inlined there its matrix code
 // cost 7 KB of the module. Telling a jump from motion runs every frame: driversJumped, beside the
 // driver poses it reads (driver_poses.h).

@@ -1,6 +1,6 @@
 // The rarely run parts of Instance::settle and of inertia below 1 (docs/semantics.md, "Settle" and
 // "Inertia of the avatar"): matrix work that runs once per settle, or per step only for an
-// instance that asked for it. Kept out of solver.cpp, which is built at -O3 for WebAssembly
+// instance that asked for it. Kept out of the integrators, which are built at -O3 for WebAssembly
 // (wasm/CMakeLists.txt) and where this code, inlined, cost the module several KB.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The lane kernel: the spring update of solver.cpp written on plain floats in structure-of-arrays
+// The lane kernel: the spring update of general_integrator.cpp written on plain floats in structure-of-arrays
 // form, one loop over a run of copies per rig slot (depth, rig lane). The loop bodies have no branches
 // (selects only) and no calls, so clang vectorises them for WebAssembly SIMD; every operation is
 // a single IEEE operation with -ffp-contract=off, so vectorised and scalar code produce the same
@@ -170,21 +170,21 @@ void ColliderTable::set(std::size_t c, const glm::vec3& start, const glm::vec3& 
 // ---------------------------------------------------------------------------------------------
 // The pool
 
-std::shared_ptr<SpringLanes> SpringLanes::acquire(const std::shared_ptr<const Rig>& rig) {
-  // A pool of this rig: a copied Rig carries the original's reference, to a pool of another rig.
-  if (std::shared_ptr<SpringLanes> pool = rig->lane_pool.lock(); pool && pool->rig_ == rig) return pool;
+std::shared_ptr<SpringLanes> SpringLanes::acquire(const std::shared_ptr<const RigConstants>& constants) {
+  if (std::shared_ptr<SpringLanes> pool = constants->lane_pool.lock()) return pool;
   // Not make_shared: its single allocation would outlive the pool for as long as a weak_ptr does.
-  // The rig forgets the pool when it dies, so nothing of it stays allocated while the rig lives on.
-  std::shared_ptr<SpringLanes> pool(new SpringLanes(rig), [](SpringLanes* dying) {
-    dying->rig_->lane_pool.reset();
+  // The constants forget the pool when it dies, so nothing of it stays allocated while they live on.
+  std::shared_ptr<SpringLanes> pool(new SpringLanes(constants), [](SpringLanes* dying) {
+    dying->rig_constants_->lane_pool.reset();
     delete dying;
   });
-  rig->lane_pool = pool;
+  constants->lane_pool = pool;
   return pool;
 }
 
-SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) {
-  const auto& joints = rig_->joints;
+SpringLanes::SpringLanes(std::shared_ptr<const RigConstants> constants) : rig_constants_(std::move(constants)) {
+  const Rig& rig = rig_constants_->rig;
+  const auto& joints = rig.joints;
   // Lanes and depths: a joint continues its parent's lane when it is the parent's tail.
   joint_lane_.assign(joints.size(), -1);
   joint_depth_.assign(joints.size(), 0);
@@ -197,9 +197,9 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     depth_count_ = std::max<std::size_t>(depth_count_, joint_depth_[j] + 1);
   }
   lanes_per_copy_ = static_cast<std::size_t>(lanes);
-  collider_count_ = std::min(rig_->colliders.size(), kMaxLaneColliders);
-  collider_passes_ = std::max(rig_->collider_passes, 1);
-  for (std::size_t k = 0; k < collider_count_; ++k) collider_kinds_.push_back(colliderKind(rig_->colliders[k]));
+  collider_count_ = std::min(rig.colliders.size(), kMaxLaneColliders);
+  collider_passes_ = std::max(rig.collider_passes, 1);
+  for (std::size_t k = 0; k < collider_count_; ++k) collider_kinds_.push_back(colliderKind(rig.colliders[k]));
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
   constants_.resize(depth_count_ * lanes_per_copy_);
@@ -221,9 +221,8 @@ SpringLanes::SpringLanes(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) 
     c.rz = rest.rotation.z;
     c.rw = rest.rotation.w;
     c.rs = rest.scale.x;
-    const glm::vec3 tail_local = toGlm(joint.tail_local);
-    const float distance = glm::length(tail_local);
-    const glm::vec3 axis = distance > kMinLength ? tail_local / distance : glm::vec3(0, 1, 0);
+    const float distance = rig_constants_->tail_distance[j];
+    const glm::vec3& axis = rig_constants_->tail_axis[j];
     // The tail axis and its perpendicular turned by the rest rotation: the kernel aims in the
     // parent's frame, where the rest rotation is already applied.
     const glm::vec3 axis_in_parent = glm::normalize(glm::normalize(toGlm(rest.rotation)) * axis);
@@ -312,7 +311,7 @@ void SpringLanes::growTo(std::size_t copies) {
     }
     staged.emplace_back(&v, std::move(wider));
   };
-  const std::size_t driver_rows = rig_->drivers.size() + 1;
+  const std::size_t driver_rows = rig_constants_->rig.drivers.size() + 1;
   for (auto* v : {&drivers_.px, &drivers_.py, &drivers_.pz, &drivers_.qx, &drivers_.qy, &drivers_.qz}) {
     widen_rows(*v, driver_rows, 0.0f);
   }

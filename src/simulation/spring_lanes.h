@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "simulation/collider_kind.h"
+#include "simulation/rig_constants.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
@@ -51,11 +52,11 @@ struct CopyRange {
 
 class SpringLanes {
  public:
-  /// The pool of `rig`'s lanes, shared by the rig's instances: the rig holds it for them
-  /// (Rig::lane_pool), the first instance makes it and the last one frees it.
-  static std::shared_ptr<SpringLanes> acquire(const std::shared_ptr<const Rig>& rig);
+  /// The pool of a rig's lanes, shared by the rig's instances: the rig's constants hold it for
+  /// them (RigConstants::lane_pool), the first instance makes it and the last one frees it.
+  static std::shared_ptr<SpringLanes> acquire(const std::shared_ptr<const RigConstants>& constants);
 
-  explicit SpringLanes(std::shared_ptr<const Rig> rig);
+  explicit SpringLanes(std::shared_ptr<const RigConstants> constants);
 
   /// A new copy; `rotations` (4 floats per rig joint, rig order) receives its local rotations
   /// after every run that includes it, until releaseCopy(). Seed it (run with seed) first.
@@ -136,7 +137,7 @@ class SpringLanes {
   std::size_t slotIndex(std::size_t field, std::size_t row, std::size_t lane) const;
   std::size_t worldIndex(std::size_t field, std::size_t row, std::size_t lane) const;
 
-  std::shared_ptr<const Rig> rig_;
+  std::shared_ptr<const RigConstants> rig_constants_;  // and through them the rig
   std::size_t lanes_per_copy_ = 0;  // R
   std::size_t depth_count_ = 0;     // D
   std::size_t copy_capacity_ = 0;   // a whole number of blocks

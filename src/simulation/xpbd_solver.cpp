@@ -48,43 +48,29 @@ inline void projectLength(const glm::vec3& head, const glm::vec3& rest_offset, f
 
 }  // namespace
 
-XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options) : rig_(rig), options_(options) {
+XpbdSolver::XpbdSolver(const Rig& rig, const XpbdOptions& options)
+    : XpbdSolver(std::make_shared<const RigConstants>(rig), options) {}
+
+XpbdSolver::XpbdSolver(std::shared_ptr<const RigConstants> constants, const XpbdOptions& options)
+    : constants_(std::move(constants)), rig_(constants_->rig), options_(options) {
   if (!(options_.reference_hz >= 1.0)) options_.reference_hz = options_.reference_hz > 0.0 ? 1.0 : 60.0;
   options_.reference_hz = std::min(options_.reference_hz, 1000.0);
   options_.iterations = std::clamp(options_.iterations, 1, kMaxXpbdIterations);
   reference_step_ = 1.0 / options_.reference_hz;
 
-  const std::size_t joints = rig.joints.size();
-  rest_local_matrix_.resize(joints);
-  tail_axis_.resize(joints);
-  tail_distance_.resize(joints);
-  limit_local_.assign(joints, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  const std::size_t joints = rig_.joints.size();
   keep_.assign(joints, 1.0f);
   inverse_mass_.assign(joints, 0.0f);
   current_tail_.assign(joints, glm::vec3(0.0f));
   previous_tail_.assign(joints, glm::vec3(0.0f));
   tail_world_.assign(joints, glm::vec3(0.0f));
-  center_inverse_.assign(rig.drivers.size(), glm::mat4(1.0f));
-  center_inverse_valid_.assign(rig.drivers.size(), 0);
-  collider_scratch_.assign(rig.colliders.size(), XpbdCollider{});
-  for (std::size_t j = 0; j < joints; ++j) {
-    const Joint& joint = rig.joints[j];
-    rest_local_matrix_[j] = composeTransform(joint.rest_local);
-    const glm::vec3 tail_local = toGlm(joint.tail_local);
-    const float len = glm::length(tail_local);
-    tail_distance_[j] = len;
-    tail_axis_[j] = len > kMinLength ? tail_local / len : glm::vec3(0, 1, 0);
-    if (joint.limit.kind != JointLimit::Kind::kNone) limit_local_[j] = limitFrameLocal(tail_axis_[j], joint.limit.rotation);
-    const int c = joint.center_driver;
-    if (c >= 0 && static_cast<std::size_t>(c) < rig.drivers.size() &&
-        std::find(center_drivers_.begin(), center_drivers_.end(), c) == center_drivers_.end()) {
-      center_drivers_.push_back(c);
-    }
-  }
+  center_inverse_.assign(rig_.drivers.size(), glm::mat4(1.0f));
+  center_inverse_valid_.assign(rig_.drivers.size(), 0);
+  collider_scratch_.assign(rig_.colliders.size(), XpbdCollider{});
 }
 
 void XpbdSolver::prepareCenters(const glm::mat4* driver_world) {
-  for (int c : center_drivers_) center_inverse_valid_[c] = affineInverse(driver_world[c], center_inverse_[c]) ? 1 : 0;
+  for (int c : constants_->center_drivers) center_inverse_valid_[c] = affineInverse(driver_world[c], center_inverse_[c]) ? 1 : 0;
 }
 
 // keep and w depend on h only through h / h0, so they are recomputed only when h changes (never,
@@ -122,7 +108,7 @@ void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::
   const auto& joints = rig_.joints;
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    const glm::mat4 rest_world = parentWorld(joint, driver_world, joint_world_out) * rest_local_matrix_[j];
+    const glm::mat4 rest_world = parentWorld(joint, driver_world, joint_world_out) * constants_->rest_local_matrix[j];
     const glm::vec3 tail = glm::vec3(rest_world[3]) + glm::mat3(rest_world) * toGlm(joint.tail_local);
     current_tail_[j] = previous_tail_[j] = toCenter(joint.center_driver, tail);
     tail_world_[j] = tail;
@@ -153,14 +139,14 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const glm::mat4& parent = parentWorld(joint, driver_world, joint_world_out);
-    const glm::mat4 rest_world = parent * rest_local_matrix_[j];
+    const glm::mat4 rest_world = parent * constants_->rest_local_matrix[j];
     const glm::mat3 rest_linear(rest_world);
     const glm::vec3 head(rest_world[3]);
     // Measured under the current parent every substep, as in the default path: a scaled armature
     // scales its bones, and no error can accumulate from one step to the next.
     const glm::vec3 rest_offset = rest_linear * toGlm(joint.tail_local);
     const float length = glm::length(rest_offset);
-    if (!(length > kMinLength) || !(tail_distance_[j] > kMinLength)) {
+    if (!(length > kMinLength) || !(constants_->tail_distance[j] > kMinLength)) {
       // A zero-length bone (or a collapsed parent) has no direction: keep the rest pose.
       tail_world_[j] = head + rest_offset;
       joint_world_out[j] = rest_world;
@@ -186,7 +172,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* collide
 
     // 2. Constraints.
     const glm::quat limit_frame = joint.limit.kind != JointLimit::Kind::kNone
-                                      ? worldRotationOf(rest_linear) * limit_local_[j]
+                                      ? worldRotationOf(rest_linear) * constants_->limit_local[j]
                                       : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
     solveJoint(j, head, rest_offset, length, h, colliders, collider_count, limit_frame, x);
 
@@ -256,8 +242,9 @@ void XpbdSolver::writeOutputs(std::size_t j, const glm::mat4& parent, const glm:
   const float det_sign = glm::dot(c0, r0) < 0.0f ? -1.0f : 1.0f;
   glm::vec3 local_dir = det_sign * glm::vec3(glm::dot(r0, offset), glm::dot(r1, offset), glm::dot(r2, offset));
   const float len = glm::length(local_dir);
-  local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : tail_axis_[j];
-  const glm::quat rotation = glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(tail_axis_[j], local_dir));
+  const glm::vec3& axis = constants_->tail_axis[j];
+  local_dir = len > 0.0f && std::isfinite(len) ? local_dir / len : axis;
+  const glm::quat rotation = glm::normalize(toGlm(joint.rest_local.rotation) * rotationBetween(axis, local_dir));
   joint_world_out[j] =
       parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
   storeQuat(rotations_out + 4 * j, rotation);

@@ -1,16 +1,18 @@
 // The XPBD integrator (`integrator: 'xpbd'`): an alternative to the default VRM update, with the
 // same parameters. See xpbd_solver.cpp for the method and how the parameters map onto it.
 //
-// The solver knows nothing about frames: the owner (Instance) keeps the accumulator, caps the
+// The solver knows nothing about frames: the owner (Instance, through XpbdIntegrator) keeps the accumulator, caps the
 // substeps, interpolates the driver matrices and calls step() once per fixed substep, exactly as
 // it runs the default paths. The solver keeps the per-joint state (tails in center space) and
 // writes the same outputs as the default: a local rotation per joint and the joint world matrices.
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "simulation/collider_kind.h"
+#include "simulation/rig_constants.h"
 #include "common/glm_interop.h"
 
 namespace springbones {
@@ -45,7 +47,9 @@ struct XpbdCollider {
 
 class XpbdSolver {
  public:
-  /// Keeps a reference to `rig`, which must outlive the solver (the Instance holds it).
+  /// Steps the rig of `constants` (RigConstants::acquire: shared with the rig's other instances).
+  explicit XpbdSolver(std::shared_ptr<const RigConstants> constants, const XpbdOptions& options = {});
+  /// Keeps a reference to `rig`, which must outlive the solver, and derives its constants alone.
   explicit XpbdSolver(const Rig& rig, const XpbdOptions& options = {});
 
   /// Puts every tail at its rest direction and length under `driver_world` (one matrix per rig
@@ -59,7 +63,7 @@ class XpbdSolver {
   void step(const glm::mat4* driver_world, const XpbdCollider* colliders, std::size_t collider_count, float h,
             float* rotations_out, glm::mat4* joint_world_out);
   /// Same, reading the colliders from the Instance's ColliderTable (the table of the default
-  /// paths, filled by State::prepareColliders).
+  /// paths, filled by MatrixDrivers::prepare).
   void step(const glm::mat4* driver_world, const ColliderTable& colliders, float h, float* rotations_out,
             glm::mat4* joint_world_out);
 
@@ -83,7 +87,7 @@ class XpbdSolver {
     current_tail_[joint] = current;
     previous_tail_[joint] = previous;
   }
-  std::size_t jointCount() const { return rest_local_matrix_.size(); }
+  std::size_t jointCount() const { return rig_.joints.size(); }
   const XpbdOptions& options() const { return options_; }
 
  private:
@@ -97,15 +101,10 @@ class XpbdSolver {
   void writeOutputs(std::size_t j, const glm::mat4& parent, const glm::mat3& rest_linear, const glm::vec3& offset,
                     float* rotations_out, glm::mat4* joint_world_out) const;
 
+  std::shared_ptr<const RigConstants> constants_;
   const Rig& rig_;
   XpbdOptions options_;
   double reference_step_ = 1.0 / 60.0;
-
-  // Per joint, from the rig.
-  std::vector<glm::mat4> rest_local_matrix_;
-  std::vector<glm::vec3> tail_axis_;  // unit tail direction in the joint's local space
-  std::vector<float> tail_distance_;  // |tail_local|
-  std::vector<glm::quat> limit_local_;  // limitFrameLocal of a limited joint (joint_limits.h)
 
   // Per joint, for the current substep length (recomputed when h changes).
   float rates_h_ = -1.0f;
@@ -118,7 +117,6 @@ class XpbdSolver {
   std::vector<glm::vec3> tail_world_;
 
   // Per driver, this substep: the inverse of every center driver (others untouched).
-  std::vector<int> center_drivers_;
   std::vector<glm::mat4> center_inverse_;
   std::vector<unsigned char> center_inverse_valid_;
 

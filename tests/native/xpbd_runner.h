@@ -1,5 +1,5 @@
 // A minimal fixed-step owner for XpbdSolver, used by the XPBD tests and the integrator report
-// until Instance takes `integrator: 'xpbd'`. It follows Instance::step's rules (src/simulation/solver.cpp):
+// until Instance takes `integrator: 'xpbd'`. It follows Instance::step's rules (src/simulation/instance.cpp):
 // an accumulator, at most max_substeps substeps per frame with the surplus dropped, driver
 // matrices interpolated across the substeps of a frame (decomposed, slerped, as the general path
 // does), a non-finite driver matrix ignored, the first step seeding at rest. Only the substep
