@@ -169,15 +169,15 @@ test('an entity JSON applies to the open GLB; bad JSON is reported', { skip }, a
   assert.deepEqual(consoleErrors, []);
 });
 
-test('several avatars; per-frame cost; screenshot', { skip }, async (t) => {
+// The per-frame cost in Chromium is scripts/bench --browser's; here the demo's benchmark() only
+// drives frames back to back, and what it reports besides the time is checked.
+test('several avatars step; screenshot', { skip }, async () => {
   const one = await demo(() => window.springbonesDemo.benchmark(600));
+  assert.deepEqual([one.avatars, one.joints], [1, 15]);
   await demo(() => window.springbonesDemo.setAvatarCount(25));
   assert.equal((await demo(() => window.springbonesDemo.state())).joints, 25 * 15);
   const many = await demo(() => window.springbonesDemo.benchmark(300));
-  t.diagnostic(`springs (drivers in, one scene.step, rotations out), Chromium headless: ` +
-    `${one.joints} joints ${(one.msPerFrame * 1000).toFixed(1)} us/frame; ` +
-    `${many.avatars} avatars x 15 = ${many.joints} joints ${(many.msPerFrame * 1000).toFixed(1)} us/frame ` +
-    `(${many.nsPerJoint.toFixed(0)} ns/joint)`);
+  assert.deepEqual([many.avatars, many.joints], [25, 25 * 15]);
   await demo(() => window.springbonesDemo.setAvatarCount(1));
 
   await page.locator('#load-sample').click();  // a clean panel for the picture

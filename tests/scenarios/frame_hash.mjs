@@ -1,5 +1,5 @@
 // One answer everywhere: 1,000 frames of a rig under the scripted sway of scripts/lib/sway.mjs,
-// hashed. tests/native/dump_rotations.cpp --hash computes the same hash natively; Node
+// hashed. tools/dump_rotations.cpp --hash computes the same hash natively; Node
 // (tests/wasm/frame_hash.test.mjs) and Chromium (tests/browser/frame_hash.test.mjs) run this
 // module on the WebAssembly build, and the tests compare the three.
 //

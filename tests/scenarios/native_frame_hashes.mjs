@@ -1,4 +1,4 @@
-// The native side of tests/scenarios/frame_hash.mjs: tests/native/dump_rotations --hash on the
+// The native side of tests/scenarios/frame_hash.mjs: tools/dump_rotations --hash on the
 // same cases, from the native build scripts/test makes before the Node and browser suites.
 import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
@@ -12,9 +12,9 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 /** The native hashes by case name, or throws naming the missing build. */
 export function nativeFrameHashes() {
   const dumper = ['native-release', 'native-debug']
-    .map((preset) => join(root, 'build', preset, 'tests', 'native', 'dump_rotations'))
+    .map((preset) => join(root, 'build', preset, 'tools', 'dump_rotations'))
     .find((path) => existsSync(path));
-  if (!dumper) throw new Error('build/native-release/tests/native/dump_rotations is missing: run scripts/build native');
+  if (!dumper) throw new Error('build/native-release/tools/dump_rotations is missing: run scripts/build native');
   const out = {};
   for (const c of frameHashCases) {
     const args = c.vrm

@@ -249,9 +249,7 @@ describe('metadata', () => {
     }
     parts.push(`"SpringBone_hair":${JSON.stringify(entry(1, 1, [0, -1, 0], 0.5))}}}}`);
     const text = parts.join('');
-    const start = performance.now();
     withRig(hairGlb, text, (rig, inst) => {
-      console.log(`10 MB metadata: ${(text.length / 1e6).toFixed(1)} MB loaded in ${(performance.now() - start).toFixed(0)} ms`);
       assert.equal(rig.joints.length, 2);
       assert.equal(rig.warnings.filter((w) => w.code === 'bone-not-found').length, count);
       stepAndCheck(inst);
@@ -526,20 +524,11 @@ describe('size and leaks', () => {
       }
     }
     const glb = glbOfDoc({ asset: { version: '2.0' }, nodes });
-    const heapBefore = sb.stats().heapBytes;
-    const t0 = performance.now();
     const rig = sb.loadRig(glb, { version: 1, models: { [kHash]: bones } }, { contentHash: kHash });
-    const t1 = performance.now();
     const inst = rig.createInstance();
-    const t2 = performance.now();
     for (let i = 0; i < 10; ++i) inst.step(1 / 60);
-    const t3 = performance.now();
     assert.equal(rig.joints.length, chains * joints);
     assertFiniteUnit(inst.rotations);
-    const stats = sb.stats();
-    console.log(`100k joints (WASM): GLB ${(glb.length / 1e6).toFixed(1)} MB, loadRig ${(t1 - t0).toFixed(0)} ms, ` +
-      `createInstance ${(t2 - t1).toFixed(0)} ms, ${((t3 - t2) / 10).toFixed(2)} ms per step, ` +
-      `heap ${(heapBefore / 1048576).toFixed(0)} -> ${(stats.heapBytes / 1048576).toFixed(0)} MiB, in use ${(stats.heapInUse / 1048576).toFixed(0)} MiB`);
     inst.dispose();
     rig.dispose();
   });

@@ -1,5 +1,5 @@
 // Native and WebAssembly builds produce the same rotations for the same inputs (docs/design.md:
-// within 1e-6). The native side is tests/native/dump_rotations.cpp, which scripts/test builds
+// within 1e-6). The native side is tools/dump_rotations.cpp, which scripts/test builds
 // (build/native-release) before these tests run; it writes the driver matrices it fed in and the
 // rotations it got, frame by frame. Here the same scenario runs through the JS API; the driver
 // matrices must agree exactly (the scenario is the same), the rotations within 1e-6.
@@ -18,13 +18,13 @@ import { fixturesDir, metadataKeyOf, root, springRig } from './helpers.mjs';
 const kTolerance = 1e-6;
 
 const dumper = ['native-release', 'native-debug']
-  .map((preset) => join(root, 'build', preset, 'tests', 'native', 'dump_rotations'))
+  .map((preset) => join(root, 'build', preset, 'tools', 'dump_rotations'))
   .find((path) => existsSync(path));
 
 let sb;
 let scratch;
 before(async () => {
-  assert.ok(dumper, 'build/native-release/tests/native/dump_rotations is missing: run scripts/build native');
+  assert.ok(dumper, 'build/native-release/tools/dump_rotations is missing: run scripts/build native');
   sb = await createSpringBones();
   scratch = mkdtempSync(join(tmpdir(), 'springbones-parity-'));
 });

@@ -1,7 +1,6 @@
 // springbones_load_report: how long loading a wearable takes natively, stage by stage.
 //
-// Not a test (the name does not end in _test.cpp, so the gtest glob skips it): it prints numbers
-// for the load targets. Usage:
+// Not a test: it prints numbers for the load targets. Usage:
 //   springbones_load_report [chains] [joints per chain] [runs]      (default 1000 5 9)
 // The wearable is the one scripts/bench.mjs builds (wearableGltf): node 0 "root"; per chain a
 // parent "chain_c" and joints "springbone_c_j" each 0.05 below the previous, then an end node; a

@@ -2,8 +2,7 @@
 // drift, explosions, collider response, cost), on our own runs; docs/xpbd.md shows a run and
 // reads it.
 //
-// Not a test (the name does not end in _test.cpp, so the gtest glob skips it): it prints a table
-// and writes JSON, for docs/xpbd.md and for tracking. Usage:
+// Not a test: it prints a table and writes JSON, for docs/xpbd.md and for tracking. Usage:
 //   springbones_integrator_report [out.json]      (default: integrator_report.json)
 // Build it optimised (native-release) before reading the cost columns.
 //
