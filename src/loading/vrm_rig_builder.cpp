@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "common/glm_interop.h"
+#include "loading/collider_size.h"
 
 namespace springbones {
 namespace {
@@ -16,13 +17,6 @@ constexpr std::size_t kMaxNameBytesInWarning = 64;
 
 Error fail(ErrorCode code, std::string message, std::string path = {}) {
   return Error{code, std::move(message), std::move(path)};
-}
-
-bool exceedsColliderSize(const ColliderShape& c) {
-  const auto beyond = [](const Vec3& v) {
-    return std::fabs(v.x) > kMaxColliderSize || std::fabs(v.y) > kMaxColliderSize || std::fabs(v.z) > kMaxColliderSize;
-  };
-  return c.radius > kMaxColliderSize || beyond(c.offset) || beyond(c.tail);
 }
 
 }  // namespace
@@ -379,9 +373,9 @@ Error VrmRigBuilder::emitColliders() {
            c.path);
       continue;
     }
-    // Beyond it the squared distances overflow in float and the collider would move nothing (the
-    // bound of loadRig's colliders, kMaxColliderSize).
-    if (exceedsColliderSize(c)) {
+    // A sphere's tail is its offset and a plane's is zero, so only a capsule's tail adds to what
+    // the bound checks.
+    if (exceedsMaxColliderSize(c)) {
       warn("vrm-collider-invalid",
            "collider on " + nodeLabel(c.node) + " has a radius, offset or tail beyond 1e6 (the node's units); ignored",
            c.path);
