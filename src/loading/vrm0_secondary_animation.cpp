@@ -35,7 +35,7 @@ bool readVec3Object(const json& value, Vec3& out) {
 
 class Vrm0Reader {
  public:
-  explicit Vrm0Reader(VrmRigBuilder& rig) : rig_(rig) {}
+  explicit Vrm0Reader(VrmRigBuilder& rig) : rig_(rig), nodes_(rig.nodes()) {}
 
   Error readVrm0(const json& sa) {
     const std::string base = "/extensions/VRM/secondaryAnimation";
@@ -52,7 +52,7 @@ class Vrm0Reader {
         std::vector<int> ids;
         int node = -1;
         auto node_it = group.is_object() ? group.find("node") : group.end();
-        if (!group.is_object() || node_it == group.end() || !readVrmIndex(*node_it, rig_.nodes().size(), node)) {
+        if (!group.is_object() || node_it == group.end() || !readVrmIndex(*node_it, nodes_.size(), node)) {
           rig_.warn("vrm-collider-group-invalid",
                     "collider group " + std::to_string(g) + " names no node of the file; ignored", path);
         } else if (auto list = group.find("colliders"); list != group.end() && list->is_array()) {
@@ -114,7 +114,7 @@ class Vrm0Reader {
     if (auto center = group.find("center"); center != group.end() && !center->is_null()) {
       // UniVRM writes -1 for "no center".
       const bool none = center->is_number_integer() && center->get<std::int64_t>() == -1;
-      if (!none && !readVrmIndex(*center, rig_.nodes().size(), spring.center_node)) {
+      if (!none && !readVrmIndex(*center, nodes_.size(), spring.center_node)) {
         spring.center_node = -1;
         rig_.warn("center-not-found", "bone group center is not a node of the file; using world space",
                   path + "/center");
@@ -143,7 +143,7 @@ class Vrm0Reader {
     for (std::size_t b = 0; b < bones->size(); ++b) {
       const std::string bone_path = path + "/bones/" + std::to_string(b);
       int root = -1;
-      if (!readVrmIndex((*bones)[b], rig_.nodes().size(), root)) {
+      if (!readVrmIndex((*bones)[b], nodes_.size(), root)) {
         rig_.warn("vrm-joint-invalid", "bone " + std::to_string(b) + " is not a node of the file; ignored", bone_path);
         continue;
       }
@@ -162,7 +162,7 @@ class Vrm0Reader {
           ++skipped;  // a subtree an earlier group owns: it keeps that group's parameters
           continue;
         }
-        const SkeletonNode& node = rig_.nodes()[n];
+        const SkeletonNode& node = nodes_[n];
         VrmSimJoint sim;
         sim.spring = spring_index;
         sim.params = params;
@@ -175,7 +175,7 @@ class Vrm0Reader {
           }
         } else {
           sim.tail_node = node.children.front();
-          sim.tail_local = rig_.nodes()[sim.tail_node].rest_local.translation;
+          sim.tail_local = nodes_[sim.tail_node].rest_local.translation;
           for (int c : node.children) queue.push_back(c);
         }
         rig_.claim(n, std::move(sim));
@@ -190,6 +190,7 @@ class Vrm0Reader {
   }
 
   VrmRigBuilder& rig_;
+  const std::vector<SkeletonNode>& nodes_;
 };
 
 }  // namespace

@@ -31,7 +31,7 @@ bool readVec3Array(const json& value, Vec3& out) {
 
 class VrmcReader {
  public:
-  explicit VrmcReader(VrmRigBuilder& rig) : rig_(rig) {}
+  explicit VrmcReader(VrmRigBuilder& rig) : rig_(rig), nodes_(rig.nodes()) {}
 
   Error readVrmc(const json& ext) {
     const std::string base = "/extensions/VRMC_springBone";
@@ -101,7 +101,7 @@ class VrmcReader {
     };
     if (!c.is_object()) return invalid("is not an object");
     auto node = c.find("node");
-    if (node == c.end() || !readVrmIndex(*node, rig_.nodes().size(), out.node)) {
+    if (node == c.end() || !readVrmIndex(*node, nodes_.size(), out.node)) {
       return invalid("names no node of the file");
     }
     if (auto ext = c.find("extensions"); ext != c.end() && ext->is_object()) {
@@ -228,7 +228,7 @@ class VrmcReader {
     spring.path = path;
     rig_.readSpringColliderGroups(s, path, "spring", "the spring", spring);
     if (auto center = s.find("center"); center != s.end() && !center->is_null()) {
-      if (!readVrmIndex(*center, rig_.nodes().size(), spring.center_node)) {
+      if (!readVrmIndex(*center, nodes_.size(), spring.center_node)) {
         spring.center_node = -1;
         rig_.warn("center-not-found", "spring center is not a node of the file; using world space", path + "/center");
       }
@@ -241,7 +241,7 @@ class VrmcReader {
       const json& joint = (*joints)[k];
       auto node = joint.is_object() ? joint.find("node") : joint.end();
       int n = -1;
-      if (!joint.is_object() || node == joint.end() || !readVrmIndex(*node, rig_.nodes().size(), n)) {
+      if (!joint.is_object() || node == joint.end() || !readVrmIndex(*node, nodes_.size(), n)) {
         rig_.warn("vrm-joint-invalid",
                   "joint " + std::to_string(k) + " is not an object with a node of the file; the spring ends before it",
                   path + "/joints/" + std::to_string(k));
@@ -270,7 +270,7 @@ class VrmcReader {
       // The nodes strictly between head and tail, bottom-up.
       std::vector<int> between;
       bool conflict = false, exhausted = false;
-      for (int n = rig_.nodes()[tail].parent; n != head; n = rig_.nodes()[n].parent) {
+      for (int n = nodes_[tail].parent; n != head; n = nodes_[n].parent) {
         if (!rig_.spendWalk()) {
           exhausted = true;
           break;
@@ -298,10 +298,10 @@ class VrmcReader {
       VrmSimJoint sim;
       sim.spring = spring_index;
       sim.tail_node = tail;
-      glm::mat4 path_matrix = composeTransform(rig_.nodes()[tail].rest_local);
+      glm::mat4 path_matrix = composeTransform(nodes_[tail].rest_local);
       int below = tail;
       for (int n : between) {  // bottom-up: prepend each ancestor's local transform
-        path_matrix = composeTransform(rig_.nodes()[n].rest_local) * path_matrix;
+        path_matrix = composeTransform(nodes_[n].rest_local) * path_matrix;
         rig_.hold(n, below);
         below = n;
       }
@@ -313,7 +313,7 @@ class VrmcReader {
             names += ", ...";
             break;
           }
-          names += (names.empty() ? "'" : ", '") + VrmRigBuilder::shownName(rig_.nodes()[between[i]].name) + "'";
+          names += (names.empty() ? "'" : ", '") + VrmRigBuilder::shownName(nodes_[between[i]].name) + "'";
         }
         rig_.warn("vrm-fixed-nodes",
                   "joints " + std::to_string(k) + " and " + std::to_string(k + 1) +
@@ -344,6 +344,7 @@ class VrmcReader {
   }
 
   VrmRigBuilder& rig_;
+  const std::vector<SkeletonNode>& nodes_;
 };
 
 }  // namespace
