@@ -188,12 +188,12 @@ void VrmRigBuilder::readSpringColliderGroups(const TypedValue& owner, const std:
   }
 }
 
-int VrmRigBuilder::addSpring(VrmSpring spring) {
+int VrmRigBuilder::addSpring(VrmSpring&& spring) {
   springs_.push_back(std::move(spring));
   return static_cast<int>(springs_.size()) - 1;
 }
 
-void VrmRigBuilder::claim(int node, VrmSimJoint sim) {
+void VrmRigBuilder::claim(int node, VrmSimJoint&& sim) {
   role_[node] = Role::kSimulated;
   sim_of_node_[node] = static_cast<int>(sims_.size());
   sims_.push_back(std::move(sim));

@@ -114,9 +114,9 @@ class VrmRigBuilder {
 
   std::size_t colliderCount() const { return file_colliders_.size(); }
   std::size_t colliderGroupCount() const { return group_colliders_.size(); }
-  void addCollider(VrmFileCollider collider) { file_colliders_.push_back(std::move(collider)); }
+  void addCollider(VrmFileCollider&& collider) { file_colliders_.push_back(std::move(collider)); }
   /// File collider ids, no repeats.
-  void addColliderGroup(std::vector<int> colliders) { group_colliders_.push_back(std::move(colliders)); }
+  void addColliderGroup(std::vector<int>&& colliders) { group_colliders_.push_back(std::move(colliders)); }
 
   /// The colliderGroups of a spring (1.0) or a bone group (0.x) into `spring`: indices of the
   /// collider groups read before it, each once. One that names none is left out with a warning;
@@ -124,10 +124,10 @@ class VrmRigBuilder {
   void readSpringColliderGroups(const TypedValue& owner, const std::string& path, const char* name, const char* the,
                                 VrmSpring& spring);
   /// The spring's index.
-  int addSpring(VrmSpring spring);
+  int addSpring(VrmSpring&& spring);
 
   /// `node` becomes a simulated joint.
-  void claim(int node, VrmSimJoint sim);
+  void claim(int node, VrmSimJoint&& sim);
   /// `node` becomes a fixed joint whose tail is `below` (unless it has one already).
   void hold(int node, int below);
 
