@@ -34,8 +34,8 @@ struct ValidationError {
 /// JSON [{path, message}] in `errors_json` (empty array: valid), by the rules of
 /// validateSpringBones in src/creator_tools/validation.h. `marker`: the JS side's stand-in for the
 /// non-finite numbers JSON cannot hold, put back before validating ("" for none; restoreNonFinite
-/// in src/boundary/api_json.h). Failures: "entity-bad-json", or the Error of an entity of neither
-/// shape.
+/// in src/creator_tools/tool_json.h). Failures: "entity-bad-json", or the Error of an entity of
+/// neither shape.
 ApiFailure validateSpringBones(std::string_view entity_text, const std::string& marker, std::string& errors_json);
 
 // ---------------------------------------------------------------------------------------------

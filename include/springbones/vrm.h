@@ -8,7 +8,9 @@
 //    of each root's subtree is a joint whose tail is its first child, and a leaf gets a virtual
 //    tail 7 cm along its own translation; parameters are per group; colliderGroups hold spheres.
 // When a file has both, VRMC_springBone wins (as in three-vrm). The decisions that differ between
-// reference implementations are listed in vrm_loader.cpp's header comment.
+// reference implementations are listed in the header comments of src/loading/'s VRM files: each
+// format's reader (vrmc_spring_bone.cpp, vrm0_secondary_animation.cpp) and the rig both share
+// (vrm_rig_builder.h).
 #pragma once
 
 #include <cstddef>

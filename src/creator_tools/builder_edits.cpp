@@ -88,8 +88,11 @@ Error setSpringBoneParams(const json& springBones, const json& entity, const std
   json result = springBones.is_object() ? springBones : json::object();
   result["version"] = 1;
   json models = result.contains("models") && result["models"].is_object() ? result["models"] : json::object();
-  const std::vector<std::string> active_list = activeModelHashes(representations);
-  const std::unordered_set<std::string> active(active_list.begin(), active_list.end());
+  // The hashes some representation's main file has; an entry under any other is dropped.
+  std::unordered_set<std::string> active;
+  for (const Representation& r : representations) {
+    if (!r.main_file_hash.empty()) active.insert(r.main_file_hash);
+  }
   for (auto it = models.begin(); it != models.end();) {
     if (active.count(it.key()) == 0) {
       it = models.erase(it);  // a stale hash from an earlier upload

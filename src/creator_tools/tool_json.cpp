@@ -16,47 +16,6 @@ ApiFailure parseArgument(std::string_view text, const char* what, json& out) {
   }
 }
 
-ApiFailure readRigOptions(std::string_view text, RigOptions& out) {
-  out = RigOptions{};
-  if (text.empty()) return {};
-  try {
-    const json value = json::parse(text);
-    const auto vec3 = [](const json& a) {
-      return Vec3{a.at(0).get<float>(), a.at(1).get<float>(), a.at(2).get<float>()};
-    };
-    if (value.contains("hitRadius")) out.hit_radius = value.at("hitRadius").get<float>();
-    if (value.contains("preset")) {
-      const std::string preset = value.at("preset").get<std::string>();
-      if (preset != "dcl-body") {
-        out = RigOptions{};
-        return ApiFailure{"invalid-argument", "rig options: unknown collider preset '" + preset + "'", ""};
-      }
-      out.preset = ColliderPreset::kDclBody;
-    }
-    if (value.contains("colliders")) {
-      for (const json& c : value.at("colliders")) {
-        ColliderSpec spec;
-        spec.node = c.at("node").get<std::string>();
-        spec.offset = vec3(c.at("offset"));
-        spec.radius = c.value("radius", 0.0f);
-        spec.inside = c.value("inside", false);
-        if (c.contains("normal")) {
-          spec.shape = Collider::Shape::kPlane;
-          spec.normal = vec3(c.at("normal"));
-        } else if (c.contains("tail")) {
-          spec.shape = Collider::Shape::kCapsule;
-          spec.tail = vec3(c.at("tail"));
-        }
-        out.colliders.push_back(std::move(spec));
-      }
-    }
-  } catch (const json::exception& ex) {
-    out = RigOptions{};
-    return ApiFailure{"invalid-argument", std::string("rig options could not be read: ") + ex.what(), ""};
-  }
-  return {};
-}
-
 void restoreNonFinite(json& value, const std::string& marker) {
   if (marker.empty()) return;
   std::vector<json*> stack{&value};

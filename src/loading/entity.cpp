@@ -1,7 +1,6 @@
 #include "loading/entity.h"
 
 #include <unordered_map>
-#include <unordered_set>
 
 namespace springbones {
 namespace {
@@ -28,8 +27,6 @@ bool bodyShapeMatches(const std::string& listed, const std::string& wanted) {
 }
 
 }  // namespace
-
-TypedValue springBonesOf(const TypedValue& entity) { return field(dataOf(entity), "springBones"); }
 
 Error readRepresentations(const TypedValue& entity, std::vector<Representation>& out) {
   out.clear();
@@ -100,15 +97,6 @@ Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, s
   }
   return invalid("the entity has no representation for body shape " + body_shape,
                  "/metadata/data/representations");
-}
-
-std::vector<std::string> activeModelHashes(const std::vector<Representation>& representations) {
-  std::vector<std::string> hashes;
-  std::unordered_set<std::string> seen;
-  for (const Representation& r : representations) {
-    if (!r.main_file_hash.empty() && seen.insert(r.main_file_hash).second) hashes.push_back(r.main_file_hash);
-  }
-  return hashes;
 }
 
 }  // namespace springbones

@@ -1,5 +1,6 @@
 // Reading a Decentraland wearable entity (or a Builder item): which GLB hash each representation
-// uses. Shared by the validator (active hashes), the Builder edits and hash lookup at load time.
+// uses. The runtime's models key at load time (mainFileHashFor); the Builder edits read the
+// representations through the readers (readers/json_values.h).
 #pragma once
 
 #include <string>
@@ -24,11 +25,5 @@ Error readRepresentations(const TypedValue& entity, std::vector<Representation>&
 /// The GLB hash of the representation worn by `body_shape` (a full URN such as
 /// "urn:decentraland:off-chain:base-avatars:BaseMale", or its last segment "BaseMale").
 Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, std::string& hash);
-
-/// The set of hashes some representation's main file has (each once, in representation order).
-std::vector<std::string> activeModelHashes(const std::vector<Representation>& representations);
-
-/// The data.springBones value of an entity or item (null when absent).
-TypedValue springBonesOf(const TypedValue& entity);
 
 }  // namespace springbones

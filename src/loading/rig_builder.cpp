@@ -18,6 +18,7 @@
 
 #include "common/transform_math.h"
 #include "loading/body_colliders.h"
+#include "loading/collider_size.h"
 #include "loading/vrm_limits.h"
 #include "springbones/springbones.h"
 
@@ -353,12 +354,7 @@ class RigBuilder {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
         continue;
       }
-      // Sizes beyond the limit would make squared distances overflow in float, and the collider
-      // would then move nothing: refused alike, not left to do nothing silently.
-      const auto beyond = [](const Vec3& v) {
-        return std::fabs(v.x) > kMaxColliderSize || std::fabs(v.y) > kMaxColliderSize || std::fabs(v.z) > kMaxColliderSize;
-      };
-      if (spec.radius > kMaxColliderSize || beyond(spec.offset) || (spec.shape == Collider::Shape::kCapsule && beyond(spec.tail))) {
+      if (exceedsMaxColliderSize(spec)) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a radius, offset or tail beyond " +
                                      formatNumber(kMaxColliderSize) + " (the node's units); ignored");
         continue;

@@ -1,4 +1,5 @@
-// The VRM spring-bone reader (vrm_loader.cpp) on a typed value.
+// The VRM spring-bone reader on a typed value (vrm_loader.cpp, over vrm_formats.h and
+// vrm_rig_builder.h).
 #pragma once
 
 #include <memory>

@@ -87,8 +87,8 @@ Error mainFileHashFor(const json& entity, const std::string& body_shape, std::st
 }
 
 const json& springBonesOf(const json& entity) {
-  // The same lookup as the runtime's springBonesOf (loading/entity.cpp): metadata.data when it is
-  // an object, else data.
+  // The item data where the runtime's readRepresentations finds it (loading/entity.cpp):
+  // metadata.data when it is an object, else data.
   const json& from_metadata = member(member(entity, "metadata"), "data");
   return member(from_metadata.is_object() ? from_metadata : member(entity, "data"), "springBones");
 }

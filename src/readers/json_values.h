@@ -22,7 +22,8 @@ Error parseSpringBones(const nlohmann::json& springBones, const std::string& has
                        std::vector<Warning>& warnings);
 Error readRepresentations(const nlohmann::json& entity, std::vector<Representation>& out);
 Error mainFileHashFor(const nlohmann::json& entity, const std::string& body_shape, std::string& hash);
-/// The data.springBones value of an entity or item (null when absent), as the runtime finds it.
+/// The data.springBones value of an entity or item (null when absent), in the data the runtime
+/// reads the representations from.
 const nlohmann::json& springBonesOf(const nlohmann::json& entity);
 
 }  // namespace springbones
