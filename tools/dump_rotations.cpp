@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "springbones/content_hash.h"
-#include "springbones/springbones.h"
 #include "springbones/readers.h"
+#include "springbones/springbones.h"
 #include "springbones/vrm.h"
 
 namespace {
@@ -89,8 +89,7 @@ void swayDrivers(const std::vector<float>& rest, float* out, double t) {
       const double m2 = rest[base + 4 * c + 2];
       const double m3 = rest[base + 4 * c + 3];
       for (int r = 0; r < 4; ++r) {
-        out[base + 4 * c + r] =
-            static_cast<float>(s[r] * m0 + s[4 + r] * m1 + s[8 + r] * m2 + s[12 + r] * m3);
+        out[base + 4 * c + r] = static_cast<float>(s[r] * m0 + s[4 + r] * m1 + s[8 + r] * m2 + s[12 + r] * m3);
       }
     }
   }
@@ -105,9 +104,7 @@ bool readFile(const std::string& path, std::string& out) {
 
 void writeFloats(std::FILE* out, const float* values, std::size_t count) {
   std::fputc('[', out);
-  for (std::size_t i = 0; i < count; ++i) {
-    std::fprintf(out, i ? ",%.9g" : "%.9g", static_cast<double>(values[i]));
-  }
+  for (std::size_t i = 0; i < count; ++i) { std::fprintf(out, i ? ",%.9g" : "%.9g", static_cast<double>(values[i])); }
   std::fputc(']', out);
 }
 

@@ -67,7 +67,10 @@ json node(const std::string& name, glm::vec3 t, std::vector<int> children = {}) 
 }
 
 json rootEntry(const ParamSet& p) {
-  return {{"isRoot", true}, {"stiffness", p.stiffness}, {"drag", p.drag}, {"gravityPower", p.gravity},
+  return {{"isRoot", true},
+          {"stiffness", p.stiffness},
+          {"drag", p.drag},
+          {"gravityPower", p.gravity},
           {"gravityDir", {0, -1, 0}}};
 }
 
@@ -136,7 +139,8 @@ glm::mat4 shaking(double t) {
 // passes the row names ("xpbd-it2": 2 passes), at each integrator's default rate and substep cap.
 class Runner {
  public:
-  Runner(std::shared_ptr<const Rig> rig, const std::string& integrator) : instance_(std::move(rig), options(integrator)) {}
+  Runner(std::shared_ptr<const Rig> rig, const std::string& integrator)
+      : instance_(std::move(rig), options(integrator)) {}
   void setDriver(std::size_t d, const glm::mat4& m) {
     std::memcpy(instance_.driverMatrices() + 16 * d, &m[0][0], sizeof(float) * 16);
   }
@@ -338,8 +342,8 @@ Agreement compareWithVrm(const std::string& rig_name) {
     for (std::size_t j = 0; j < rig->joints.size(); ++j) {
       // The world rotation of each bone (local rotations would hide a parent's difference).
       const glm::quat qa = glm::quat_cast(glm::mat3(vrm->world(j))), qb = glm::quat_cast(glm::mat3(xpbd->world(j)));
-      const double angle = 2.0 * std::acos(std::min(1.0f, std::fabs(glm::dot(glm::normalize(qa), glm::normalize(qb))))) *
-                           180.0 / M_PI;
+      const double angle =
+          2.0 * std::acos(std::min(1.0f, std::fabs(glm::dot(glm::normalize(qa), glm::normalize(qb))))) * 180.0 / M_PI;
       sum += angle;
       frame_sum += angle;
       ++count;
@@ -364,24 +368,31 @@ int main(int argc, char** argv) {
   const ParamSet param_sets[] = {{"aggressive", 4.0, 0.0, 2.0}, {"typical", 1.0, 0.4, 0.5}};
   const FramePattern patterns[] = {{"30fps+0.5s spikes", 1.0 / 30, 0.5, 2.0}, {"60fps", 1.0 / 60, 0, 0}};
   const char* rigs[] = {"hair100", "tail10"};
-  json report = {{"build", build},
-                 {"vrm", {{"stepHz", integratorDefaults(Integrator::kVrm).step_hz},
-                          {"maxSubsteps", integratorDefaults(Integrator::kVrm).max_substeps}}},
-                 {"xpbd", {{"stepHz", integratorDefaults(Integrator::kXpbd).step_hz},
-                           {"maxSubsteps", integratorDefaults(Integrator::kXpbd).max_substeps},
-                           {"iterations", kDefaultXpbdIterations}}},
-                 {"stability", {{"secondsPerRow", kSeconds},
-                                {"motion", "rapid head shaking: +-1.2 rad yaw at 3 Hz, +-0.5 rad nod at 2 Hz, +-0.3 m sway at 1.1 Hz"},
-                                {"rows", json::array()}}},
-                 {"cost", {{"frames", "600 at 60 fps, rapid head shaking, typical parameters, best of 7"},
-                           {"rows", json::array()}}},
-                 {"agreement", {{"frames", "20 s at 60 fps, walking and turning, typical parameters"},
-                                {"rows", json::array()}}}};
+  json report = {
+      {"build", build},
+      {"vrm",
+       {{"stepHz", integratorDefaults(Integrator::kVrm).step_hz},
+        {"maxSubsteps", integratorDefaults(Integrator::kVrm).max_substeps}}},
+      {"xpbd",
+       {{"stepHz", integratorDefaults(Integrator::kXpbd).step_hz},
+        {"maxSubsteps", integratorDefaults(Integrator::kXpbd).max_substeps},
+        {"iterations", kDefaultXpbdIterations}}},
+      {"stability",
+       {{"secondsPerRow", kSeconds},
+        {"motion", "rapid head shaking: +-1.2 rad yaw at 3 Hz, +-0.5 rad nod at 2 Hz, +-0.3 m sway at 1.1 Hz"},
+        {"rows", json::array()}}},
+      {"cost",
+       {{"frames", "600 at 60 fps, rapid head shaking, typical parameters, best of 7"}, {"rows", json::array()}}},
+      {"agreement", {{"frames", "20 s at 60 fps, walking and turning, typical parameters"}, {"rows", json::array()}}}};
 
   std::printf("springbones integrator report (%s build)\n", build);
-  std::printf("vrm = Instance (60 Hz, <= 4 steps/frame); xpbd = Instance, integrator xpbd (120 Hz, 4 iterations, <= 8 substeps/frame)\n");
-  std::printf("\nStability: %g s of rapid head shaking per row (explosion: non-finite or non-unit rotation, or length error > 1%%)\n",
-              kSeconds);
+  std::printf(
+      "vrm = Instance (60 Hz, <= 4 steps/frame); xpbd = Instance, integrator xpbd (120 Hz, 4 iterations, <= 8 "
+      "substeps/frame)\n");
+  std::printf(
+      "\nStability: %g s of rapid head shaking per row (explosion: non-finite or non-unit rotation, or length error > "
+      "1%%)\n",
+      kSeconds);
   std::printf("%-5s %-8s %-11s %-18s %7s %8s %12s %12s %6s %12s %16s\n", "integ", "rig", "params", "frames", "frames",
               "steps", "len err max", "len err end", "expl", "penetration", "swing m/s mean/max");
   for (const char* rig : rigs) {
@@ -390,8 +401,8 @@ int main(int argc, char** argv) {
         for (const char* integrator : {"vrm", "xpbd"}) {
           const Stability r = runStability(integrator, rig, p, f);
           std::printf("%-5s %-8s %-11s %-18s %7lld %8lld %12.2e %12.2e %6lld %9.2f mm %9.2f/%.1f\n",
-                      r.integrator.c_str(), r.rig.c_str(), r.params.c_str(), r.frames.c_str(), r.frame_count, r.substeps,
-                      r.max_length_error, r.final_length_error, r.explosions, r.max_penetration * 1000,
+                      r.integrator.c_str(), r.rig.c_str(), r.params.c_str(), r.frames.c_str(), r.frame_count,
+                      r.substeps, r.max_length_error, r.final_length_error, r.explosions, r.max_penetration * 1000,
                       r.mean_swing_speed, r.max_swing_speed);
           report["stability"]["rows"].push_back({{"integrator", r.integrator},
                                                  {"rig", r.rig},
@@ -430,8 +441,8 @@ int main(int argc, char** argv) {
   std::printf("%-8s %10s %16s %16s %16s\n", "rig", "mean deg", "max deg, 0-2 s", "max deg, 2-20 s", "last frame mean");
   for (const char* rig : rigs) {
     const Agreement a = compareWithVrm(rig);
-    std::printf("%-8s %10.2f %16.2f %16.2f %16.2f\n", a.rig.c_str(), a.mean_deg, a.max_first_2s_deg,
-                a.max_after_2s_deg, a.final_mean_deg);
+    std::printf("%-8s %10.2f %16.2f %16.2f %16.2f\n", a.rig.c_str(), a.mean_deg, a.max_first_2s_deg, a.max_after_2s_deg,
+                a.final_mean_deg);
     report["agreement"]["rows"].push_back({{"rig", a.rig},
                                            {"meanDeg", a.mean_deg},
                                            {"maxDegFirst2s", a.max_first_2s_deg},

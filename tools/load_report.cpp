@@ -52,20 +52,19 @@ Wearable makeWearable(int chains, int joints) {
   for (int c = 0; c < chains; ++c) {
     const int parent = static_cast<int>(nodes.size());
     children[0].push_back(parent);
-    nodes.push_back("\"name\":\"chain_" + std::to_string(c) + "\",\"translation\":[" + number(c * 0.1) +
-                    ",1,0]");
+    nodes.push_back("\"name\":\"chain_" + std::to_string(c) + "\",\"translation\":[" + number(c * 0.1) + ",1,0]");
     children.emplace_back();
     int prev = parent;
     for (int j = 0; j <= joints; ++j) {
       const int index = static_cast<int>(nodes.size());
       children[prev].push_back(index);
-      const std::string name = j < joints ? "springbone_" + std::to_string(c) + "_" + std::to_string(j)
-                                          : "end_" + std::to_string(c);
+      const std::string name =
+          j < joints ? "springbone_" + std::to_string(c) + "_" + std::to_string(j) : "end_" + std::to_string(c);
       nodes.push_back("\"name\":\"" + name + "\",\"translation\":" + (j == 0 ? "[0,0,0]" : "[0,-0.05,0]"));
       children.emplace_back();
       if (j < joints) {
-        entries += (entries.empty() ? "" : ",") + ("\"" + name + "\":{" + params) +
-                   (j == 0 ? ",\"isRoot\":true}" : "}");
+        entries +=
+            (entries.empty() ? "" : ",") + ("\"" + name + "\":{" + params) + (j == 0 ? ",\"isRoot\":true}" : "}");
       }
       prev = index;
     }
@@ -88,9 +87,7 @@ Wearable makeWearable(int chains, int joints) {
   return w;
 }
 
-double ms(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
+double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -138,10 +135,11 @@ int main(int argc, char** argv) {
     build_ms.push_back(ms(t2, t3));
     total_ms.push_back(ms(t0, t3));
   }
-  std::printf("wearable: %zu nodes (%zu KB glTF JSON), %zu joints, %zu warnings, springBones %zu KB\n",
-              w.nodes, w.gltf.size() / 1024, joint_count, warning_count, w.springBones.size() / 1024);
-  std::printf("median of %d warm loads, ms: loadSkeleton %.3f  parseSpringBonesText %.3f  buildRig %.3f  "
-              "total %.3f\n",
-              runs, median(skeleton_ms), median(metadata_ms), median(build_ms), median(total_ms));
+  std::printf("wearable: %zu nodes (%zu KB glTF JSON), %zu joints, %zu warnings, springBones %zu KB\n", w.nodes,
+              w.gltf.size() / 1024, joint_count, warning_count, w.springBones.size() / 1024);
+  std::printf(
+      "median of %d warm loads, ms: loadSkeleton %.3f  parseSpringBonesText %.3f  buildRig %.3f  "
+      "total %.3f\n",
+      runs, median(skeleton_ms), median(metadata_ms), median(build_ms), median(total_ms));
   return 0;
 }

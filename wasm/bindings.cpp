@@ -42,7 +42,7 @@ namespace {
 
 struct LoadedRig {
   std::shared_ptr<const Rig> rig;
-  std::string hash;  ///< the models key the rig was built from ("" for a VRM)
+  std::string hash;            ///< the models key the rig was built from ("" for a VRM)
   std::string format = "dcl";  ///< where the springs came from: dcl, vrmc-springbone, vrm0, none
 };
 

@@ -51,8 +51,8 @@ std::string setSpringBoneParams(const std::string& springbones_text, const std::
                                 const std::string& params_text) {
   std::string text;
   guarded([&] {
-    if (ApiFailure f = springbones::setSpringBoneParams(springbones_text, entity_text, body_shape, node_name,
-                                                         params_text, text)) {
+    if (ApiFailure f =
+            springbones::setSpringBoneParams(springbones_text, entity_text, body_shape, node_name, params_text, text)) {
       return fail(std::move(f));
     }
     return 1;

@@ -22,11 +22,17 @@ namespace springbones {
 // Value types: plain floats in glTF's conventions, so that neither this header nor its callers
 // need a maths library. The core computes in GLM and converts at its edges, bit for bit.
 
-struct Vec3 { float x = 0.0f, y = 0.0f, z = 0.0f; };
+struct Vec3 {
+  float x = 0.0f, y = 0.0f, z = 0.0f;
+};
 /// A unit quaternion in glTF's order: x, y, z, then w.
-struct Quat { float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f; };
+struct Quat {
+  float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f;
+};
 /// A 4x4 matrix, column-major as glTF stores it (m[12..14]: the translation); identity by default.
-struct Mat4 { float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; };
+struct Mat4 {
+  float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+};
 
 // ---------------------------------------------------------------------------------------------
 // Errors and warnings
@@ -98,10 +104,10 @@ struct Skeleton {
 // data.springBones parameters (ADR-316 table). Ranges are inclusive.
 
 struct BoneParams {
-  float stiffness = 2.0f;              ///< [0, 4], pull back to the rest direction, m/s
-  float gravity_power = 0.0f;          ///< [0, 2], gravity impulse, m/s
+  float stiffness = 2.0f;               ///< [0, 4], pull back to the rest direction, m/s
+  float gravity_power = 0.0f;           ///< [0, 2], gravity impulse, m/s
   Vec3 gravity_dir{0.0f, -1.0f, 0.0f};  ///< world direction, normalized at parse time
-  float drag = 0.5f;                   ///< [0, 1], fraction of velocity lost per step
+  float drag = 0.5f;                    ///< [0, 1], fraction of velocity lost per step
 };
 
 struct BoneEntry {
@@ -113,8 +119,8 @@ struct BoneEntry {
 };
 
 struct ModelEntry {
-  bool enabled = false;  ///< false: no entry for the hash, bad version, or no springBones at all
-  std::string path;      ///< JSON path of models[hash] ("/models/<hash>"), when enabled
+  bool enabled = false;          ///< false: no entry for the hash, bad version, or no springBones at all
+  std::string path;              ///< JSON path of models[hash] ("/models/<hash>"), when enabled
   std::vector<BoneEntry> bones;  ///< in key order (the JSON reader sorts object keys)
 
   /// The JSON path of one of its entries, for warnings: path + the name as a pointer token. Built
@@ -174,10 +180,10 @@ struct ColliderShape {
   Shape shape = Shape::kSphere;
   /// Sphere and capsule only: the tail is kept inside the shape rather than pushed out of it.
   bool inside = false;
-  Vec3 offset;                   ///< sphere center / capsule start / a point of the plane
-  Vec3 tail;                     ///< capsule end
+  Vec3 offset;                    ///< sphere center / capsule start / a point of the plane
+  Vec3 tail;                      ///< capsule end
   Vec3 normal{0.0f, 0.0f, 1.0f};  ///< plane only: the side tails are kept on
-  float radius = 0.0f;           ///< in the node's space (world radius = radius x its scale); 0 for a plane
+  float radius = 0.0f;            ///< in the node's space (world radius = radius x its scale); 0 for a plane
 };
 
 /// A collider of the rig, carried by a driver's world matrix.
@@ -215,9 +221,9 @@ inline constexpr float kMaxHitRadius = 1e6f;
 inline constexpr float kMaxColliderSize = 1e6f;
 
 struct RigOptions {
-  std::vector<ColliderSpec> colliders;  ///< every joint collides with all of them
+  std::vector<ColliderSpec> colliders;            ///< every joint collides with all of them
   ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
-  float hit_radius = 0.0f;              ///< joint radius against them, world units, in [0, kMaxHitRadius]
+  float hit_radius = 0.0f;                        ///< joint radius against them, world units, in [0, kMaxHitRadius]
   /// Angle limits by joint node name (the standard's metadata has no field for them). Values out of
   /// the draft's ranges are clamped, a name that is no simulated joint is dropped, with warnings.
   std::map<std::string, JointLimit> limits;
@@ -227,8 +233,8 @@ struct RigConstants;  // what the simulation derives from a rig (src/simulation/
 
 struct Rig {
   Skeleton skeleton;
-  std::vector<Joint> joints;    ///< parents before children
-  std::vector<Driver> drivers;  ///< chain-root parents and center nodes, in first-use order
+  std::vector<Joint> joints;     ///< parents before children
+  std::vector<Driver> drivers;   ///< chain-root parents and center nodes, in first-use order
   std::vector<int> chain_roots;  ///< joint indices of the roots
   std::vector<Collider> colliders;
   /// How many times the VRM update moves a tail out of the joint's colliders per step, each pass
@@ -249,8 +255,8 @@ struct Rig {
 /// Never fails: problems become warnings and the affected joints are left out or fall back.
 /// Collider nodes (found by name in the GLB, or else external drivers the caller supplies) join
 /// the driver list.
-std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
-                                    std::vector<Warning> warnings = {}, const RigOptions& options = {});
+std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings = {},
+                                    const RigOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 // The simulation: one Instance per avatar
@@ -387,11 +393,10 @@ class Instance {
   /// put where its stiffness, gravity and wind balance (parents first), then stepped with no
   /// velocity, which resolves colliders (and a grab), until no joint turns by more than 1e-5 rad
   /// in a step, or for at most `seconds` x the step rate steps (seconds clamped to
-  /// [0, kMaxSettleSeconds]; NaN: 0; 0 leaves the tails at rest, as reset() would). The wind pulls as at the current simulated time, which does
-  /// not advance. The motion is then forgotten: the next step starts from the settled pose with no
-  /// velocity, and the drivers as they are count as the last frame's. Deterministic (the same
-  /// pose, the same result); returns the steps it ran (0: none, the pose is the rest pose put in
-  /// place). docs/semantics.md, "Settle".
+  /// [0, kMaxSettleSeconds]; NaN: 0; 0 leaves the tails at rest, as reset() would). The wind pulls as at the current
+  /// simulated time, which does not advance. The motion is then forgotten: the next step starts from the settled pose
+  /// with no velocity, and the drivers as they are count as the last frame's. Deterministic (the same pose, the same
+  /// result); returns the steps it ran (0: none, the pose is the rest pose put in place). docs/semantics.md, "Settle".
   int settle(double seconds = kDefaultSettleSeconds);
   /// Holds joint `joint`'s tail toward `point` (world) from the next step on: every step, the
   /// joints from its chain root down to it turn so that it reaches toward the point as far as the

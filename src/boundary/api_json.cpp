@@ -58,8 +58,8 @@ ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
   }
   if (auto preset = value.find("preset"); preset != value.end()) {
     if (*preset != "dcl-body") {
-      return ApiFailure{"invalid-argument",
-                        "rig options: unknown collider preset '" + preset->get<std::string>() + "'", ""};
+      return ApiFailure{"invalid-argument", "rig options: unknown collider preset '" + preset->get<std::string>() + "'",
+                        ""};
     }
     out.preset = ColliderPreset::kDclBody;
   }

@@ -1,8 +1,8 @@
 #include "common/json_text.h"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <type_traits>
 #include <vector>
 

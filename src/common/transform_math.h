@@ -20,9 +20,7 @@ inline glm::mat4 composeTransform(const Transform& t) {
   return composeTransform(toGlm(t.translation), toGlm(t.rotation), toGlm(t.scale));
 }
 
-inline bool isFinite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+inline bool isFinite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// `v` made unit length, false (and `v` untouched) for a zero or non-finite one. Scaled by its
 /// largest component first, so a long finite vector does not overflow on the way.

@@ -111,13 +111,10 @@ bool TypedValue::is_number_integer() const {
 
 std::size_t TypedValue::size() const {
   switch (type()) {
-    case Type::kNull:
-      return 0;
+    case Type::kNull: return 0;
     case Type::kArray:
-    case Type::kObject:
-      return doc_->nodes_[index_].count;
-    default:
-      return 1;
+    case Type::kObject: return doc_->nodes_[index_].count;
+    default: return 1;
   }
 }
 
@@ -170,13 +167,21 @@ std::string TypedValue::iterator::key() const {
 }
 
 template <>
-double TypedValue::get<double>() const { return number(); }
+double TypedValue::get<double>() const {
+  return number();
+}
 template <>
-float TypedValue::get<float>() const { return static_cast<float>(number()); }
+float TypedValue::get<float>() const {
+  return static_cast<float>(number());
+}
 template <>
-bool TypedValue::get<bool>() const { return boolean(); }
+bool TypedValue::get<bool>() const {
+  return boolean();
+}
 template <>
-std::string TypedValue::get<std::string>() const { return std::string(string()); }
+std::string TypedValue::get<std::string>() const {
+  return std::string(string());
+}
 template <>
 std::int64_t TypedValue::get<std::int64_t>() const {
   const double v = number();
@@ -196,7 +201,8 @@ std::uint64_t TypedValue::get<std::uint64_t>() const {
 template <>
 int TypedValue::get<int>() const {
   const std::int64_t v = get<std::int64_t>();
-  return static_cast<int>(std::clamp<std::int64_t>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  return static_cast<int>(
+      std::clamp<std::int64_t>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
 }
 
 // ---------------------------------------------------------------------------------------------

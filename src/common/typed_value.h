@@ -29,7 +29,15 @@ class TypedDocument;
 /// One value of a TypedDocument: a cheap handle, valid while the document lives.
 class TypedValue {
  public:
-  enum class Type : std::uint8_t { kNull = 0, kFalse = 1, kTrue = 2, kNumber = 3, kString = 4, kArray = 5, kObject = 6 };
+  enum class Type : std::uint8_t {
+    kNull = 0,
+    kFalse = 1,
+    kTrue = 2,
+    kNumber = 3,
+    kString = 4,
+    kArray = 5,
+    kObject = 6
+  };
 
   class iterator;
 

@@ -17,9 +17,9 @@ using Cid = std::array<std::uint8_t, 36>;  // 0x01 codec 0x12 0x20 + sha256: CID
 
 // A node of the file DAG as its parent sees it (one PBLink plus one UnixFS blocksize).
 struct FileLink {
-  Cid cid;                    ///< CID bytes of the child block
-  std::uint64_t tsize;        ///< bytes of every block in the child's subtree (PBLink Tsize)
-  std::uint64_t file_size;    ///< file bytes the child covers (UnixFS blocksize)
+  Cid cid;                  ///< CID bytes of the child block
+  std::uint64_t tsize;      ///< bytes of every block in the child's subtree (PBLink Tsize)
+  std::uint64_t file_size;  ///< file bytes the child covers (UnixFS blocksize)
 };
 
 // The CID of a chunk stored as a raw block (codec 0x55).
@@ -33,8 +33,8 @@ std::string cidToString(const Cid& cid);
 
 // contentHash with another chunk size and fan-out, to reach three-level trees with small inputs.
 // chunk_size 0 is treated as 1 and max_children below 2 as 2 (a fan-out of 1 never ends).
-std::string contentHashWithLayout(const std::uint8_t* data, std::size_t size,
-                                  std::size_t chunk_size, std::size_t max_children);
+std::string contentHashWithLayout(const std::uint8_t* data, std::size_t size, std::size_t chunk_size,
+                                  std::size_t max_children);
 
 }  // namespace detail
 }  // namespace springbones

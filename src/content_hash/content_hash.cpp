@@ -96,9 +96,7 @@ class BalancedLayout {
     for (std::size_t level = 0; level < levels_.size(); ++level) {
       // A node alone at its level with no full group sent up is the root. At level 0 that is the
       // importer's reduceSingleLeafToSelf: a one-chunk file's CID is its raw leaf's CID.
-      if (!levels_[level].sent_up && levels_[level].pending.size() == 1) {
-        return levels_[level].pending.front();
-      }
+      if (!levels_[level].sent_up && levels_[level].pending.size() == 1) { return levels_[level].pending.front(); }
       // A trailing partial group becomes a node too, even a group of one: the importer only skips
       // wrapping for a one-chunk file, so 175 leaves give a root over nodes of 174 and of 1 leaf.
       if (!levels_[level].pending.empty()) sendUp(level);
@@ -131,9 +129,7 @@ class BalancedLayout {
 
 }  // namespace
 
-Cid rawLeafCid(const std::uint8_t* chunk, std::size_t size) {
-  return makeCid(kCodecRaw, sha256(chunk, size));
-}
+Cid rawLeafCid(const std::uint8_t* chunk, std::size_t size) { return makeCid(kCodecRaw, sha256(chunk, size)); }
 
 std::vector<std::uint8_t> encodeFileNode(const FileLink* children, std::size_t count) {
   // @ipld/dag-pb writes Links before Data (the canonical order), whatever the field numbers say.
@@ -200,8 +196,8 @@ std::string cidToString(const Cid& cid) {
   return text;
 }
 
-std::string contentHashWithLayout(const std::uint8_t* data, std::size_t size,
-                                  std::size_t chunk_size, std::size_t max_children) {
+std::string contentHashWithLayout(const std::uint8_t* data, std::size_t size, std::size_t chunk_size,
+                                  std::size_t max_children) {
   chunk_size = std::max<std::size_t>(chunk_size, 1);
   max_children = std::max<std::size_t>(max_children, 2);
   BalancedLayout layout(max_children);

@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "creator_tools/tool_json.h"
 #include "creator_tools/json_depth.h"
+#include "creator_tools/tool_json.h"
 #include "readers/json_values.h"
 #include "springbones/content_hash.h"
 #include "springbones/readers.h"
@@ -73,8 +73,8 @@ Error setSpringBoneParams(const json& springBones, const json& entity, const std
     return Error{ErrorCode::kMetadataInvalid, "springBones is not an object", ""};
   }
   if (nestsDeeperThan(params, kMaxCopyDepth)) {
-    return Error{ErrorCode::kInvalidArgument,
-                 "params nest more than " + std::to_string(kMaxCopyDepth) + " levels deep", ""};
+    return Error{ErrorCode::kInvalidArgument, "params nest more than " + std::to_string(kMaxCopyDepth) + " levels deep",
+                 ""};
   }
   if (nestsDeeperThan(springBones, kMaxCopyDepth)) {
     return Error{ErrorCode::kMetadataInvalid,

@@ -20,7 +20,7 @@ namespace springbones {
 /// "springbone" token, params that are neither an object nor null, springBones or params nested
 /// more than 64 levels deep (they are copied, and copying recurses once per level).
 Error setSpringBoneParams(const nlohmann::json& springBones, const nlohmann::json& entity,
-                          const std::string& body_shape, const std::string& node_name,
-                          const nlohmann::json& params, nlohmann::json& out);
+                          const std::string& body_shape, const std::string& node_name, const nlohmann::json& params,
+                          nlohmann::json& out);
 
 }  // namespace springbones

@@ -67,8 +67,8 @@ std::string candidatesJson(const std::string& content_hash, const std::vector<Sp
   for (const Warning& w : warnings) {
     warnings_json.push_back(FloatJson{{"code", w.code}, {"message", w.message}, {"path", w.path}});
   }
-  return dumpReplacingInvalidUtf8(
-      FloatJson{{"contentHash", content_hash}, {"candidates", std::move(list)}, {"warnings", std::move(warnings_json)}});
+  return dumpReplacingInvalidUtf8(FloatJson{
+      {"contentHash", content_hash}, {"candidates", std::move(list)}, {"warnings", std::move(warnings_json)}});
 }
 
 }  // namespace springbones

@@ -17,8 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "creator_tools/tool_json.h"
 #include "common/json_pointer.h"
+#include "creator_tools/tool_json.h"
 #include "creator_tools/utf8_append.h"
 #include "loading/bone_params.h"
 
@@ -76,21 +76,18 @@ std::vector<json::const_iterator> keysInJavaScriptOrder(const json& object) {
     (isArrayIndexKey(it.key()) ? index_keys : other_keys).push_back(it);
   }
   // Without leading zeros, numeric order is shorter-first, then lexicographic.
-  std::sort(index_keys.begin(), index_keys.end(),
-            [](const json::const_iterator& a, const json::const_iterator& b) {
-              const std::string& ka = a.key();
-              const std::string& kb = b.key();
-              return ka.size() != kb.size() ? ka.size() < kb.size() : ka < kb;
-            });
+  std::sort(index_keys.begin(), index_keys.end(), [](const json::const_iterator& a, const json::const_iterator& b) {
+    const std::string& ka = a.key();
+    const std::string& kb = b.key();
+    return ka.size() != kb.size() ? ka.size() < kb.size() : ka < kb;
+  });
   index_keys.insert(index_keys.end(), other_keys.begin(), other_keys.end());
   return index_keys;
 }
 
 // Limits are small integers; printed the way JavaScript prints them ("4", "-10").
 std::string formatLimit(double limit) {
-  if (std::floor(limit) == limit && std::fabs(limit) < 1e15) {
-    return std::to_string(static_cast<long long>(limit));
-  }
+  if (std::floor(limit) == limit && std::fabs(limit) < 1e15) { return std::to_string(static_cast<long long>(limit)); }
   return std::to_string(limit);
 }
 
@@ -112,9 +109,7 @@ class SchemaChecker {
     if (models == root.end()) fail("", "must have required property 'models'");
     // One error per extra key, all with the same path and text.
     for (auto it = root.begin(); it != root.end(); ++it) {
-      if (it.key() != "version" && it.key() != "models") {
-        fail("", "must NOT have additional properties");
-      }
+      if (it.key() != "version" && it.key() != "models") { fail("", "must NOT have additional properties"); }
     }
     if (version != root.end()) {
       // type and enum are independent keywords: "1" and 1.5 fail both.
@@ -149,9 +144,7 @@ class SchemaChecker {
     }
     static const char* const kRequired[] = {"stiffness", "gravityPower", "gravityDir", "drag"};
     for (const char* key : kRequired) {
-      if (bone.find(key) == bone.end()) {
-        fail(path, std::string("must have required property '") + key + "'");
-      }
+      if (bone.find(key) == bone.end()) { fail(path, std::string("must have required property '") + key + "'"); }
     }
     // Unknown keys are allowed here: the bone schema has no additionalProperties.
     checkRange(bone, kStiffnessRange.key, kStiffnessRange.min, kStiffnessRange.max, path);
@@ -169,8 +162,7 @@ class SchemaChecker {
     }
   }
 
-  void checkRange(const json& bone, std::string_view key, double min, double max,
-                  const std::string& bone_path) {
+  void checkRange(const json& bone, std::string_view key, double min, double max, const std::string& bone_path) {
     auto it = bone.find(std::string(key));
     if (it == bone.end()) return;
     checkNumber(*it, min, max, bone_path + "/" + std::string(key));
@@ -274,10 +266,9 @@ std::string toUtf8(const std::u16string& units) {
   out.reserve(units.size());
   for (std::size_t i = 0; i < units.size(); ++i) {
     const char16_t u = units[i];
-    if (u >= 0xD800 && u <= 0xDBFF && i + 1 < units.size() && units[i + 1] >= 0xDC00 &&
-        units[i + 1] <= 0xDFFF) {
-      appendUtf8(out, 0x10000 + ((static_cast<char32_t>(u) - 0xD800) << 10) +
-                          (static_cast<char32_t>(units[i + 1]) - 0xDC00));
+    if (u >= 0xD800 && u <= 0xDBFF && i + 1 < units.size() && units[i + 1] >= 0xDC00 && units[i + 1] <= 0xDFFF) {
+      appendUtf8(
+          out, 0x10000 + ((static_cast<char32_t>(u) - 0xD800) << 10) + (static_cast<char32_t>(units[i + 1]) - 0xDC00));
       ++i;
     } else if (u >= 0xD800 && u <= 0xDFFF) {
       appendUtf8(out, 0xFFFD);
@@ -320,9 +311,7 @@ std::u16string quoteAsJavaScript(const std::u16string& text) {
 std::string catalystField(const std::string& field) {
   const std::u16string units = toUtf16(field);
   const std::u16string quoted = quoteAsJavaScript(units);
-  if (units.size() > kCatalystFieldLimit) {
-    return toUtf8(quoted.substr(1, kCatalystFieldLimit - 1)) + "...";
-  }
+  if (units.size() > kCatalystFieldLimit) { return toUtf8(quoted.substr(1, kCatalystFieldLimit - 1)) + "..."; }
   // Cut at the raw length, so a field with escapes loses its tail (as the catalyst's does).
   return toUtf8(quoted.substr(1, units.size()));
 }
@@ -397,8 +386,8 @@ bool readContentHashes(const json& subject, bool is_item,
     const json* file = findMember((*content)[i], "file");
     const json* hash = findMember((*content)[i], "hash");
     if (file == nullptr || !file->is_string() || hash == nullptr || !hash->is_string()) {
-      errors.push_back({"/content/" + std::to_string(i),
-                        "entity content entry must be an object with string file and hash"});
+      errors.push_back(
+          {"/content/" + std::to_string(i), "entity content entry must be an object with string file and hash"});
       continue;
     }
     hash_of_file.emplace(file->get_ref<const std::string&>(), &hash->get_ref<const std::string&>());
@@ -414,9 +403,7 @@ std::vector<ValidationError> validateSubject(const json& subject_json, const Sub
 
   std::vector<ValidationError> schema_errors = validateSpringBonesSchema(*spring_bones);
   if (!schema_errors.empty()) {
-    for (ValidationError& e : schema_errors) {
-      e.message = "springBones" + catalystField(e.path) + " " + e.message;
-    }
+    for (ValidationError& e : schema_errors) { e.message = "springBones" + catalystField(e.path) + " " + e.message; }
     return schema_errors;
   }
 
@@ -463,8 +450,7 @@ std::vector<ValidationError> validateSubject(const json& subject_json, const Sub
       // lower-cases to one of the token's letters on its own (U+0130 becomes "i" and a combining dot).
       if (!isSpringBoneName(bone.key())) {
         errors.push_back({model_path + pointerToken(bone.key()),
-                          "Bone name " + catalystField(bone.key()) + " in model " +
-                              catalystField(hash) +
+                          "Bone name " + catalystField(bone.key()) + " in model " + catalystField(hash) +
                               " does not follow the spring bone naming convention"});
       }
     }
@@ -485,9 +471,7 @@ std::vector<ValidationError> validateSpringBonesSchema(const json& springBones) 
     std::vector<ValidationError> errors;
     SchemaChecker(errors).checkRoot(springBones);
     return errors;
-  } catch (...) {
-    return internalFailure();
-  }
+  } catch (...) { return internalFailure(); }
 }
 
 Error validateSpringBones(const json& subject, std::vector<ValidationError>& errors) {
@@ -502,9 +486,7 @@ Error validateSpringBones(const json& subject, std::vector<ValidationError>& err
                    ""};
     }
     errors = validateSubject(subject, parts);
-  } catch (...) {
-    errors = internalFailure();
-  }
+  } catch (...) { errors = internalFailure(); }
   return {};
 }
 

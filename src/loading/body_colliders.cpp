@@ -18,11 +18,22 @@ namespace {
 constexpr float kMinSegment = 1e-6f;
 
 // The bones the preset reads, by their armature names.
-enum Bone { kSpine1, kSpine2, kNeck, kHead, kLeftShoulder, kLeftArm, kLeftForeArm, kRightShoulder, kRightArm,
-            kRightForeArm, kBoneCount };
+enum Bone {
+  kSpine1,
+  kSpine2,
+  kNeck,
+  kHead,
+  kLeftShoulder,
+  kLeftArm,
+  kLeftForeArm,
+  kRightShoulder,
+  kRightArm,
+  kRightForeArm,
+  kBoneCount
+};
 constexpr const char* kBoneNames[kBoneCount] = {
-    "Avatar_Spine1", "Avatar_Spine2", "Avatar_Neck", "Avatar_Head", "Avatar_LeftShoulder", "Avatar_LeftArm",
-    "Avatar_LeftForeArm", "Avatar_RightShoulder", "Avatar_RightArm", "Avatar_RightForeArm"};
+    "Avatar_Spine1",  "Avatar_Spine2",      "Avatar_Neck",          "Avatar_Head",     "Avatar_LeftShoulder",
+    "Avatar_LeftArm", "Avatar_LeftForeArm", "Avatar_RightShoulder", "Avatar_RightArm", "Avatar_RightForeArm"};
 
 // One shape, carried by `carrier` and measured on the segment from bone `from` to bone `to` in
 // the rest pose (length L, unit direction u), all sizes in L:

@@ -14,9 +14,9 @@ struct ParamRange {
   float fallback;  ///< default when missing or unreadable
 };
 
-inline constexpr ParamRange kStiffnessRange{"stiffness", 0.0f, 4.0f, 2.0f};       ///< m/s
+inline constexpr ParamRange kStiffnessRange{"stiffness", 0.0f, 4.0f, 2.0f};        ///< m/s
 inline constexpr ParamRange kGravityPowerRange{"gravityPower", 0.0f, 2.0f, 0.0f};  ///< m/s
 inline constexpr ParamRange kDragRange{"drag", 0.0f, 1.0f, 0.5f};                  ///< per step
-inline constexpr float kGravityDirComponentLimit = 10.0f;  ///< schema bound of each component
+inline constexpr float kGravityDirComponentLimit = 10.0f;                          ///< schema bound of each component
 
 }  // namespace springbones

@@ -87,16 +87,15 @@ Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, s
     for (const std::string& shape : r.body_shapes) {
       if (!bodyShapeMatches(shape, body_shape)) continue;
       if (r.main_file_hash.empty()) {
-        return invalid("main file '" + r.main_file + "' of body shape " + body_shape +
-                           " is not in the entity's content list",
-                       "/content");
+        return invalid(
+            "main file '" + r.main_file + "' of body shape " + body_shape + " is not in the entity's content list",
+            "/content");
       }
       hash = r.main_file_hash;
       return {};
     }
   }
-  return invalid("the entity has no representation for body shape " + body_shape,
-                 "/metadata/data/representations");
+  return invalid("the entity has no representation for body shape " + body_shape, "/metadata/data/representations");
 }
 
 }  // namespace springbones

@@ -25,9 +25,7 @@ bool isNumberArray(const TypedValue& value, std::size_t length) {
   if (!value.is_array() || value.size() != length) return false;
   for (const TypedValue& v : value) {
     // Stored as float: a double beyond float range would become infinity.
-    if (!v.is_number() || !(std::fabs(v.get<double>()) <= std::numeric_limits<float>::max())) {
-      return false;
-    }
+    if (!v.is_number() || !(std::fabs(v.get<double>()) <= std::numeric_limits<float>::max())) { return false; }
   }
   return true;
 }
@@ -44,8 +42,7 @@ Error checkNode(const TypedValue& node, std::size_t index) {
     if (!it->is_array()) return fail(ErrorCode::kGltfInvalid, where + ": children is not an array");
     for (const TypedValue& c : *it) {
       // Bounded here because the skeleton stores indices as int.
-      if (!c.is_number_integer() || c.get<std::int64_t>() < 0 ||
-          c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
+      if (!c.is_number_integer() || c.get<std::int64_t>() < 0 || c.get<std::int64_t>() > std::int64_t(kMaxNodes)) {
         return fail(ErrorCode::kGltfInvalid, where + ": a child index is not a node index");
       }
     }
@@ -55,8 +52,7 @@ Error checkNode(const TypedValue& node, std::size_t index) {
   for (const auto& [field, length] : kTransformFields) {
     auto it = node.find(field);
     if (it != node.end() && !isNumberArray(*it, length)) {
-      return fail(ErrorCode::kGltfInvalid, where + ": " + field + " is not an array of " +
-                                               std::to_string(length) +
+      return fail(ErrorCode::kGltfInvalid, where + ": " + field + " is not an array of " + std::to_string(length) +
                                                " finite numbers within float range");
     }
   }
@@ -83,8 +79,8 @@ Error linkHierarchy(Skeleton& skeleton) {
   for (int p = 0; p < count; ++p) {
     for (int c : nodes[p].children) {
       if (c < 0 || c >= count) {
-        return fail(ErrorCode::kGltfInvalid, "node " + std::to_string(p) + " lists child " +
-                                                 std::to_string(c) + ", which does not exist");
+        return fail(ErrorCode::kGltfInvalid,
+                    "node " + std::to_string(p) + " lists child " + std::to_string(c) + ", which does not exist");
       }
       if (c == p) {
         return fail(ErrorCode::kHierarchyCycle,
@@ -92,9 +88,8 @@ Error linkHierarchy(Skeleton& skeleton) {
       }
       if (nodes[c].parent != -1) {
         return fail(ErrorCode::kHierarchyMultipleParents,
-                    "node " + std::to_string(c) + " ('" + nodes[c].name +
-                        "') is a child of both node " + std::to_string(nodes[c].parent) +
-                        " and node " + std::to_string(p));
+                    "node " + std::to_string(c) + " ('" + nodes[c].name + "') is a child of both node " +
+                        std::to_string(nodes[c].parent) + " and node " + std::to_string(p));
       }
       nodes[c].parent = p;
     }
@@ -114,8 +109,7 @@ Error linkHierarchy(Skeleton& skeleton) {
     for (int i : order) reached[i] = true;
     int first = 0;
     while (reached[first]) ++first;
-    return fail(ErrorCode::kHierarchyCycle, "node " + std::to_string(first) + " ('" +
-                                                nodes[first].name +
+    return fail(ErrorCode::kHierarchyCycle, "node " + std::to_string(first) + " ('" + nodes[first].name +
                                                 "') is its own ancestor (the hierarchy has a cycle)");
   }
   for (int i : order) {
@@ -129,25 +123,24 @@ Error linkHierarchy(Skeleton& skeleton) {
     // Float overflow (a decomposed matrix of huge entries, scales multiplying down a chain)
     // would hand infinities and NaNs to the solver.
     const Transform& t = n.rest_local;
-    bool finite = std::isfinite(t.translation.x) && std::isfinite(t.translation.y) &&
-                  std::isfinite(t.translation.z) && std::isfinite(t.scale.x) && std::isfinite(t.scale.y) &&
-                  std::isfinite(t.scale.z) && std::isfinite(t.rotation.x) && std::isfinite(t.rotation.y) &&
-                  std::isfinite(t.rotation.z) && std::isfinite(t.rotation.w);
+    bool finite = std::isfinite(t.translation.x) && std::isfinite(t.translation.y) && std::isfinite(t.translation.z) &&
+                  std::isfinite(t.scale.x) && std::isfinite(t.scale.y) && std::isfinite(t.scale.z) &&
+                  std::isfinite(t.rotation.x) && std::isfinite(t.rotation.y) && std::isfinite(t.rotation.z) &&
+                  std::isfinite(t.rotation.w);
     const float* w = n.rest_world.m;
     for (int c = 0; c < 4; ++c) {
       finite = finite && std::isfinite(w[4 * c]) && std::isfinite(w[4 * c + 1]) && std::isfinite(w[4 * c + 2]);
     }
     if (!finite) {
-      return fail(ErrorCode::kGltfInvalid, "node " + std::to_string(i) + " ('" + n.name +
-                                               "'): its rest transform overflows float range");
+      return fail(ErrorCode::kGltfInvalid,
+                  "node " + std::to_string(i) + " ('" + n.name + "'): its rest transform overflows float range");
     }
   }
   return {};
 }
 
 // The rest transform from a node's fields (null when absent): `matrix` wins over TRS, as in glTF.
-Transform restTransform(const double* matrix, const double* translation, const double* rotation,
-                        const double* scale) {
+Transform restTransform(const double* matrix, const double* translation, const double* rotation, const double* scale) {
   if (matrix != nullptr) return decomposeTransform(glm::mat4(glm::make_mat4(matrix)));
   const auto vec3 = [](const double* v) { return Vec3{float(v[0]), float(v[1]), float(v[2])}; };
   Transform t;

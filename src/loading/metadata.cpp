@@ -58,21 +58,20 @@ class EntryReader {
       return range.fallback;
     }
     if (!it->is_number()) {
-      warn("param-not-number", key + " is " + describe(*it) + ", not a number; using the default " +
-                                   format(range.fallback),
-           path);
+      warn("param-not-number",
+           key + " is " + describe(*it) + ", not a number; using the default " + format(range.fallback), path);
       return range.fallback;
     }
     const double value = it->get<double>();
     if (!std::isfinite(value)) {
-      warn("param-not-finite",
-           key + " is not finite; using the default " + format(range.fallback), path);
+      warn("param-not-finite", key + " is not finite; using the default " + format(range.fallback), path);
       return range.fallback;
     }
     if (!inRange(value, range)) {
       const float clamped = value < range.min ? range.min : range.max;
-      warn("param-out-of-range", key + " " + describe(*it) + " is outside [" + format(range.min) +
-                                     ", " + format(range.max) + "]; clamped to " + format(clamped),
+      warn("param-out-of-range",
+           key + " " + describe(*it) + " is outside [" + format(range.min) + ", " + format(range.max) +
+               "]; clamped to " + format(clamped),
            path);
       return clamped;
     }
@@ -94,8 +93,7 @@ class EntryReader {
       if (readable) v[i] = (*it)[i].get<double>();
     }
     if (!readable) {
-      warn("param-not-vector", "gravityDir " + describe(*it) +
-                                   " is not 3 finite numbers; using the default [0,-1,0]",
+      warn("param-not-vector", "gravityDir " + describe(*it) + " is not 3 finite numbers; using the default [0,-1,0]",
            path);
       return fallback;
     }
@@ -103,9 +101,8 @@ class EntryReader {
       if (std::fabs(c) > kGravityDirComponentLimit) {
         // Only the direction is used, so the value is normalized rather than clamped (clamping
         // a component would turn the vector); the validator still rejects it.
-        warn("param-out-of-range", "gravityDir " + describe(*it) +
-                                       " has a component outside [-10, 10]; only its direction is used",
-             path);
+        warn("param-out-of-range",
+             "gravityDir " + describe(*it) + " has a component outside [-10, 10]; only its direction is used", path);
         break;
       }
     }
@@ -126,8 +123,7 @@ class EntryReader {
       out.has_center = true;
       out.center = it->get<std::string>();
     } else {
-      warn("center-not-string", "center " + describe(*it) + " is not a node name; ignored",
-           entry_path + "/center");
+      warn("center-not-string", "center " + describe(*it) + " is not a node name; ignored", entry_path + "/center");
     }
   }
 
@@ -155,8 +151,7 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
   out = ModelEntry{};
   if (springBones.is_null()) return {};
   if (!springBones.is_object()) {
-    return Error{ErrorCode::kMetadataInvalid, "springBones is " + describe(springBones) +
-                                                  ", not an object", ""};
+    return Error{ErrorCode::kMetadataInvalid, "springBones is " + describe(springBones) + ", not an object", ""};
   }
   EntryReader reader(warnings);
   auto version = springBones.find("version");
@@ -174,15 +169,13 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
     return {};
   }
   if (!models->is_object()) {
-    return Error{ErrorCode::kMetadataInvalid,
-                 "springBones.models is " + describe(*models) + ", not an object", "/models"};
+    return Error{ErrorCode::kMetadataInvalid, "springBones.models is " + describe(*models) + ", not an object",
+                 "/models"};
   }
   auto model = models->find(hash);
   if (model == models->end()) {
     std::string keys;
-    for (auto it = models->begin(); it != models->end(); ++it) {
-      keys += (keys.empty() ? "" : ", ") + it.key();
-    }
+    for (auto it = models->begin(); it != models->end(); ++it) { keys += (keys.empty() ? "" : ", ") + it.key(); }
     reader.warn("model-not-found",
                 "springBones.models has no entry for hash " + hash +
                     (keys.empty() ? std::string(" (it is empty)") : " (it has: " + keys + ")") +
@@ -193,8 +186,7 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
   const std::string model_path = "/models" + pointerToken(hash);
   if (!model->is_object()) {
     return Error{ErrorCode::kMetadataInvalid,
-                 "springBones.models[" + hash + "] is " + describe(*model) + ", not an object",
-                 model_path};
+                 "springBones.models[" + hash + "] is " + describe(*model) + ", not an object", model_path};
   }
   out.enabled = true;
   out.path = model_path;
@@ -202,8 +194,7 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
   for (auto it = model->begin(); it != model->end(); ++it) {
     const std::string path = model_path + pointerToken(it.key());
     if (!it->is_object()) {
-      reader.warn("bone-entry-invalid",
-                  "entry for '" + it.key() + "' is " + describe(*it) + ", not an object; ignored",
+      reader.warn("bone-entry-invalid", "entry for '" + it.key() + "' is " + describe(*it) + ", not an object; ignored",
                   path);
       continue;
     }

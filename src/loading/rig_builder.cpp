@@ -35,7 +35,6 @@ std::string formatNumber(float v) {
 }
 
 
-
 // Name -> first index with that name, over views of strings that outlive it. Open addressing in
 // one flat array: std::unordered_map allocated a node per name (7,000 for a large wearable) and
 // was a third of the build.
@@ -212,9 +211,9 @@ class RigBuilder {
 
   void warnNestedRoot(int n, int parent_chain, int entry) {
     const auto& all = nodes();
-    warn("nested-root", "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" +
-                            all[parent_chain].name +
-                            "'; it is simulated as a member of that chain with its own parameters",
+    warn("nested-root",
+         "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" + all[parent_chain].name +
+             "'; it is simulated as a member of that chain with its own parameters",
          model_.entryPath(model_.bones[entry]));
   }
 
@@ -240,12 +239,12 @@ class RigBuilder {
     if (!entry.center.empty()) {
       const int node = nodeNamed(entry.center);
       if (node < 0) {
-        warn("center-not-found", "center '" + entry.center + "' of '" + entry.name +
-                                     "' is not a node of the GLB; using world space",
+        warn("center-not-found",
+             "center '" + entry.center + "' of '" + entry.name + "' is not a node of the GLB; using world space",
              model_.entryPath(entry) + "/center");
       } else if (is_candidate_[node] || chain_of_node_[node] >= 0) {
-        warn("center-is-spring-bone", "center '" + entry.center + "' of '" + entry.name +
-                                          "' is a spring bone itself; using world space",
+        warn("center-is-spring-bone",
+             "center '" + entry.center + "' of '" + entry.name + "' is a spring bone itself; using world space",
              model_.entryPath(entry) + "/center");
       } else {
         driver = driverFor(node);
@@ -288,8 +287,8 @@ class RigBuilder {
         joint.chain = chain_joint;
         joint.rest_local = node.rest_local;
         joint.tail_local = all[joint.tail_node].rest_local.translation;
-        joint.rest_length = glm::length(glm::vec3(toGlm(all[joint.tail_node].rest_world)[3]) -
-                                        glm::vec3(toGlm(node.rest_world)[3]));
+        joint.rest_length =
+            glm::length(glm::vec3(toGlm(all[joint.tail_node].rest_world)[3]) - glm::vec3(toGlm(node.rest_world)[3]));
         joint.parent_joint = parent_joint;
         if (parent_joint >= 0) {
           const Joint& parent = rig_->joints[parent_joint];
@@ -315,9 +314,10 @@ class RigBuilder {
   }
 
   void warnTipEntry(int n, int entry) {
-    warn("tip-entry-ignored", "'" + nodes()[n].name +
-                                  "' is a chain tip (no children): it only marks where its parent bone ends, so "
-                                  "its parameters are ignored",
+    warn("tip-entry-ignored",
+         "'" + nodes()[n].name +
+             "' is a chain tip (no children): it only marks where its parent bone ends, so "
+             "its parameters are ignored",
          model_.entryPath(model_.bones[entry]));
   }
 
@@ -348,8 +348,8 @@ class RigBuilder {
     std::unordered_map<std::string, int> external;
     for (const ColliderSpec& spec : *specs) {
       const bool plane = spec.shape == Collider::Shape::kPlane;
-      const bool finite = isFinite(toGlm(spec.offset)) && isFinite(toGlm(spec.tail)) && (!plane || isFinite(toGlm(spec.normal))) &&
-                          std::isfinite(spec.radius);
+      const bool finite = isFinite(toGlm(spec.offset)) && isFinite(toGlm(spec.tail)) &&
+                          (!plane || isFinite(toGlm(spec.normal))) && std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
         warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
         continue;
@@ -443,8 +443,8 @@ bool isSpringBoneName(const std::string& name) {
   return false;
 }
 
-std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model,
-                                    std::vector<Warning> warnings, const RigOptions& options) {
+std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model, std::vector<Warning> warnings,
+                                    const RigOptions& options) {
   return RigBuilder(std::move(skeleton), model, std::move(warnings), options).build();
 }
 

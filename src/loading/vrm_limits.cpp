@@ -39,9 +39,7 @@ Quat readRotation(const json& shape) {
   if (it == shape.end()) return Quat{};
   float v[4];
   if (!it->is_array() || it->size() != 4) return Quat{kUnset, kUnset, kUnset, kUnset};
-  for (std::size_t i = 0; i < 4; ++i) {
-    v[i] = toFloat((*it)[i]);
-  }
+  for (std::size_t i = 0; i < 4; ++i) { v[i] = toFloat((*it)[i]); }
   return Quat{v[0], v[1], v[2], v[3]};
 }
 
@@ -53,14 +51,16 @@ void warn(std::vector<Warning>& warnings, const char* code, std::string message,
 float clampAngle(float value, float max, const char* name, const std::string& label, const std::string& path,
                  std::vector<Warning>& warnings) {
   if (std::isnan(value)) {
-    warn(warnings, "limit-clamped", label + ": limit " + name + " is missing or not a number; using " +
-                                        std::to_string(max) + " (no bound)", path);
+    warn(warnings, "limit-clamped",
+         label + ": limit " + name + " is missing or not a number; using " + std::to_string(max) + " (no bound)", path);
     return max;
   }
   if (value < 0.0f || value > max) {
     const float clamped = value < 0.0f ? 0.0f : max;
-    warn(warnings, "limit-clamped", label + ": limit " + name + " " + std::to_string(value) + " is outside [0, " +
-                                        std::to_string(max) + "]; using " + std::to_string(clamped), path);
+    warn(warnings, "limit-clamped",
+         label + ": limit " + name + " " + std::to_string(value) + " is outside [0, " + std::to_string(max) +
+             "]; using " + std::to_string(clamped),
+         path);
     return clamped;
   }
   return value;
@@ -108,12 +108,9 @@ bool readLimitShape(const json& limit, JointLimit& out, std::string& why) {
 bool sanitizeJointLimit(JointLimit& limit, const std::string& label, const std::string& path,
                         std::vector<Warning>& warnings) {
   switch (limit.kind) {
-    case JointLimit::Kind::kNone:
-      return false;
+    case JointLimit::Kind::kNone: return false;
     case JointLimit::Kind::kCone:
-    case JointLimit::Kind::kHinge:
-      limit.angle = clampAngle(limit.angle, kPi, "angle", label, path, warnings);
-      break;
+    case JointLimit::Kind::kHinge: limit.angle = clampAngle(limit.angle, kPi, "angle", label, path, warnings); break;
     case JointLimit::Kind::kSpherical:
       limit.pitch = clampAngle(limit.pitch, kPi, "pitch", label, path, warnings);
       limit.yaw = clampAngle(limit.yaw, kHalfPi, "yaw", label, path, warnings);
@@ -229,7 +226,8 @@ void applyLimitOptions(const std::map<std::string, JointLimit>& limits, Rig& rig
     }
     const std::string what = "limit for '" + name + "': ";
     if (tip) {
-      rig.warnings.push_back(Warning{"limit-on-end-joint", what + "the node is a chain's tip, a tail only; ignored", ""});
+      rig.warnings.push_back(
+          Warning{"limit-on-end-joint", what + "the node is a chain's tip, a tail only; ignored", ""});
     } else {
       rig.warnings.push_back(Warning{"limit-joint-not-found", what + "no simulated joint has that name; ignored", ""});
     }

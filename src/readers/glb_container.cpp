@@ -14,8 +14,7 @@ constexpr std::size_t kGlbHeaderBytes = 12;
 constexpr std::size_t kChunkHeaderBytes = 8;
 
 std::uint32_t readU32(const std::uint8_t* p) {
-  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
-         (std::uint32_t(p[3]) << 24);
+  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
 }
 
 Error fail(ErrorCode code, std::string message) { return Error{code, std::move(message), {}}; }
@@ -46,8 +45,8 @@ Error locate(const std::uint8_t* data, std::size_t size, const char*& json_begin
     }
     const std::uint32_t declared = readU32(data + 8);
     if (declared > size) {
-      return fail(ErrorCode::kGlbTruncated, "GLB header declares " + std::to_string(declared) +
-                                                " bytes but only " + std::to_string(size) + " are present");
+      return fail(ErrorCode::kGlbTruncated, "GLB header declares " + std::to_string(declared) + " bytes but only " +
+                                                std::to_string(size) + " are present");
     }
     if (declared < kGlbHeaderBytes + kChunkHeaderBytes) {
       return fail(ErrorCode::kGlbBadChunk, "GLB header declares a length of " + std::to_string(declared) + " bytes");
@@ -56,8 +55,8 @@ Error locate(const std::uint8_t* data, std::size_t size, const char*& json_begin
     const std::uint32_t chunk_type = readU32(data + 16);
     if (chunk_type != kChunkJson) return fail(ErrorCode::kGlbBadChunk, "the first GLB chunk is not a JSON chunk");
     if (std::size_t(chunk_length) > declared - kGlbHeaderBytes - kChunkHeaderBytes) {
-      return fail(ErrorCode::kGlbTruncated, "GLB JSON chunk declares " + std::to_string(chunk_length) +
-                                                " bytes, more than the file holds");
+      return fail(ErrorCode::kGlbTruncated,
+                  "GLB JSON chunk declares " + std::to_string(chunk_length) + " bytes, more than the file holds");
     }
     json_begin = reinterpret_cast<const char*>(data + kGlbHeaderBytes + kChunkHeaderBytes);
     json_size = chunk_length;
@@ -69,8 +68,7 @@ Error locate(const std::uint8_t* data, std::size_t size, const char*& json_begin
     return {};
   }
   if (size < 4) {
-    return fail(ErrorCode::kGlbTruncated,
-                "input is " + std::to_string(size) + " bytes: too short to be a GLB or glTF");
+    return fail(ErrorCode::kGlbTruncated, "input is " + std::to_string(size) + " bytes: too short to be a GLB or glTF");
   }
   return fail(ErrorCode::kGlbBadMagic, "input is neither a GLB (magic 'glTF') nor glTF JSON text");
 }

@@ -121,8 +121,8 @@ Error parseSpringBonesText(std::string_view text, const std::string& hash, Model
   out = ModelEntry{};
   if (text.size() > kMaxMetadataBytes) {
     return Error{ErrorCode::kLimitExceeded,
-                 "springBones JSON is " + std::to_string(text.size()) +
-                     " bytes, more than the limit of " + std::to_string(kMaxMetadataBytes),
+                 "springBones JSON is " + std::to_string(text.size()) + " bytes, more than the limit of " +
+                     std::to_string(kMaxMetadataBytes),
                  ""};
   }
   std::vector<std::uint8_t> typed;

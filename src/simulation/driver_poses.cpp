@@ -44,7 +44,8 @@ void DriverPoses::resize(std::size_t drivers) {
   padded_ = (drivers + kVector - 1) / kVector * kVector;
   columns_.assign(kColumns * padded_, 0.0f);
   // Identities until read.
-  for (std::size_t c : {std::size_t{0}, std::size_t{5}, std::size_t{10}, std::size_t{15}, std::size_t{kQw}, std::size_t{kScale}}) {
+  for (std::size_t c :
+       {std::size_t{0}, std::size_t{5}, std::size_t{10}, std::size_t{15}, std::size_t{kQw}, std::size_t{kScale}}) {
     std::fill(column(c), column(c) + padded_, 1.0f);
   }
   flags_.assign(2 * padded_, 1);
@@ -115,8 +116,7 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
     // components scaled alike come straight from M, and one normalization removes the common
     // factor. The largest of the four candidates is used, to stay far from cancellation.
     const float s = std::sqrt(xx);
-    const float tw = s + m00 + m11 + m22, tx = s + m00 - m11 - m22, ty = s - m00 + m11 - m22,
-                tz = s - m00 - m11 + m22;
+    const float tw = s + m00 + m11 + m22, tx = s + m00 - m11 - m22, ty = s - m00 + m11 - m22, tz = s - m00 - m11 + m22;
     const bool by_w = tw >= tx && tw >= ty && tw >= tz;
     const bool by_x = !by_w && tx >= ty && tx >= tz;
     const bool by_y = !by_w && !by_x && ty >= tz;
@@ -154,8 +154,8 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
   for (std::size_t d = 0; d < count_; ++d) all_similar_ = all_similar_ && similar[d] != 0;
 }
 
-void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table,
-                        std::size_t first, std::size_t stride) {
+void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table, std::size_t first,
+                        std::size_t stride) {
   const std::size_t count = to.count_;
   const float *fx = from.column(kPx), *fy = from.column(kPy), *fz = from.column(kPz), *fqx = from.column(kQx),
               *fqy = from.column(kQy), *fqz = from.column(kQz), *fqw = from.column(kQw), *fs = from.column(kScale);

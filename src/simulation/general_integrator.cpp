@@ -127,7 +127,8 @@ glm::vec3 GeneralIntegrator::integrate(std::size_t j, const Joint& joint, const 
   // one pass (a push, then the length back) can leave it inside, so it gets the passes XPBD
   // takes, while a collider still moves it.
   const bool held_tail = held.active && held.slot[j] >= 0;
-  tail = collide(joint, in, tail, held_tail ? std::max(kDefaultXpbdIterations, rig_.collider_passes) : rig_.collider_passes);
+  tail = collide(joint, in, tail,
+                 held_tail ? std::max(kDefaultXpbdIterations, rig_.collider_passes) : rig_.collider_passes);
   previous_tail_[j] = current;
   current_tail_[j] = drivers_.toCenter(joint.center_driver, tail);
   return tail - in.head;

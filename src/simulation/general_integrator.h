@@ -38,7 +38,7 @@ class GeneralIntegrator : public SpringIntegrator {
 
   MatrixDrivers drivers_;
   std::vector<glm::vec3> current_tail_, previous_tail_;  // in the joint's center space
-  glm::vec3 step_wind_{0.0f};  // this step's wind: its pull times h
+  glm::vec3 step_wind_{0.0f};                            // this step's wind: its pull times h
 };
 
 }  // namespace springbones

@@ -40,7 +40,8 @@ float halfTurnSine(const float* a, const float* b) {
   return glm::length(glm::vec3(d.x, d.y, d.z));
 }
 
-std::unique_ptr<SpringIntegrator> makeIntegrator(const std::shared_ptr<const Rig>& rig, const InstanceOptions& options) {
+std::unique_ptr<SpringIntegrator> makeIntegrator(const std::shared_ptr<const Rig>& rig,
+                                                 const InstanceOptions& options) {
   std::shared_ptr<const RigConstants> constants = RigConstants::acquire(rig);
   if (options.integrator == Integrator::kXpbd) {
     XpbdOptions xpbd_options;
@@ -94,9 +95,9 @@ struct Instance::State {
   JumpCarry jump_carry;
 
   std::unique_ptr<SpringIntegrator> integrator;
-  SpringLanes* queued = nullptr;           // stepAll: the pool this step was queued in
+  SpringLanes* queued = nullptr;            // stepAll: the pool this step was queued in
   mutable std::vector<float> world_output;  // worldMatrices(), filled on request
-  std::vector<float> settle_rotations;     // settle(): the rotations before a step
+  std::vector<float> settle_rotations;      // settle(): the rotations before a step
 
   // The drivers as they are, held (no motion), and the tails seeded at rest under them.
   void seedHeld(bool with_controls) {
@@ -411,7 +412,8 @@ void Instance::carryFrom(const Instance& previous) {
   std::vector<int> old_joint_of_node(old_rig.skeleton.nodes.size(), -1);
   for (std::size_t j = 0; j < old_rig.joints.size(); ++j) {
     const int node = old_rig.joints[j].node;
-    if (node >= 0 && static_cast<std::size_t>(node) < old_joint_of_node.size()) old_joint_of_node[node] = static_cast<int>(j);
+    if (node >= 0 && static_cast<std::size_t>(node) < old_joint_of_node.size())
+      old_joint_of_node[node] = static_cast<int>(j);
   }
   // Per step, as the tails move: the previous instance's last frame may have run several steps.
   const float per_step = 1.0f / static_cast<float>(std::max(1, from.frame_steps));
@@ -433,14 +435,17 @@ void Instance::carryFrom(const Instance& previous) {
     from.integrator->tailState(static_cast<std::size_t>(o), now, before);
     const std::string* old_center = driverName(old_rig, old_joint->center_driver);
     const std::string* new_center = driverName(rig, joint.center_driver);
-    const bool same_center = old_center == nullptr ? new_center == nullptr : new_center != nullptr && *old_center == *new_center;
+    const bool same_center =
+        old_center == nullptr ? new_center == nullptr : new_center != nullptr && *old_center == *new_center;
     if (!same_center) {
       // Through world space: the old center as it last stepped, the new one as just read.
       glm::mat4 to_world(1.0f), to_center(1.0f);
-      if (old_joint->center_driver >= 0) to_world = from.previousPoses().matrix(static_cast<std::size_t>(old_joint->center_driver));
+      if (old_joint->center_driver >= 0)
+        to_world = from.previousPoses().matrix(static_cast<std::size_t>(old_joint->center_driver));
       if (joint.center_driver >= 0) {
         glm::mat4 inverse;
-        if (affineInverse(s.currentPoses().matrix(static_cast<std::size_t>(joint.center_driver)), inverse)) to_center = inverse;
+        if (affineInverse(s.currentPoses().matrix(static_cast<std::size_t>(joint.center_driver)), inverse))
+          to_center = inverse;
       }
       now = glm::vec3(to_center * (to_world * glm::vec4(now, 1.0f)));
       before = glm::vec3(to_center * (to_world * glm::vec4(before, 1.0f)));

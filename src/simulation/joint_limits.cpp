@@ -111,16 +111,14 @@ bool limitDirection(const JointLimit& limit, glm::vec3& d) {
       if (moved) d = glm::vec3(sin_yaw, cos_yaw * cos_pitch, cos_yaw * sin_pitch);
       return moved;
     }
-    case JointLimit::Kind::kNone:
-      break;
+    case JointLimit::Kind::kNone: break;
   }
   return false;
 }
 
 /// Keeps `tail` (world) inside the joint's limit: `frame` is the limit space in the world (the
 /// joint's rest world rotation x limitFrameLocal), `length` the bone's. Returns whether it moved.
-bool applyLimit(const JointLimit& limit, const glm::quat& frame, const glm::vec3& head, float length,
-                       glm::vec3& tail) {
+bool applyLimit(const JointLimit& limit, const glm::quat& frame, const glm::vec3& head, float length, glm::vec3& tail) {
   const glm::vec3 offset = tail - head;
   const float offset_length = glm::length(offset);
   if (!(offset_length > 1e-6f) || !std::isfinite(offset_length)) return false;

@@ -30,11 +30,11 @@ class JumpCarry {
   const float* carriedPoses() const { return carried_.data(); }
 
  private:
-  std::vector<glm::mat4> delta_;      // per driver: D
-  std::vector<glm::mat4> from_;       // per driver: its last pose
-  std::vector<glm::mat4> carried_to_; // per driver: the inverse of its carried last pose
-  std::vector<unsigned char> valid_;  // per driver: both poses had an inverse
-  std::vector<float> carried_;        // per driver: D x its last pose
+  std::vector<glm::mat4> delta_;       // per driver: D
+  std::vector<glm::mat4> from_;        // per driver: its last pose
+  std::vector<glm::mat4> carried_to_;  // per driver: the inverse of its carried last pose
+  std::vector<unsigned char> valid_;   // per driver: both poses had an inverse
+  std::vector<float> carried_;         // per driver: D x its last pose
 };
 
 }  // namespace springbones

@@ -85,7 +85,8 @@ SpringLanes* LaneIntegrator::step(const StepDrivers& drivers, float h, const glm
 void LaneIntegrator::balance(const DriverPoses& poses, const glm::vec3& wind_pull) {
   GeneralIntegrator::balance(poses, wind_pull);  // the general path's arrays are its scratch
   if (tails_in_lanes_) {
-    for (std::size_t j = 0; j < current_tail_.size(); ++j) lanes_->setTailState(copy_, j, current_tail_[j], current_tail_[j]);
+    for (std::size_t j = 0; j < current_tail_.size(); ++j)
+      lanes_->setTailState(copy_, j, current_tail_[j], current_tail_[j]);
   }
   world_from_lanes_ = false;
 }

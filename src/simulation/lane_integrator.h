@@ -31,8 +31,8 @@ class LaneIntegrator final : public GeneralIntegrator {
 
   std::shared_ptr<SpringLanes> lanes_;
   std::size_t copy_ = 0;
-  bool on_lanes_ = false;        // the path of the current frame's steps
-  bool tails_in_lanes_ = false;  // where the tail state is: the lanes, or the general path's arrays
+  bool on_lanes_ = false;          // the path of the current frame's steps
+  bool tails_in_lanes_ = false;    // where the tail state is: the lanes, or the general path's arrays
   bool world_from_lanes_ = false;  // where the joints' world transforms of the last step are
 };
 

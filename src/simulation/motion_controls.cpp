@@ -45,7 +45,8 @@ void balanceTails(const Rig& rig, const DriverPoses& poses, const glm::mat4* res
       if (!toUnitLength(local)) local = tail_axis[j];
       rotation = glm::normalize(rotation * rotationBetween(tail_axis[j], local));
     }
-    joint_world[j] = parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
+    joint_world[j] =
+        parent * composeTransform(toGlm(joint.rest_local.translation), rotation, toGlm(joint.rest_local.scale));
     storeQuat(rotations + 4 * j, rotation);
     glm::mat4 center_inverse;
     stored_tails[j] = joint.center_driver >= 0 && affineInverse(poses.matrix(joint.center_driver), center_inverse)

@@ -26,7 +26,8 @@ SpringIntegrator::SpringIntegrator(std::shared_ptr<const RigConstants> constants
 SpringIntegrator::~SpringIntegrator() = default;
 
 void SpringIntegrator::writeWorldMatrices(float* out) const {
-  for (std::size_t j = 0; j < joint_world_.size(); ++j) std::memcpy(out + 16 * j, &joint_world_[j][0][0], sizeof(float) * 16);
+  for (std::size_t j = 0; j < joint_world_.size(); ++j)
+    std::memcpy(out + 16 * j, &joint_world_[j][0][0], sizeof(float) * 16);
 }
 
 void SpringIntegrator::holdTails() {

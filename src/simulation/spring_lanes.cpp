@@ -26,8 +26,8 @@ constexpr float kMinLength = 1e-6f;
 constexpr float kOppositeDot = -0.999999f;  // rest axis and target nearly opposite
 
 // v' = v + w t + q x t with t = 2 (q x v): the rotation of v by the unit quaternion (x, y, z, w).
-inline void rotate(float qx, float qy, float qz, float qw, float vx, float vy, float vz, float& ox,
-                   float& oy, float& oz) {
+inline void rotate(float qx, float qy, float qz, float qw, float vx, float vy, float vz, float& ox, float& oy,
+                   float& oz) {
   const float tx = 2.0f * (qy * vz - qz * vy);
   const float ty = 2.0f * (qz * vx - qx * vz);
   const float tz = 2.0f * (qx * vy - qy * vx);
@@ -37,8 +37,8 @@ inline void rotate(float qx, float qy, float qz, float qw, float vx, float vy, f
 }
 
 // (a * b), Hamilton product.
-inline void multiply(float ax, float ay, float az, float aw, float bx, float by, float bz, float bw,
-                     float& ox, float& oy, float& oz, float& ow) {
+inline void multiply(float ax, float ay, float az, float aw, float bx, float by, float bz, float bw, float& ox,
+                     float& oy, float& oz, float& ow) {
   ox = aw * bx + ax * bw + ay * bz - az * by;
   oy = aw * by - ax * bz + ay * bw + az * bx;
   oz = aw * bz + ax * by - ay * bx + az * bw;
@@ -50,8 +50,16 @@ inline void multiply(float ax, float ay, float az, float aw, float bx, float by,
 // divisions of one then overlap the other's (one vector per block was ~5% slower in Node 20).
 constexpr std::size_t kBlockLanes = 8;
 enum SlotField : std::size_t {
-  kCx, kCy, kCz, kOx, kOy, kOz,  // current and previous tail, center space
-  kOutX, kOutY, kOutZ, kOutW,    // local rotation
+  kCx,
+  kCy,
+  kCz,
+  kOx,
+  kOy,
+  kOz,  // current and previous tail, center space
+  kOutX,
+  kOutY,
+  kOutZ,
+  kOutW,  // local rotation
   kSlotFields
 };
 enum TransformField : std::size_t { kPx, kPy, kPz, kQx, kQy, kQz, kQw, kS, kTransformFields };
@@ -292,7 +300,8 @@ void SpringLanes::growTo(std::size_t copies) {
       for (std::size_t lane = 0; lane < lanes_per_copy_; ++lane) {
         for (std::size_t k = 0; k < old_capacity; ++k) {
           const std::size_t from_lane = lane * old_capacity + k, to_lane = lane * capacity + k;
-          const float* from = v.data() + (row * old_blocks + from_lane / kBlockLanes) * block_floats + from_lane % kBlockLanes;
+          const float* from =
+              v.data() + (row * old_blocks + from_lane / kBlockLanes) * block_floats + from_lane % kBlockLanes;
           float* to = wider.data() + (row * blocks + to_lane / kBlockLanes) * block_floats + to_lane % kBlockLanes;
           for (std::size_t f = 0; f < fields; ++f) to[f * kBlockLanes] = from[f * kBlockLanes];
         }
@@ -512,14 +521,13 @@ void SpringLanes::runSlotFor(bool seed, bool center, bool continues, std::size_t
 }
 
 template <bool kSeed, bool kCenter, bool kContinues>
-void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy,
-                          float h) {
+void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h) {
   const SlotConstants c = constants_[depth * lanes_per_copy_ + lane];
   const std::size_t base_lane = lane * copy_capacity_;  // copy k is lane base_lane + k
   const std::size_t begin = base_lane + first_copy, end = base_lane + end_copy;
   const std::size_t row_blocks = depth * blocks_per_row_;
   float* const slot_row = slots_.data() + row_blocks * kSlotBlock;
-  const float* const parent_row = world_.data() + row_blocks * kTransformBlock;  // the parents' world
+  const float* const parent_row = world_.data() + row_blocks * kTransformBlock;               // the parents' world
   float* const joint_row = world_.data() + (row_blocks + blocks_per_row_) * kTransformBlock;  // the joints'
   float* const between_row = between_.data();
   // The center's transform per copy: its driver table row, read at the copy (lane - base_lane).

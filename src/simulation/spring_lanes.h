@@ -91,8 +91,7 @@ class SpringLanes {
   void runQueued();
 
   /// World transform of a joint of a copy after its last run (rig joint index).
-  void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation,
-                  float& scale) const;
+  void jointWorld(std::size_t copy, std::size_t joint, glm::vec3& position, glm::quat& rotation, float& scale) const;
 
   /// A joint's tail state in a copy: the current and previous tail, in the joint's center space.
   /// Read and rewritten when an instance carries its chains across a jump of its drivers.
@@ -102,23 +101,23 @@ class SpringLanes {
  private:
   // What a rig slot (depth, rig lane) needs besides its state, the same for every copy.
   struct SlotConstants {
-    float tx, ty, tz;      // rest translation
-    float rx, ry, rz, rw;  // rest rotation
-    float rs;              // rest uniform scale
-    float bx, by, bz;      // unit tail axis at rest, in the parent's frame
-    float nx, ny, nz;      // a unit axis perpendicular to it (180-degree turns)
-    float tail_distance;   // |tail_local|, 0 keeps the joint at rest
+    float tx, ty, tz;                      // rest translation
+    float rx, ry, rz, rw;                  // rest rotation
+    float rs;                              // rest uniform scale
+    float bx, by, bz;                      // unit tail axis at rest, in the parent's frame
+    float nx, ny, nz;                      // a unit axis perpendicular to it (180-degree turns)
+    float tail_distance;                   // |tail_local|, 0 keeps the joint at rest
     float stiffness, gravity_power, keep;  // keep = 1 - drag
-    float gx, gy, gz;      // unit gravity direction
+    float gx, gy, gz;                      // unit gravity direction
     float hit_radius;
-    std::size_t center;    // driver table row of the joint's center (0: world space)
+    std::size_t center;           // driver table row of the joint's center (0: world space)
     std::uint32_t collider_mask;  // bit c: collides with the rig's collider c
-    bool continues;        // the joint is its parent's tail, so its head is the parent's new tail
+    bool continues;               // the joint is its parent's tail, so its head is the parent's new tail
   };
   struct LaneStart {
-    int lane;          // rig lane that begins at this depth
-    int parent_lane;   // rig lane of the joint it branches off (one depth up), -1 for a root
-    int parent_driver; // rig driver of a root's parent, -1: the identity
+    int lane;           // rig lane that begins at this depth
+    int parent_lane;    // rig lane of the joint it branches off (one depth up), -1 for a root
+    int parent_driver;  // rig driver of a root's parent, -1: the identity
   };
 
   template <bool kSeed, bool kCenter, bool kContinues>
@@ -138,13 +137,13 @@ class SpringLanes {
   std::size_t worldIndex(std::size_t field, std::size_t row, std::size_t lane) const;
 
   std::shared_ptr<const RigConstants> rig_constants_;  // and through them the rig
-  std::size_t lanes_per_copy_ = 0;  // R
-  std::size_t depth_count_ = 0;     // D
-  std::size_t copy_capacity_ = 0;   // a whole number of blocks
-  std::size_t lane_capacity_ = 0;   // R * copy_capacity_
+  std::size_t lanes_per_copy_ = 0;                     // R
+  std::size_t depth_count_ = 0;                        // D
+  std::size_t copy_capacity_ = 0;                      // a whole number of blocks
+  std::size_t lane_capacity_ = 0;                      // R * copy_capacity_
   std::size_t blocks_per_row_ = 0;
-  std::size_t collider_count_ = 0;  // rig colliders on the lane path
-  int collider_passes_ = 1;         // Rig::collider_passes
+  std::size_t collider_count_ = 0;            // rig colliders on the lane path
+  int collider_passes_ = 1;                   // Rig::collider_passes
   std::vector<ColliderKind> collider_kinds_;  // per rig collider on the lane path
   bool any_center_ = false;
 
@@ -155,7 +154,7 @@ class SpringLanes {
   std::vector<int> joint_lane_, joint_depth_;   // per rig joint
 
   // Copies.
-  std::vector<float*> copy_rotations_;          // nullptr: a free copy
+  std::vector<float*> copy_rotations_;  // nullptr: a free copy
   std::vector<std::size_t> free_copies_;
   // The steps queued for runQueued() and its runs, sized with the copies so a frame allocates nothing.
   struct QueuedStep {

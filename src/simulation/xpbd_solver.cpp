@@ -17,8 +17,8 @@
 #include <cmath>
 
 #include "common/transform_math.h"
-#include "simulation/joint_limits.h"
 #include "simulation/grab.h"
+#include "simulation/joint_limits.h"
 #include "simulation/spring_lanes.h"
 
 namespace springbones {
@@ -70,7 +70,8 @@ XpbdSolver::XpbdSolver(std::shared_ptr<const RigConstants> constants, const Xpbd
 }
 
 void XpbdSolver::prepareCenters(const glm::mat4* driver_world) {
-  for (int c : constants_->center_drivers) center_inverse_valid_[c] = affineInverse(driver_world[c], center_inverse_[c]) ? 1 : 0;
+  for (int c : constants_->center_drivers)
+    center_inverse_valid_[c] = affineInverse(driver_world[c], center_inverse_[c]) ? 1 : 0;
 }
 
 // keep and w depend on h only through h / h0, so they are recomputed only when h changes (never,
@@ -130,8 +131,8 @@ void XpbdSolver::step(const glm::mat4* driver_world, const ColliderTable& collid
   step(driver_world, collider_scratch_.data(), count, h, rotations_out, joint_world_out);
 }
 
-void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* colliders, std::size_t collider_count,
-                      float h, float* rotations_out, glm::mat4* joint_world_out) {
+void XpbdSolver::step(const glm::mat4* driver_world, const XpbdCollider* colliders, std::size_t collider_count, float h,
+                      float* rotations_out, glm::mat4* joint_world_out) {
   if (!(h > 0.0f) || !std::isfinite(h)) return;
   prepareCenters(driver_world);
   prepareRates(h);
@@ -218,7 +219,8 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
     for (int c : joint.colliders) {
       if (c < 0 || static_cast<std::size_t>(c) >= collider_count) continue;
       const XpbdCollider& collider = colliders[c];
-      if (!moveTailByCollider(collider.kind, collider.start, collider.end, collider.radius, joint.hit_radius, x)) continue;
+      if (!moveTailByCollider(collider.kind, collider.start, collider.end, collider.radius, joint.hit_radius, x))
+        continue;
       projectLength(head, rest_offset, length, x);
       if (limited) applyLimit(joint.limit, limit_frame, head, length, x);
       contact = true;

@@ -11,9 +11,9 @@
 #include <memory>
 #include <vector>
 
+#include "common/glm_interop.h"
 #include "simulation/collider_kind.h"
 #include "simulation/rig_constants.h"
-#include "common/glm_interop.h"
 
 namespace springbones {
 
@@ -108,7 +108,7 @@ class XpbdSolver {
 
   // Per joint, for the current substep length (recomputed when h changes).
   float rates_h_ = -1.0f;
-  std::vector<float> keep_;          // velocity kept per substep, (1 - drag)^(h / h0)
+  std::vector<float> keep_;  // velocity kept per substep, (1 - drag)^(h / h0)
   glm::vec3 wind_{0.0f};
   std::vector<float> inverse_mass_;  // w of the tail in the solve, finite even at drag 1
 

@@ -147,7 +147,8 @@ TEST_F(BatchedStep, StepAllMatchesSteppingEachInstanceAlone) {
   }
   // The crowd moved: the comparison was not between two avatars at rest.
   Instance at_rest(hair_colliders_);
-  EXPECT_NE(std::memcmp(pairs_[0].member->rotations(), at_rest.rotations(), sizeof(float) * 4 * at_rest.jointCount()), 0);
+  EXPECT_NE(std::memcmp(pairs_[0].member->rotations(), at_rest.rotations(), sizeof(float) * 4 * at_rest.jointCount()),
+            0);
 }
 
 TEST_F(BatchedStep, SceneWithABudgetMatchesTheSameStepsTakenAlone) {

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "common/transform_math.h"
 #include "loading/body_colliders.h"
 #include "springbones/readers.h"
 #include "springbones/springbones.h"
 #include "test_helpers.h"
-#include "common/transform_math.h"
 
 namespace springbones {
 namespace {
@@ -33,7 +33,8 @@ glm::vec3 worldOf(const Skeleton& skeleton, const std::string& node, const Vec3&
 
 // The skeleton with its root scaled by `factor` (rest_world recomputed parents first).
 Skeleton scaled(Skeleton skeleton, float factor) {
-  skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale = fromGlm(toGlm(skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale) * factor);
+  skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale =
+      fromGlm(toGlm(skeleton.nodes[nodeIndex(skeleton, "Armature")].rest_local.scale) * factor);
   for (int n : skeleton.parents_first) {
     SkeletonNode& node = skeleton.nodes[n];
     const glm::mat4 local = composeTransform(node.rest_local);
@@ -107,11 +108,11 @@ TEST(BodyColliders, ScaleWithTheAvatarInWorldAndStayTheSameInBoneSpace) {
 TEST(BodyColliders, ShapesWhoseBonesTheGlbLacksAreLeftOutWithOneWarning) {
   // Hips -> Spine -> Spine1 -> Spine2 -> Neck -> Head and a hair chain, as the demo's wearable
   // carries them: no shoulders or arms.
-  const nlohmann::json nodes = nlohmann::json::array({
-      node("Avatar_Hips", {1}, {0, 1.0, 0}), node("Avatar_Spine", {2}, {0, 0.1, 0}),
-      node("Avatar_Spine1", {3}, {0, 0.12, 0}), node("Avatar_Spine2", {4}, {0, 0.12, 0}),
-      node("Avatar_Neck", {5}, {0, 0.16, -0.01}), node("Avatar_Head", {6}, {0, 0.1, 0.01}),
-      node("SpringBone_hair", {7}, {0, 0.05, -0.1}), node("SpringBone_hair_tip", {}, {0, -0.1, 0})});
+  const nlohmann::json nodes = nlohmann::json::array(
+      {node("Avatar_Hips", {1}, {0, 1.0, 0}), node("Avatar_Spine", {2}, {0, 0.1, 0}),
+       node("Avatar_Spine1", {3}, {0, 0.12, 0}), node("Avatar_Spine2", {4}, {0, 0.12, 0}),
+       node("Avatar_Neck", {5}, {0, 0.16, -0.01}), node("Avatar_Head", {6}, {0, 0.1, 0.01}),
+       node("SpringBone_hair", {7}, {0, 0.05, -0.1}), node("SpringBone_hair_tip", {}, {0, -0.1, 0})});
   RigOptions options;
   options.preset = ColliderPreset::kDclBody;
   const auto rig = rigFromJson(nodes, {{"SpringBone_hair", {{"isRoot", true}}}}, options);
@@ -131,8 +132,8 @@ TEST(BodyColliders, ShapesWhoseBonesTheGlbLacksAreLeftOutWithOneWarning) {
 }
 
 TEST(BodyColliders, NoArmatureNoShapes) {
-  const nlohmann::json nodes = nlohmann::json::array({node("Root", {1}), node("SpringBone_a", {2}, {0, 1, 0}),
-                                                      node("SpringBone_a_tip", {}, {0, -0.1, 0})});
+  const nlohmann::json nodes = nlohmann::json::array(
+      {node("Root", {1}), node("SpringBone_a", {2}, {0, 1, 0}), node("SpringBone_a_tip", {}, {0, -0.1, 0})});
   RigOptions options;
   options.preset = ColliderPreset::kDclBody;
   const auto rig = rigFromJson(nodes, {{"SpringBone_a", {{"isRoot", true}}}}, options);
@@ -140,7 +141,9 @@ TEST(BodyColliders, NoArmatureNoShapes) {
   const Warning* skipped = findWarning(rig->warnings, "body-collider-skipped", "");
   ASSERT_NE(skipped, nullptr);
   EXPECT_NE(skipped->message.find("head, neck, chest"), std::string::npos) << skipped->message;
-  EXPECT_NE(skipped->message.find("the GLB lacks Avatar_Spine1, Avatar_Spine2, Avatar_Neck, Avatar_Head,"), std::string::npos) << skipped->message;
+  EXPECT_NE(skipped->message.find("the GLB lacks Avatar_Spine1, Avatar_Spine2, Avatar_Neck, Avatar_Head,"),
+            std::string::npos)
+      << skipped->message;
 }
 
 TEST(BodyColliders, OffUnlessAsked) {

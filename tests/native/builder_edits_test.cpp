@@ -17,10 +17,11 @@ const char* kMale = "urn:decentraland:off-chain:base-avatars:BaseMale";
 const char* kFemale = "urn:decentraland:off-chain:base-avatars:BaseFemale";
 
 json entityWith(const std::string& male_file, const std::string& female_file, json springBones = nullptr) {
-  return {{"content", {{{"file", "male/hair.glb"}, {"hash", "bafyMALE"}},
-                       {{"file", "female/hair.glb"}, {"hash", "bafyFEMALE"}},
-                       {{"file", "shared.glb"}, {"hash", "bafySHARED"}},
-                       {{"file", "thumbnail.png"}, {"hash", "bafyTHUMB"}}}},
+  return {{"content",
+           {{{"file", "male/hair.glb"}, {"hash", "bafyMALE"}},
+            {{"file", "female/hair.glb"}, {"hash", "bafyFEMALE"}},
+            {{"file", "shared.glb"}, {"hash", "bafySHARED"}},
+            {{"file", "thumbnail.png"}, {"hash", "bafyTHUMB"}}}},
           {"metadata",
            {{"data",
              {{"representations",
@@ -58,7 +59,8 @@ TEST(BuilderEdits, DetectListsEveryCandidateParentsFirstWithDefaults) {
 }
 
 TEST(BuilderEdits, DetectPrefillsFromExistingEntries) {
-  const Skeleton s = skeletonOf(json::array({{{"name", "SpringBone_a"}, {"children", {1}}}, {{"name", "SpringBone_b"}}}));
+  const Skeleton s =
+      skeletonOf(json::array({{{"name", "SpringBone_a"}, {"children", {1}}}, {{"name", "SpringBone_b"}}}));
   ModelEntry existing;
   std::vector<Warning> warnings;
   ASSERT_FALSE(parseSpringBones(json{{"version", 1}, {"models", {{"h", {{"SpringBone_a", paramsWith(3.5)}}}}}}, "h",
@@ -91,14 +93,15 @@ TEST(BuilderEdits, SharedGlbForBothBodyShapesGetsOneEntry) {
 
 TEST(BuilderEdits, DropsEntriesOfHashesNoRepresentationUses) {
   const json old = {{"version", 1},
-                    {"models", {{"bafySTALE", {{"SpringBone_hair", paramsWith(2)}}},
-                                {"bafyTHUMB", {{"SpringBone_hair", paramsWith(2)}}},
-                                {"bafyMALE", {{"SpringBone_other", paramsWith(2)}}}}}};
+                    {"models",
+                     {{"bafySTALE", {{"SpringBone_hair", paramsWith(2)}}},
+                      {"bafyTHUMB", {{"SpringBone_hair", paramsWith(2)}}},
+                      {"bafyMALE", {{"SpringBone_other", paramsWith(2)}}}}}};
   json out;
   ASSERT_FALSE(setSpringBoneParams(old, entityWith("male/hair.glb", "female/hair.glb"), kMale, "SpringBone_hair",
                                    paramsWith(1.0), out));
   EXPECT_FALSE(out["models"].contains("bafySTALE"));
-  EXPECT_FALSE(out["models"].contains("bafyTHUMB"));  // a non-main file is not a model
+  EXPECT_FALSE(out["models"].contains("bafyTHUMB"));                         // a non-main file is not a model
   EXPECT_EQ(out["models"]["bafyMALE"]["SpringBone_other"]["stiffness"], 2);  // kept, still current
   EXPECT_EQ(out["models"]["bafyMALE"]["SpringBone_hair"]["stiffness"], 1.0);
 }
@@ -113,8 +116,7 @@ TEST(BuilderEdits, ManyRepresentationsAndStaleModelsStayLinear) {
     const std::string n = std::to_string(i);
     content.push_back({{"file", "f" + n + ".glb"}, {"hash", "bafy" + n}});
     // Only the last representation is for the male body shape.
-    representations.push_back(
-        {{"bodyShapes", {i + 1 == kCount ? kMale : kFemale}}, {"mainFile", "f" + n + ".glb"}});
+    representations.push_back({{"bodyShapes", {i + 1 == kCount ? kMale : kFemale}}, {"mainFile", "f" + n + ".glb"}});
     models["stale" + n] = {{"SpringBone_hair", paramsWith(2)}};
     if (i % 2 == 0) models["bafy" + n] = json::object();
   }
@@ -132,8 +134,8 @@ TEST(BuilderEdits, ManyRepresentationsAndStaleModelsStayLinear) {
 TEST(BuilderEdits, NullParamsRemoveTheEntry) {
   const json old = {{"version", 1}, {"models", {{"bafyMALE", {{"SpringBone_hair", paramsWith(2)}}}}}};
   json out;
-  ASSERT_FALSE(setSpringBoneParams(old, entityWith("male/hair.glb", "female/hair.glb"), kMale, "SpringBone_hair",
-                                   nullptr, out));
+  ASSERT_FALSE(
+      setSpringBoneParams(old, entityWith("male/hair.glb", "female/hair.glb"), kMale, "SpringBone_hair", nullptr, out));
   EXPECT_FALSE(out["models"]["bafyMALE"].contains("SpringBone_hair"));
 }
 
@@ -164,8 +166,8 @@ TEST(BuilderEdits, RejectsAnUnknownBodyShape) {
 
 TEST(BuilderEdits, RejectsAMainFileMissingFromTheContentList) {
   json out;
-  const Error e = setSpringBoneParams(nullptr, entityWith("male/missing.glb", "female/hair.glb"), kMale,
-                                      "SpringBone_x", paramsWith(1), out);
+  const Error e = setSpringBoneParams(nullptr, entityWith("male/missing.glb", "female/hair.glb"), kMale, "SpringBone_x",
+                                      paramsWith(1), out);
   EXPECT_EQ(e.code, ErrorCode::kInvalidArgument);
   EXPECT_NE(e.message.find("male/missing.glb"), std::string::npos);
 }
@@ -180,8 +182,9 @@ TEST(BuilderEdits, AcceptsABuilderItemWithAContentsMap) {
 
 TEST(BuilderEdits, RejectsParamsThatAreNotAnObject) {
   json out;
-  EXPECT_EQ(setSpringBoneParams(nullptr, entityWith("male/hair.glb", "female/hair.glb"), kMale, "SpringBone_x", 5, out).code,
-            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(
+      setSpringBoneParams(nullptr, entityWith("male/hair.glb", "female/hair.glb"), kMale, "SpringBone_x", 5, out).code,
+      ErrorCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -81,7 +81,9 @@ class CarryFrom : public testing::TestWithParam<Case> {
     o.integrator = GetParam().integrator;
     return o;
   }
-  std::shared_ptr<const Rig> rig(const json& bones) const { return test::rigFromJson(skeletonNodes(GetParam().general_path), bones); }
+  std::shared_ptr<const Rig> rig(const json& bones) const {
+    return test::rigFromJson(skeletonNodes(GetParam().general_path), bones);
+  }
 };
 
 TEST_P(CarryFrom, AnUnchangedRebuildContinuesAsTheOldInstanceWould) {

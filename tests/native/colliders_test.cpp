@@ -27,8 +27,9 @@ std::shared_ptr<const Rig> hangingJoint(const std::vector<ColliderSpec>& collide
   json nodes = {{{"name", "Avatar_Hips"}, {"children", {1}}},
                 {{"name", "springbone_a"}, {"children", {2}}, {"scale", {1.0, 1.0, z_scale}}},
                 {{"name", "springbone_a_tip"}, {"translation", {0, -0.3, 0}}}};
-  const json bones = {{"springbone_a", {{"isRoot", true}, {"stiffness", 0}, {"gravityPower", 0},
-                                        {"gravityDir", {0, -1, 0}}, {"drag", 1}}}};
+  const json bones = {
+      {"springbone_a",
+       {{"isRoot", true}, {"stiffness", 0}, {"gravityPower", 0}, {"gravityDir", {0, -1, 0}}, {"drag", 1}}}};
   RigOptions options;
   options.colliders = colliders;
   options.hit_radius = hit_radius;
@@ -155,8 +156,9 @@ TEST(Colliders, HeadSphereKeepsASwingingStrandOutside) {
                   {{"name", "springbone_hair"}, {"translation", {0, 0.25, 0}}, {"children", {2}}},
                   {{"name", "springbone_hair_1"}, {"translation", {0.12, 0, 0}}, {"children", {3}}},
                   {{"name", "springbone_hair_tip"}, {"translation", {0.12, 0, 0}}}};
-    const json bones = {{"springbone_hair", {{"isRoot", true}, {"stiffness", 0.2}, {"gravityPower", 2},
-                                             {"gravityDir", {-0.3, -1, 0}}, {"drag", 0.2}}}};
+    const json bones = {
+        {"springbone_hair",
+         {{"isRoot", true}, {"stiffness", 0.2}, {"gravityPower", 2}, {"gravityDir", {-0.3, -1, 0}}, {"drag", 0.2}}}};
     RigOptions options;
     if (with_collider) options.colliders = {test::sphereSpec("Avatar_Neck", {0, 0.12f, 0}, 0.1f)};
     options.hit_radius = 0.01f;
@@ -262,8 +264,9 @@ TEST(ExtendedColliders, ThePlaneTurnsAndScalesWithItsNode) {
   const ShapeCase turned = shapeCases()[2];
   auto rig = hangingJoint({plane({0, 0, 0}, {0, 1, 0})}, 0.02f);
   Instance instance(rig);
-  setDriver(instance, driverNamed(*rig, "Avatar_Head"),
-            glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, -0.25f, 0)), -glm::pi<float>() / 4, glm::vec3(0, 0, 1)));
+  setDriver(
+      instance, driverNamed(*rig, "Avatar_Head"),
+      glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, -0.25f, 0)), -glm::pi<float>() / 4, glm::vec3(0, 0, 1)));
   instance.step(1.0 / 60);
   EXPECT_NEAR(tailOf(instance).x, turned.expected.x, 1e-6);
   EXPECT_NEAR(tailOf(instance).y, turned.expected.y, 1e-6);
@@ -305,7 +308,9 @@ TEST(ExtendedColliders, KeepASwingingStrandOnTheAllowedSideWithBothIntegrators) 
       {"inside sphere", insideSphere({0.1f, -0.1f, 0}, 0.16f),
        [](const glm::vec3& t) { return glm::length(t - glm::vec3(0.1f, -0.1f, 0)) - (0.16f - 0.01f); }},
       {"inside capsule", insideCapsule({0.05f, 0, 0}, {0.05f, -0.4f, 0}, 0.1f),
-       [](const glm::vec3& t) { return std::hypot(t.x - 0.05f, t.z) - (0.1f - 0.01f); }},  // tails stay within its length
+       [](const glm::vec3& t) {
+         return std::hypot(t.x - 0.05f, t.z) - (0.1f - 0.01f);
+       }},  // tails stay within its length
       {"plane", plane({-0.05f, 0, 0}, {1, 0, 0}), [](const glm::vec3& t) { return 0.01f - (t.x + 0.05f); }},
   };
   for (const Case& shape : cases) {
@@ -315,8 +320,12 @@ TEST(ExtendedColliders, KeepASwingingStrandOnTheAllowedSideWithBothIntegrators) 
                       {{"name", "springbone_s"}, {"children", {2}}},
                       {{"name", "springbone_s_1"}, {"translation", {0, -0.12, 0}}, {"children", {3}}},
                       {{"name", "springbone_s_tip"}, {"translation", {0, -0.12, 0}}}};
-        const json bones = {{"springbone_s", {{"isRoot", true}, {"stiffness", 0.1}, {"gravityPower", 1},
-                                              {"gravityDir", {-1, -0.2, 0}}, {"drag", 0.1}}}};
+        const json bones = {{"springbone_s",
+                             {{"isRoot", true},
+                              {"stiffness", 0.1},
+                              {"gravityPower", 1},
+                              {"gravityDir", {-1, -0.2, 0}},
+                              {"drag", 0.1}}}};
         RigOptions options;
         if (with_collider) options.colliders = {shape.spec};
         options.hit_radius = 0.01f;
@@ -353,8 +362,8 @@ TEST(ExtendedColliders, RigReportsAndBadSpecsAreSkippedWithWarnings) {
   ColliderSpec nan_normal = plane({0, 0, 0}, {std::nanf(""), 1, 0});
   ColliderSpec huge_normal = plane({0, 0, 0}, {3e38f, 3e38f, 0});
   ColliderSpec inside_plane = plane({0, 0, 0}, {0, 2, 0});
-  inside_plane.inside = true;   // has no meaning for a plane: dropped
-  inside_plane.radius = 0.5f;   // nor has a radius
+  inside_plane.inside = true;  // has no meaning for a plane: dropped
+  inside_plane.radius = 0.5f;  // nor has a radius
   auto rig = hangingJoint({zero_normal, nan_normal, huge_normal, inside_plane}, 0.02f);
   ASSERT_EQ(rig->colliders.size(), 2u);
   EXPECT_TRUE(test::vecNear(rig->colliders[0].normal, glm::vec3(1, 1, 0) / std::sqrt(2.0f), 1e-6f));
@@ -386,9 +395,9 @@ TEST(ExtendedColliders, HostileValuesStayBounded) {
         options.integrator = integrator;
         Instance instance(rig, options);
         const int head = driverNamed(*rig, "Avatar_Head");
-        for (const glm::mat4& m : {glm::scale(glm::mat4(1), glm::vec3(1e-30f)), glm::scale(glm::mat4(1), glm::vec3(1e30f)),
-                                   glm::mat4(0.0f), glm::mat4(nan), glm::mat4(inf),
-                                   glm::scale(glm::mat4(1), glm::vec3(1, 0, 1)), glm::mat4(1.0f)}) {
+        for (const glm::mat4& m :
+             {glm::scale(glm::mat4(1), glm::vec3(1e-30f)), glm::scale(glm::mat4(1), glm::vec3(1e30f)), glm::mat4(0.0f),
+              glm::mat4(nan), glm::mat4(inf), glm::scale(glm::mat4(1), glm::vec3(1, 0, 1)), glm::mat4(1.0f)}) {
           setDriver(instance, head, m);
           for (int i = 0; i < 5; ++i) instance.step(1.0 / 60);
           const float* q = instance.rotations();

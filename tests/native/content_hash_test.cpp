@@ -4,8 +4,8 @@
 // of npm @dcl/hashing 3.0.4 (and, for the small-layout table, the ipfs-unixfs-importer bundled in
 // it). The two worked examples of docs/content-hash.md are among them.
 // To regenerate: npm install && node scripts/content_hash_reference.mjs
-#include "content_hash/cid.h"
 #include "springbones/content_hash.h"
+#include "content_hash/cid.h"
 #include "test_helpers.h"
 
 #include <gtest/gtest.h>
@@ -34,9 +34,7 @@ const std::vector<std::uint8_t>& largeMod251() {
   return bytes;
 }
 
-std::string hashOf(const std::vector<std::uint8_t>& bytes) {
-  return contentHash(bytes.data(), bytes.size());
-}
+std::string hashOf(const std::vector<std::uint8_t>& bytes) { return contentHash(bytes.data(), bytes.size()); }
 
 std::string hashOfText(const std::string& text) {
   return contentHash(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
@@ -82,10 +80,8 @@ TEST(ContentHash, RootBlockOfTwoUnequalChunksMatchesTheWorkedExampleByteForByte)
   leaves[0].tsize = leaves[0].file_size = 262144;
   leaves[1].cid = detail::rawLeafCid(bytes.data() + 262144, 37856);
   leaves[1].tsize = leaves[1].file_size = 37856;
-  EXPECT_EQ(detail::cidToString(leaves[0].cid),
-            "bafkreibwg653s7uy2ae7fpsnbvffbzzughlla6z63y4yfhqjxp2wnklsua");
-  EXPECT_EQ(detail::cidToString(leaves[1].cid),
-            "bafkreihmeryjakzkeedwajzr3jez6usp3krva6s5adaoxghprwa4nbwiye");
+  EXPECT_EQ(detail::cidToString(leaves[0].cid), "bafkreibwg653s7uy2ae7fpsnbvffbzzughlla6z63y4yfhqjxp2wnklsua");
+  EXPECT_EQ(detail::cidToString(leaves[1].cid), "bafkreihmeryjakzkeedwajzr3jez6usp3krva6s5adaoxghprwa4nbwiye");
 
   const std::vector<std::uint8_t> block = detail::encodeFileNode(leaves, 2);
   // Two PBLinks {Hash, Name "", Tsize}, then Data = UnixFS {Type 2, filesize 300000,
@@ -98,8 +94,7 @@ TEST(ContentHash, RootBlockOfTwoUnequalChunksMatchesTheWorkedExampleByteForByte)
 }
 
 TEST(ContentHash, OneMillionBytesMatchTheReference) {
-  EXPECT_EQ(contentHash(largeMod251().data(), 1000000),
-            "bafybeibx62obrkybp46hx3ivh53q4rnptgkunpgtwiib5lfelfgt2ekihm");
+  EXPECT_EQ(contentHash(largeMod251().data(), 1000000), "bafybeibx62obrkybp46hx3ivh53q4rnptgkunpgtwiib5lfelfgt2ekihm");
 }
 
 TEST(ContentHash, ExactlyOneHundredSeventyFourChunksFitUnderOneRoot) {
@@ -122,8 +117,7 @@ TEST(ContentHash, ReadsOnlyTheGivenRange) {
   // The same bytes at another address, followed by other bytes, hash the same.
   std::vector<std::uint8_t> padded(1 + 300000 + 5, 0xee);
   std::fill(padded.begin() + 1, padded.begin() + 1 + 300000, std::uint8_t{0x07});
-  EXPECT_EQ(contentHash(padded.data() + 1, 300000),
-            "bafybeifkhqdf426lf6kl5oshczyo2ahhhib6zxruehy2yo72ay74kukg3q");
+  EXPECT_EQ(contentHash(padded.data() + 1, 300000), "bafybeifkhqdf426lf6kl5oshczyo2ahhhib6zxruehy2yo72ay74kukg3q");
 }
 
 TEST(ContentHash, IsBase32LowerCaseWithoutPadding) {
@@ -168,8 +162,7 @@ constexpr LayoutCase kLayoutCases[] = {
 
 TEST(ContentHash, DeepTreesWithSmallLayoutsMatchTheImporter) {
   for (const LayoutCase& c : kLayoutCases) {
-    EXPECT_EQ(detail::contentHashWithLayout(largeMod251().data(), c.size, c.chunk_size, c.max_children),
-              c.cid)
+    EXPECT_EQ(detail::contentHashWithLayout(largeMod251().data(), c.size, c.chunk_size, c.max_children), c.cid)
         << "chunk " << c.chunk_size << ", fan-out " << c.max_children << ", size " << c.size;
   }
 }

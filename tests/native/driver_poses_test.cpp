@@ -36,7 +36,7 @@ TEST(DriverPoses, DecomposesSimilaritiesInEveryQuadrantOfTheQuaternion) {
   // Rotations near 0 and near 180 degrees about each axis pick each of the four largest
   // candidates; five drivers also leave a partly filled SIMD vector.
   const std::vector<glm::mat4> matrices = {
-      similarity({1, 2, 3}, 0.3f, {0, 1, 0}, 1.0f),     similarity({0, 0, 0}, 3.1f, {1, 0, 0}, 2.0f),
+      similarity({1, 2, 3}, 0.3f, {0, 1, 0}, 1.0f), similarity({0, 0, 0}, 3.1f, {1, 0, 0}, 2.0f),
       similarity({-1, 0, 5}, 3.0f, {0, 1, 0.1f}, 0.5f), similarity({0, 1, 0}, 3.13f, {0.1f, 0, 1}, 0.01f),
       similarity({4, 4, 4}, 1.7f, {1, 1, 1}, 3.0f)};
   DriverPoses previous, poses;

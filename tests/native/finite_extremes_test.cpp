@@ -40,8 +40,10 @@ std::shared_ptr<const Rig> hairRig(const RigOptions& options = {}, float gravity
   const std::vector<std::uint8_t> glb = test::makeGlb(json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes}}.dump());
   Skeleton skeleton;
   EXPECT_FALSE(loadSkeleton(glb.data(), glb.size(), skeleton));
-  const json entry = {{"stiffness", 0.2}, {"gravityPower", gravity_power}, {"gravityDir", {0, -1, 0}}, {"drag", 0.4}, {"isRoot", true}};
-  const json metadata = {{"version", 1}, {"models", {{kHash, {{"SpringBone_hair", entry}, {"SpringBone_earring", entry}}}}}};
+  const json entry = {
+      {"stiffness", 0.2}, {"gravityPower", gravity_power}, {"gravityDir", {0, -1, 0}}, {"drag", 0.4}, {"isRoot", true}};
+  const json metadata = {{"version", 1},
+                         {"models", {{kHash, {{"SpringBone_hair", entry}, {"SpringBone_earring", entry}}}}}};
   ModelEntry model;
   std::vector<Warning> warnings;
   EXPECT_FALSE(parseSpringBones(metadata, kHash, model, warnings));
@@ -85,9 +87,7 @@ TEST(FiniteExtremes, WindDirectionsWhoseFloatLengthOverflowsOrUnderflowsStillBlo
     EXPECT_EQ(instance.wind().strength, 2.0f) << size;
     EXPECT_EQ(instance.wind().direction.x, size > 0 ? 1.0f : -1.0f) << size;
     EXPECT_EQ(instance.wind().direction.y, 0.0f) << size;
-    if (size > 0) {
-      EXPECT_EQ(rotationsAfter(instance, 60), blown) << "direction (" << size << ", 0, 0)";
-    }
+    if (size > 0) { EXPECT_EQ(rotationsAfter(instance, 60), blown) << "direction (" << size << ", 0, 0)"; }
   }
   // Mixed sizes keep their ratio: (3e38, 0, 3e38) is the diagonal.
   Instance diagonal(rig);
@@ -209,12 +209,14 @@ TEST(FiniteExtremes, ColliderSizesBeyondTheLimitAreIgnoredWithAWarning) {
 ::testing::AssertionResult finiteOutputs(const Instance& instance) {
   const float* world = instance.worldMatrices();
   for (std::size_t k = 0; k < 16 * instance.jointCount(); ++k) {
-    if (!std::isfinite(world[k])) return ::testing::AssertionFailure() << "world matrix entry " << k << " is " << world[k];
+    if (!std::isfinite(world[k]))
+      return ::testing::AssertionFailure() << "world matrix entry " << k << " is " << world[k];
   }
   const float* r = instance.rotations();
   for (std::size_t j = 0; j < instance.jointCount(); ++j) {
     const double len = std::hypot(std::hypot(r[4 * j], r[4 * j + 1]), std::hypot(r[4 * j + 2], r[4 * j + 3]));
-    if (!(std::fabs(len - 1.0) < 1e-4)) return ::testing::AssertionFailure() << "rotation " << j << " has length " << len;
+    if (!(std::fabs(len - 1.0) < 1e-4))
+      return ::testing::AssertionFailure() << "rotation " << j << " has length " << len;
   }
   return ::testing::AssertionSuccess();
 }
@@ -261,8 +263,8 @@ TEST(FiniteExtremes, WorldMatricesStayFiniteUnderHugeOrDegenerateFiniteDrivers) 
       {"non-uniform at the bound", scaled(kMaxDriverEntry, 1, 1, 0, 1.6f, 0)},
       {"non-uniform at the bound, tiny", scaled(kMaxDriverEntry, 1e-30f, 1, 0, 1.6f, 0)},
       {"translation at the bound", scaled(1, 1, 1, kMaxDriverEntry, -kMaxDriverEntry, kMaxDriverEntry)},
-      {"scale and translation at the bound", scaled(kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry,
-                                                   kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry)},
+      {"scale and translation at the bound",
+       scaled(kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry)},
       {"mirrored at the bound", scaled(-kMaxDriverEntry, kMaxDriverEntry, kMaxDriverEntry, 0, 1.6f, 0)},
   };
   for (Integrator integrator : {Integrator::kVrm, Integrator::kXpbd}) {
@@ -281,9 +283,9 @@ TEST(FiniteExtremes, WorldMatricesStayFiniteUnderHugeOrDegenerateFiniteDrivers) 
           const bool extreme = frame >= 5 && frame < 15;
           std::memcpy(m, extreme ? d.m.data() : rest.data(), sizeof(float) * 16);
           instance.step(1.0 / 60);
-          ASSERT_TRUE(finiteOutputs(instance)) << d.what << ", frame " << frame << ", "
-                                               << (integrator == Integrator::kXpbd ? "xpbd" : "vrm") << ", "
-                                               << options.colliders.size() << " colliders";
+          ASSERT_TRUE(finiteOutputs(instance))
+              << d.what << ", frame " << frame << ", " << (integrator == Integrator::kXpbd ? "xpbd" : "vrm") << ", "
+              << options.colliders.size() << " colliders";
         }
         // Seeded under the extreme driver too.
         std::memcpy(m, d.m.data(), sizeof(float) * 16);

@@ -46,21 +46,13 @@ TEST(FuzzRegressions, GlbAndMetadataInputsKeepEveryInvariant) {
   EXPECT_GT(replay("glb_metadata", fuzz::runGlbAndMetadata), 0u);
 }
 
-TEST(FuzzRegressions, EntityInputsKeepEveryInvariant) {
-  EXPECT_GT(replay("entity", fuzz::runEntity), 0u);
-}
+TEST(FuzzRegressions, EntityInputsKeepEveryInvariant) { EXPECT_GT(replay("entity", fuzz::runEntity), 0u); }
 
-TEST(FuzzRegressions, MetadataInputsKeepEveryInvariant) {
-  EXPECT_GT(replay("metadata", fuzz::runMetadata), 0u);
-}
+TEST(FuzzRegressions, MetadataInputsKeepEveryInvariant) { EXPECT_GT(replay("metadata", fuzz::runMetadata), 0u); }
 
-TEST(FuzzRegressions, TypedInputsKeepEveryInvariant) {
-  EXPECT_GT(replay("typed", fuzz::runTyped), 0u);
-}
+TEST(FuzzRegressions, TypedInputsKeepEveryInvariant) { EXPECT_GT(replay("typed", fuzz::runTyped), 0u); }
 
-TEST(FuzzRegressions, SimulationInputsKeepEveryInvariant) {
-  EXPECT_GT(replay("simulation", fuzz::runSimulation), 0u);
-}
+TEST(FuzzRegressions, SimulationInputsKeepEveryInvariant) { EXPECT_GT(replay("simulation", fuzz::runSimulation), 0u); }
 
 #ifdef SPRINGBONES_FUZZ_HAS_VRM
 TEST(FuzzRegressions, VrmInputsKeepEveryInvariant) { EXPECT_GT(replay("vrm", fuzz::runVrm), 0u); }

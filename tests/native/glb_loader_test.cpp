@@ -49,16 +49,13 @@ ErrorCode loadCode(const std::vector<std::uint8_t>& bytes) {
   return e.code;
 }
 
-ErrorCode loadCode(const std::string& text) {
-  return loadCode(std::vector<std::uint8_t>(text.begin(), text.end()));
-}
+ErrorCode loadCode(const std::string& text) { return loadCode(std::vector<std::uint8_t>(text.begin(), text.end())); }
 
 std::vector<std::uint8_t> bytesOf(const std::string& s) { return {s.begin(), s.end()}; }
 
 ::testing::AssertionResult lastMessageMentions(const std::string& part) {
   if (g_last_message.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "message \"" << g_last_message << "\" does not mention \""
-                                       << part << "\"";
+  return ::testing::AssertionFailure() << "message \"" << g_last_message << "\" does not mention \"" << part << "\"";
 }
 
 // A minimal valid document: one node.
@@ -70,8 +67,8 @@ const std::string kOneNode = R"({"asset":{"version":"2.0"},"nodes":[{"name":"A"}
 void expectAdrExampleHierarchy(const Skeleton& s) {
   // The ADR's Full Example: 0 Avatar_Head {1, 2}, 1 earring {3}, 2 hair {4}, 3 and 4 tips.
   ASSERT_EQ(s.nodes.size(), 5u);
-  const char* names[] = {"Avatar_Head", "SpringBone_earring_r", "SpringBone_hair_left",
-                         "springbone_earring_r_tip", "SpringBone_hair_left_tip"};
+  const char* names[] = {"Avatar_Head", "SpringBone_earring_r", "SpringBone_hair_left", "springbone_earring_r_tip",
+                         "SpringBone_hair_left_tip"};
   const int parents[] = {-1, 0, 0, 1, 2};
   for (int i = 0; i < 5; ++i) {
     EXPECT_EQ(s.nodes[i].name, names[i]);
@@ -90,9 +87,7 @@ void expectAdrExampleHierarchy(const Skeleton& s) {
   }
 }
 
-TEST(GlbLoader, LoadsAdrExampleGlb) {
-  expectAdrExampleHierarchy(test::loadFixtureSkeleton("adr_example.glb"));
-}
+TEST(GlbLoader, LoadsAdrExampleGlb) { expectAdrExampleHierarchy(test::loadFixtureSkeleton("adr_example.glb")); }
 
 TEST(GlbLoader, LoadsAdrExampleGltfTextWithTheSameHierarchy) {
   expectAdrExampleHierarchy(test::loadFixtureSkeleton("adr_example.gltf"));
@@ -136,8 +131,7 @@ TEST(GlbLoader, HasEveryAvatarBoneInTheAvatarFixture) {
   const int armature = test::nodeIndex(s, "Armature");
   EXPECT_EQ(s.nodes[hips].parent, armature);
   EXPECT_EQ(s.nodes[test::nodeIndex(s, "Avatar_Head")].parent, test::nodeIndex(s, "Avatar_Neck"));
-  EXPECT_EQ(s.nodes[test::nodeIndex(s, "Avatar_LeftHandPinky4")].parent,
-            test::nodeIndex(s, "Avatar_LeftHandPinky3"));
+  EXPECT_EQ(s.nodes[test::nodeIndex(s, "Avatar_LeftHandPinky4")].parent, test::nodeIndex(s, "Avatar_LeftHandPinky3"));
 }
 
 TEST(GlbLoader, ReadsTranslationRotationAndScale) {
@@ -241,9 +235,7 @@ TEST(GlbLoader, OrdersEveryNodeAfterItsParentEvenWhenChildrenComeFirstInTheFile)
   for (std::size_t k = 0; k < s.parents_first.size(); ++k) position[s.parents_first[k]] = int(k);
   for (int i = 0; i < 4; ++i) {
     ASSERT_GE(position[i], 0) << "node " << i << " missing from parents_first";
-    if (s.nodes[i].parent >= 0) {
-      EXPECT_LT(position[s.nodes[i].parent], position[i]);
-    }
+    if (s.nodes[i].parent >= 0) { EXPECT_LT(position[s.nodes[i].parent], position[i]); }
   }
 }
 
@@ -319,16 +311,13 @@ TEST(GlbLoader, RejectsNullBufferWithNonZeroSize) {
   EXPECT_EQ(loadSkeleton(nullptr, 16, s).code, ErrorCode::kInvalidArgument);
 }
 
-TEST(GlbLoader, RejectsInputTooShortToIdentify) {
-  EXPECT_EQ(loadCode(bytesOf("gl")), ErrorCode::kGlbTruncated);
-}
+TEST(GlbLoader, RejectsInputTooShortToIdentify) { EXPECT_EQ(loadCode(bytesOf("gl")), ErrorCode::kGlbTruncated); }
 
 TEST(GlbLoader, RejectsTruncatedGlbHeader) {
   // The magic is there but the 12-byte header and the first 8-byte chunk header are not.
   const std::vector<std::uint8_t> glb = makeGlb(kOneNode);
   for (std::size_t size : {4u, 11u, 12u, 19u}) {
-    EXPECT_EQ(loadCode(std::vector<std::uint8_t>(glb.begin(), glb.begin() + size)),
-              ErrorCode::kGlbTruncated)
+    EXPECT_EQ(loadCode(std::vector<std::uint8_t>(glb.begin(), glb.begin() + size)), ErrorCode::kGlbTruncated)
         << size << " bytes";
   }
 }
@@ -427,8 +416,7 @@ TEST(GlbLoader, RejectsMissingAssetVersion) {
 }
 
 TEST(GlbLoader, RejectsNodesThatAreNotAnArray) {
-  EXPECT_EQ(loadCode(std::string(R"({"asset":{"version":"2.0"},"nodes":{"0":{}}})")),
-            ErrorCode::kGltfInvalid);
+  EXPECT_EQ(loadCode(std::string(R"({"asset":{"version":"2.0"},"nodes":{"0":{}}})")), ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("not an array"));
 }
 
@@ -441,10 +429,10 @@ TEST(GlbLoader, RejectsNodeThatIsNotAnObject) {
 
 TEST(GlbLoader, RejectsTransformArraysOfTheWrongLength) {
   const std::pair<const char*, json> cases[] = {
-      {"translation", {0, 1}},                // 2 numbers
-      {"translation", {0, 1, 2, 3}},          // 4 numbers
-      {"rotation", {0, 0, 1}},                // 3 numbers
-      {"scale", json::array()},               // empty
+      {"translation", {0, 1}},                    // 2 numbers
+      {"translation", {0, 1, 2, 3}},              // 4 numbers
+      {"rotation", {0, 0, 1}},                    // 3 numbers
+      {"scale", json::array()},                   // empty
       {"matrix", json(std::vector<int>(15, 0))},  // 15 numbers
   };
   for (const auto& [field, value] : cases) {
@@ -457,12 +445,8 @@ TEST(GlbLoader, RejectsTransformArraysOfTheWrongLength) {
 
 TEST(GlbLoader, RejectsTransformsThatAreNotNumbers) {
   const std::pair<const char*, json> cases[] = {
-      {"translation", {0, "1", 2}},
-      {"rotation", {0, 0, 0, nullptr}},
-      {"scale", "1 1 1"},
-      {"scale", {true, 1, 1}},
-      {"translation", {{0}, 1, 2}},
-      {"translation", 3},
+      {"translation", {0, "1", 2}}, {"rotation", {0, 0, 0, nullptr}}, {"scale", "1 1 1"},
+      {"scale", {true, 1, 1}},      {"translation", {{0}, 1, 2}},     {"translation", 3},
   };
   for (const auto& [field, value] : cases) {
     json n = node("A");
@@ -490,24 +474,19 @@ TEST(GlbLoader, RejectsChildIndexOutOfRange) {
 }
 
 TEST(GlbLoader, RejectsNegativeChildIndex) {
-  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {-1}}}, node("B")})),
-            ErrorCode::kGltfInvalid);
+  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {-1}}}, node("B")})), ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
 }
 
 TEST(GlbLoader, RejectsChildIndexThatIsNotAnInteger) {
-  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {0.5}}}, node("B")})),
-            ErrorCode::kGltfInvalid);
+  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {0.5}}}, node("B")})), ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
   // 1.0 is the number 1: a page's JSON.parse cannot tell them apart, so neither does the reader
   // (as JSON Schema since draft 6 counts 1.0 an integer).
-  EXPECT_EQ(loadCode(std::string(R"({"asset":{"version":"2.0"},"nodes":[{"children":[1.0]},{}]})")),
-            ErrorCode::kOk);
-  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {"1"}}}, node("B")})),
-            ErrorCode::kGltfInvalid);
+  EXPECT_EQ(loadCode(std::string(R"({"asset":{"version":"2.0"},"nodes":[{"children":[1.0]},{}]})")), ErrorCode::kOk);
+  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", {"1"}}}, node("B")})), ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
-  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", 1}}, node("B")})),
-            ErrorCode::kGltfInvalid);
+  EXPECT_EQ(loadCode(gltfWithNodes({{{"name", "A"}, {"children", 1}}, node("B")})), ErrorCode::kGltfInvalid);
   EXPECT_TRUE(lastMessageMentions("child"));
 }
 
@@ -561,8 +540,7 @@ TEST(GlbLoader, RejectsRestPoseThatOverflowsFloat) {
 TEST(GlbLoader, RejectsNodeListedAsChildOfTwoParents) {
   EXPECT_EQ(loadCode(test::readFixture("two_parents.gltf")), ErrorCode::kHierarchyMultipleParents);
   // The same child twice in one parent's list is also a second parent link.
-  EXPECT_EQ(loadCode(gltfWithNodes({node("A", {1, 1}), node("B")})),
-            ErrorCode::kHierarchyMultipleParents);
+  EXPECT_EQ(loadCode(gltfWithNodes({node("A", {1, 1}), node("B")})), ErrorCode::kHierarchyMultipleParents);
 }
 
 TEST(GlbLoader, RejectsNodeThatIsItsOwnChild) {
@@ -573,8 +551,7 @@ TEST(GlbLoader, RejectsCycleThatNoRootLeadsTo) {
   // cycle.gltf: node 0 is a root; nodes 1 and 2 are each other's parent.
   EXPECT_EQ(loadCode(test::readFixture("cycle.gltf")), ErrorCode::kHierarchyCycle);
   // Every node in the cycle, no root at all: 0 -> 1 -> 2 -> 0.
-  EXPECT_EQ(loadCode(gltfWithNodes({node("A", {1}), node("B", {2}), node("C", {0})})),
-            ErrorCode::kHierarchyCycle);
+  EXPECT_EQ(loadCode(gltfWithNodes({node("A", {1}), node("B", {2}), node("C", {0})})), ErrorCode::kHierarchyCycle);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -621,8 +598,8 @@ TEST(GlbLoader, RestWorldIsGlmsProductToTheBit) {
   for (int i = 0; i < count; ++i) {
     char node[512];
     if (i % 7 == 3) {
-      std::snprintf(node, sizeof node, R"({"matrix":[%.9g,%.9g,0,0,%.9g,%.9g,0,0,0,0,-0.0,1,%.9g,%.9g,%.9g,1])",
-                    u(rng), u(rng), u(rng), u(rng), u(rng), u(rng), u(rng));
+      std::snprintf(node, sizeof node, R"({"matrix":[%.9g,%.9g,0,0,%.9g,%.9g,0,0,0,0,-0.0,1,%.9g,%.9g,%.9g,1])", u(rng),
+                    u(rng), u(rng), u(rng), u(rng), u(rng), u(rng));
     } else {
       std::snprintf(node, sizeof node,
                     R"({"translation":[%.9g,%.9g,-0.0],"rotation":[%.9g,%.9g,%.9g,%.9g],"scale":[%.9g,1,%.9g])", u(rng),

@@ -128,9 +128,7 @@ json entry(json stiffness, json gravity_power, json gravity_dir, json drag) {
 json hairMetadata(const json& hair_entry) {
   return {{"version", 1},
           {"models",
-           {{kHash,
-             {{"SpringBone_hair", hair_entry},
-              {"SpringBone_earring", entry(1.0, 1.0, {0, -1, 0}, 0.4)}}}}}};
+           {{kHash, {{"SpringBone_hair", hair_entry}, {"SpringBone_earring", entry(1.0, 1.0, {0, -1, 0}, 0.4)}}}}}};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -206,8 +204,10 @@ TEST(HostileInput, NodeThatIsItsOwnAncestorIsAHierarchyCycleError) {
   const json self = {{"asset", {{"version", "2.0"}}}, {"nodes", {{{"name", "springbone_a"}, {"children", {0}}}}}};
   EXPECT_EQ(loadWearable(bytesOf(self.dump()), "null").error.code, ErrorCode::kHierarchyCycle);
   json loop = {{"asset", {{"version", "2.0"}}},
-               {"nodes", json::array({{{"name", "root"}}, {{"name", "a"}, {"children", {2}}},
-                                      {{"name", "b"}, {"children", {3}}}, {{"name", "c"}, {"children", {1}}}})}};
+               {"nodes", json::array({{{"name", "root"}},
+                                      {{"name", "a"}, {"children", {2}}},
+                                      {{"name", "b"}, {"children", {3}}},
+                                      {{"name", "c"}, {"children", {1}}}})}};
   const Loaded l = loadWearable(bytesOf(loop.dump()), "null");
   EXPECT_EQ(l.error.code, ErrorCode::kHierarchyCycle);
   EXPECT_NE(l.error.message.find("ancestor"), std::string::npos) << l.error.message;
@@ -219,8 +219,7 @@ TEST(HostileInput, NodeWithTwoParentsIsAHierarchyMultipleParentsError) {
   // Listed twice by the same parent counts as two parents too.
   const json twice = {{"asset", {{"version", "2.0"}}},
                       {"nodes", json::array({{{"name", "p"}, {"children", {1, 1}}}, {{"name", "c"}}})}};
-  EXPECT_EQ(loadWearable(bytesOf(twice.dump()), "null").error.code,
-            ErrorCode::kHierarchyMultipleParents);
+  EXPECT_EQ(loadWearable(bytesOf(twice.dump()), "null").error.code, ErrorCode::kHierarchyMultipleParents);
 }
 
 TEST(HostileInput, HundredThousandNodesLoadBuildAndStep) {
@@ -256,9 +255,7 @@ std::vector<std::uint8_t> deepChainGlb(int depth, const std::string& extras = {}
 
 TEST(HostileInput, TenThousandDeepHierarchyLoadsBuildsStepsAndDestroysWithoutRecursion) {
   constexpr int kDepth = 10000;
-  const json springBones = {
-      {"version", 1},
-      {"models", {{kHash, {{"springbone_1", entry(0.5, 2.0, {1, 0, 0}, 0.1)}}}}}};
+  const json springBones = {{"version", 1}, {"models", {{kHash, {{"springbone_1", entry(0.5, 2.0, {1, 0, 0}, 0.1)}}}}}};
   const Loaded l = loadWearable(deepChainGlb(kDepth), springBones.dump());
   ASSERT_FALSE(l.error) << l.error.message;
   ASSERT_EQ(l.rig->joints.size(), std::size_t(kDepth - 1));  // the last node is the tip
@@ -282,9 +279,9 @@ TEST(HostileInput, DeeplyNestedExtrasAreDroppedBeforeAnythingRecursesIntoThem) {
   // compares the nested values recursively.
   constexpr int kDepth = 100000;
   const std::string deep = std::string(kDepth, '[') + std::string(kDepth, ']');
-  std::string text = R"({"asset":{"version":"2.0","extras":)" + deep +
-                     R"(},"extensions":{"X":)" + deep + R"(},"nodes":[{"name":"Avatar_Hips","children":[1],"extras":)" +
-                     deep + R"(},{"name":"springbone_a","children":[2],"translation":[0,-0.1,0],"extensions":{"KHR_x":)" +
+  std::string text = R"({"asset":{"version":"2.0","extras":)" + deep + R"(},"extensions":{"X":)" + deep +
+                     R"(},"nodes":[{"name":"Avatar_Hips","children":[1],"extras":)" + deep +
+                     R"(},{"name":"springbone_a","children":[2],"translation":[0,-0.1,0],"extensions":{"KHR_x":)" +
                      deep + R"(}},{"name":"springbone_b","translation":[0,-0.1,0]}],"extras":{"a":)" + deep + "}}";
   const json springBones = {{"version", 1}, {"models", {{kHash, {{"springbone_a", entry(1, 1, {0, -1, 0}, 0.5)}}}}}};
   const Loaded l = loadWearable(bytesOf(text), springBones.dump());
@@ -293,8 +290,7 @@ TEST(HostileInput, DeeplyNestedExtrasAreDroppedBeforeAnythingRecursesIntoThem) {
   Instance instance(l.rig);
   stepAndCheck(instance);
 
-  const Loaded many = loadWearable(deepChainGlb(1000, std::string(10, '[') + std::string(10, ']')),
-                                   springBones.dump());
+  const Loaded many = loadWearable(deepChainGlb(1000, std::string(10, '[') + std::string(10, ']')), springBones.dump());
   EXPECT_FALSE(many.error) << many.error.message;
 }
 
@@ -307,10 +303,9 @@ TEST(HostileInput, DeeplyNestedMetadataIsReadValidatedAndEditedWithoutRecursion)
   std::vector<Warning> warnings;
   EXPECT_EQ(parseSpringBonesText(deep, kHash, model, warnings).code, ErrorCode::kMetadataInvalid);
 
-  const std::string text = R"({"version":1,"models":{")" + std::string(kHash) +
-                           R"(":{"SpringBone_hair":{"stiffness":)" + deep +
-                           R"(,"gravityPower":1,"gravityDir":[0,-1,0],"drag":0.5,"isRoot":true,"custom":)" +
-                           deep + "}}}}";
+  const std::string text =
+      R"({"version":1,"models":{")" + std::string(kHash) + R"(":{"SpringBone_hair":{"stiffness":)" + deep +
+      R"(,"gravityPower":1,"gravityDir":[0,-1,0],"drag":0.5,"isRoot":true,"custom":)" + deep + "}}}}";
   const Loaded l = loadWearable(hairGlb(), text);
   ASSERT_FALSE(l.error) << l.error.message;
   EXPECT_TRUE(test::hasWarning(l.rig->warnings, "param-not-number"));
@@ -333,13 +328,13 @@ TEST(HostileInput, BuilderEditsRefuseMetadataNestedDeeperThanTheyCanCopy) {
   const json entity = {
       {"content", {{{"file", "a.glb"}, {"hash", kHash}}}},
       {"metadata",
-       {{"data", {{"representations", {{{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
-                                        {"mainFile", "a.glb"}}}}}}}}};
+       {{"data",
+         {{"representations",
+           {{{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}}, {"mainFile", "a.glb"}}}}}}}}};
   const json spring_bones = json::parse(R"({"version":1,"models":{")" + std::string(kHash) +
                                         R"(":{"SpringBone_hair":{"custom":)" + deep + "}}}}");
   json out;
-  const Error e = setSpringBoneParams(spring_bones, entity, "BaseMale", "SpringBone_hair",
-                                      json{{"stiffness", 1}}, out);
+  const Error e = setSpringBoneParams(spring_bones, entity, "BaseMale", "SpringBone_hair", json{{"stiffness", 1}}, out);
   EXPECT_EQ(e.code, ErrorCode::kMetadataInvalid) << e.message;
   const json deep_params = json::parse(R"({"custom":)" + deep + "}");
   EXPECT_EQ(setSpringBoneParams(nullptr, entity, "BaseMale", "SpringBone_hair", deep_params, out).code,
@@ -382,9 +377,16 @@ TEST(HostileInput, InvalidUtf8InMetadataIsAnErrorAsTextAndHarmlessAsAJsonValue) 
   // goes through dump(..., error_handler_t::replace) or the validator's own UTF-16 conversion.
   const std::string bad = "springbone_\xff\xc3(";
   json value = {{"version", 1},
-                {"models", {{"h", {{bad, {{"stiffness", bad}, {"gravityDir", {bad}}, {"center", bad},
-                                          {"isRoot", bad}, {"drag", 0.5}, {"gravityPower", 0}}},
-                                   {"springbone_ok", bad}}}}}};
+                {"models",
+                 {{"h",
+                   {{bad,
+                     {{"stiffness", bad},
+                      {"gravityDir", {bad}},
+                      {"center", bad},
+                      {"isRoot", bad},
+                      {"drag", 0.5},
+                      {"gravityPower", 0}}},
+                    {"springbone_ok", bad}}}}}};
   ASSERT_FALSE(parseSpringBones(value, "h", model, warnings));
   EXPECT_TRUE(test::hasWarning(warnings, "param-not-number"));
   EXPECT_TRUE(test::hasWarning(warnings, "bone-entry-invalid"));
@@ -403,8 +405,8 @@ TEST(HostileInput, InvalidUtf8InMetadataIsAnErrorAsTextAndHarmlessAsAJsonValue) 
   skeleton.nodes[1].name = bad;
   ModelEntry m;
   std::vector<Warning> w;
-  ASSERT_FALSE(parseSpringBones(json{{"version", 1}, {"models", {{"h", {{bad, entry(1, 1, {0, -1, 0}, 0.5)}}}}}},
-                                "h", m, w));
+  ASSERT_FALSE(
+      parseSpringBones(json{{"version", 1}, {"models", {{"h", {{bad, entry(1, 1, {0, -1, 0}, 0.5)}}}}}}, "h", m, w));
   Instance instance(buildRig(std::move(skeleton), m, std::move(w)));
   EXPECT_EQ(instance.jointCount(), 2u);
   stepAndCheck(instance);
@@ -417,12 +419,10 @@ TEST(HostileInput, TenMegabyteMetadataIsReadAndSixteenMegabytesPlusOneIsRejected
   // 10 MB of bone entries for one model (names that match no node) plus the real ones.
   json model = hairMetadata(entry(1, 1, {0, -1, 0}, 0.5))["models"][kHash];
   std::string text = R"({"version":1,"models":{")" + std::string(kHash) + R"(":{)";
-  const std::string filler = R"({"stiffness":1,"gravityPower":1,"gravityDir":[0,-1,0],"drag":0.5,"pad":")" +
-                             std::string(900, 'x') + R"("})";
+  const std::string filler =
+      R"({"stiffness":1,"gravityPower":1,"gravityDir":[0,-1,0],"drag":0.5,"pad":")" + std::string(900, 'x') + R"("})";
   int count = 0;
-  while (text.size() < (10u << 20)) {
-    text += "\"springbone_unused_" + std::to_string(count++) + "\":" + filler + ",";
-  }
+  while (text.size() < (10u << 20)) { text += "\"springbone_unused_" + std::to_string(count++) + "\":" + filler + ","; }
   text += "\"SpringBone_hair\":" + model["SpringBone_hair"].dump() + "}}}";
   ASSERT_GE(text.size(), 10u << 20);
   const Loaded l = loadWearable(hairGlb(), text);
@@ -600,8 +600,7 @@ TEST(HostileInput, FrameTimesOfABillionSecondsAndNegativeOrNonFiniteAreHarmless)
   for (double dt : {-1.0, 0.0, -0.0, -1e9, std::numeric_limits<double>::quiet_NaN(),
                     std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
     instance.step(dt);
-    EXPECT_EQ(std::vector<float>(instance.rotations(), instance.rotations() + 4 * instance.jointCount()), before)
-        << dt;
+    EXPECT_EQ(std::vector<float>(instance.rotations(), instance.rotations() + 4 * instance.jointCount()), before) << dt;
   }
   // Tiny frames accumulate without stepping and without drift into NaN.
   for (int i = 0; i < 1000; ++i) instance.step(1e-300);

@@ -31,8 +31,9 @@ std::shared_ptr<const Rig> hangingChain(bool general_path, bool second_chain = f
                 {{"name", "springbone_b"}, {"translation", {0, -0.07, -0.07}}, {"children", {3}}},
                 {{"name", "springbone_c"}, {"translation", {0, -0.07, -0.07}}, {"children", {4}}},
                 {{"name", "springbone_tip"}, {"translation", {0, -0.07, -0.07}}}};
-  json bones = {{"springbone_a", {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5},
-                                  {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}};
+  json bones = {
+      {"springbone_a",
+       {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5}, {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}};
   if (second_chain) {
     nodes.push_back({{"name", "springbone_2a"}, {"translation", {0.1, 0.2, -0.1}}, {"children", {6}}});
     nodes.push_back({{"name", "springbone_2b"}, {"translation", {0, -0.07, -0.07}}, {"children", {7}}});
@@ -104,9 +105,9 @@ void moveDrivers(Instance& instance, const glm::mat4& m) {
 // A pose far from the rest pose: the avatar bent forward and turned, so every chain has to fall
 // into a new balance.
 glm::mat4 bentPose() {
-  return glm::rotate(glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 1.0f, -0.2f)), 0.9f,
-                                 glm::vec3(1, 0, 0)),
-                     0.6f, glm::vec3(0, 1, 0));
+  return glm::rotate(
+      glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 1.0f, -0.2f)), 0.9f, glm::vec3(1, 0, 0)), 0.6f,
+      glm::vec3(0, 1, 0));
 }
 
 struct SettleCase {
@@ -239,7 +240,8 @@ TEST(Grab, TheTailReachesAPointWithinReachAndKeepsItsBoneLengths) {
       instance.settle();
       const glm::vec3 root = headWorld(instance, 0);
       std::vector<float> lengths;
-      for (std::size_t j = 0; j < 3; ++j) lengths.push_back(glm::distance(headWorld(instance, j), tailWorld(instance, j)));
+      for (std::size_t j = 0; j < 3; ++j)
+        lengths.push_back(glm::distance(headWorld(instance, j), tailWorld(instance, j)));
       // 0.2 m to the side and up of the root: inside the reach of 0.3 m, far from the rest pose.
       const glm::vec3 point = root + glm::vec3(0.15f, 0.1f, 0.05f);
       holdFor(instance, point);

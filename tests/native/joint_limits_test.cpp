@@ -157,9 +157,11 @@ json limitedJoint(int node, json limit, json params = json::object()) {
 }
 
 TEST(JointLimitReading, VrmJointsCarryTheirLimitsInBothSphericalSpellings) {
-  const json limits = json::array({limitedJoint(1, {{"cone", {{"angle", 0.5}, {"rotation", {0, 0, 0.258819, 0.965926}}}}}),
-                                   limitedJoint(2, {{"spherical", {{"phi", 0.4}, {"theta", 0.2}}}}),
-                                   limitedJoint(3, {{"spherical", {{"pitch", 0.6}, {"yaw", 0.3}}}}), {{"node", 4}}});
+  const json limits =
+      json::array({limitedJoint(1, {{"cone", {{"angle", 0.5}, {"rotation", {0, 0, 0.258819, 0.965926}}}}}),
+                   limitedJoint(2, {{"spherical", {{"phi", 0.4}, {"theta", 0.2}}}}),
+                   limitedJoint(3, {{"spherical", {{"pitch", 0.6}, {"yaw", 0.3}}}}),
+                   {{"node", 4}}});
   const auto rig = loadVrmDoc(chainNodes({0, -0.1f, 0}), limits);
   ASSERT_EQ(rig->joints.size(), 3u);
   const JointLimit& c = rig->joints[0].limit;
@@ -177,10 +179,10 @@ TEST(JointLimitReading, VrmJointsCarryTheirLimitsInBothSphericalSpellings) {
 TEST(JointLimitReading, BadValuesAreClampedOrDroppedWithWarnings) {
   const std::string base = "/extensions/VRMC_springBone/springs/0/joints/";
   const json list = json::array({
-      limitedJoint(1, {{"cone", {{"angle", -0.2}}}}),                                     // negative: 0
+      limitedJoint(1, {{"cone", {{"angle", -0.2}}}}),                                                // negative: 0
       limitedJoint(2, {{"spherical", {{"pitch", 4.0}, {"yaw", 2.0}, {"rotation", {0, 0, 0, 2}}}}}),  // beyond: pi, pi/2
-      {{"node", 3}, {"extensions", limitExtension({{"hinge", {{"angle", 0.3}}}}, "2.0")}},  // unknown version
-      {{"node", 4}, {"extensions", limitExtension({{"cone", {{"angle", 0.3}}}})}},          // on the end joint
+      {{"node", 3}, {"extensions", limitExtension({{"hinge", {{"angle", 0.3}}}}, "2.0")}},           // unknown version
+      {{"node", 4}, {"extensions", limitExtension({{"cone", {{"angle", 0.3}}}})}},                   // on the end joint
   });
   const auto rig = loadVrmDoc(chainNodes({0.02f, -0.1f, 0}), list);
   ASSERT_EQ(rig->joints.size(), 3u);
@@ -192,15 +194,17 @@ TEST(JointLimitReading, BadValuesAreClampedOrDroppedWithWarnings) {
   EXPECT_EQ(test::countWarnings(rig->warnings, "limit-clamped"), 3);
   EXPECT_EQ(test::countWarnings(rig->warnings, "limit-rotation-invalid"), 1);
   EXPECT_EQ(rig->joints[2].limit.kind, JointLimit::Kind::kNone);
-  EXPECT_TRUE(test::findWarning(rig->warnings, "limit-spec-version", base + "2/extensions/VRMC_springBone_limit/specVersion"));
+  EXPECT_TRUE(
+      test::findWarning(rig->warnings, "limit-spec-version", base + "2/extensions/VRMC_springBone_limit/specVersion"));
   EXPECT_TRUE(test::findWarning(rig->warnings, "limit-on-end-joint", base + "3/extensions/VRMC_springBone_limit"));
 
   // A limit object without a shape, or a missing angle (the maximum, with a warning).
-  const auto shapeless = loadVrmDoc(chainNodes({0, -0.1f, 0}), json::array({limitedJoint(1, {{"box", 1}}),
-                                                                             limitedJoint(2, {{"cone", json::object()}}),
-                                                                             {{"node", 3}}}));
+  const auto shapeless = loadVrmDoc(
+      chainNodes({0, -0.1f, 0}),
+      json::array({limitedJoint(1, {{"box", 1}}), limitedJoint(2, {{"cone", json::object()}}), {{"node", 3}}}));
   EXPECT_EQ(shapeless->joints[0].limit.kind, JointLimit::Kind::kNone);
-  EXPECT_TRUE(test::findWarning(shapeless->warnings, "limit-invalid", base + "0/extensions/VRMC_springBone_limit/limit"));
+  EXPECT_TRUE(
+      test::findWarning(shapeless->warnings, "limit-invalid", base + "0/extensions/VRMC_springBone_limit/limit"));
   EXPECT_EQ(shapeless->joints[1].limit.kind, JointLimit::Kind::kCone);
   EXPECT_FLOAT_EQ(shapeless->joints[1].limit.angle, kPi);
 }
@@ -208,16 +212,16 @@ TEST(JointLimitReading, BadValuesAreClampedOrDroppedWithWarnings) {
 // Hostile values: numbers beyond float's range, strings, arrays of the wrong size load with
 // warnings, never a NaN in the rig.
 TEST(JointLimitReading, HostileValuesLoadAsFiniteLimitsWithWarnings) {
-  const json list = json::array({
-      limitedJoint(1, {{"cone", {{"angle", 1e300}, {"rotation", {1e300, 0, 0, 1}}}}}),
-      limitedJoint(2, {{"spherical", {{"pitch", "wide"}, {"yaw", -1e300}, {"rotation", {0, 0, 1}}}}}),
-      limitedJoint(3, {{"hinge", json::array()}}),
-      {{"node", 4}}});
+  const json list =
+      json::array({limitedJoint(1, {{"cone", {{"angle", 1e300}, {"rotation", {1e300, 0, 0, 1}}}}}),
+                   limitedJoint(2, {{"spherical", {{"pitch", "wide"}, {"yaw", -1e300}, {"rotation", {0, 0, 1}}}}}),
+                   limitedJoint(3, {{"hinge", json::array()}}),
+                   {{"node", 4}}});
   const auto rig = loadVrmDoc(chainNodes({0, -0.1f, 0}), list);
   ASSERT_EQ(rig->joints.size(), 3u);
   for (const Joint& j : rig->joints) {
-    for (float v : {j.limit.angle, j.limit.pitch, j.limit.yaw, j.limit.rotation.x, j.limit.rotation.y, j.limit.rotation.z,
-                    j.limit.rotation.w}) {
+    for (float v : {j.limit.angle, j.limit.pitch, j.limit.yaw, j.limit.rotation.x, j.limit.rotation.y,
+                    j.limit.rotation.z, j.limit.rotation.w}) {
       EXPECT_TRUE(std::isfinite(v));
     }
   }
@@ -262,15 +266,17 @@ glm::quat limitSpaceOf(const Rig& rig, const Instance& instance, std::size_t j, 
                        const JointLimit& limit) {
   const Joint& joint = rig.joints[j];
   const float* world = instance.worldMatrices();
-  const glm::mat4 parent = joint.parent_joint >= 0 ? glm::make_mat4(world + 16 * joint.parent_joint) : drivers[joint.parent_driver];
+  const glm::mat4 parent =
+      joint.parent_joint >= 0 ? glm::make_mat4(world + 16 * joint.parent_joint) : drivers[joint.parent_driver];
   const glm::mat3 linear(parent);
   const glm::quat parent_rotation =
       glm::quat_cast(glm::mat3(glm::normalize(linear[0]), glm::normalize(linear[1]), glm::normalize(linear[2])));
   const glm::vec3 axis = glm::normalize(toGlm(joint.tail_local));
   const glm::vec3 up(0, 1, 0);
   const glm::quat to_axis = axis == -up ? glm::angleAxis(kPi, glm::vec3(1, 0, 0))
-                            : axis == up ? glm::quat(1, 0, 0, 0)
-                                         : glm::angleAxis(std::acos(glm::dot(up, axis)), glm::normalize(glm::cross(up, axis)));
+                            : axis == up
+                                ? glm::quat(1, 0, 0, 0)
+                                : glm::angleAxis(std::acos(glm::dot(up, axis)), glm::normalize(glm::cross(up, axis)));
   return glm::normalize(parent_rotation * toGlm(joint.rest_local.rotation) * to_axis * toGlm(limit.rotation));
 }
 
@@ -278,14 +284,12 @@ glm::quat limitSpaceOf(const Rig& rig, const Instance& instance, std::size_t j, 
 float beyond(const JointLimit& limit, const glm::vec3& d) {
   const auto clamp1 = [](float v) { return std::clamp(v, -1.0f, 1.0f); };
   switch (limit.kind) {
-    case JointLimit::Kind::kCone:
-      return std::acos(clamp1(d.y)) - limit.angle;
+    case JointLimit::Kind::kCone: return std::acos(clamp1(d.y)) - limit.angle;
     case JointLimit::Kind::kHinge:
       return std::max(std::asin(std::fabs(clamp1(d.x))), std::acos(clamp1(d.y / std::hypot(d.y, d.z))) - limit.angle);
     case JointLimit::Kind::kSpherical:
       return std::max(std::fabs(std::atan2(d.z, d.y)) - limit.pitch, std::fabs(std::asin(clamp1(d.x))) - limit.yaw);
-    case JointLimit::Kind::kNone:
-      break;
+    case JointLimit::Kind::kNone: break;
   }
   return -1.0f;
 }
@@ -299,8 +303,10 @@ float worstExcess(Integrator integrator, const JointLimit& applied, const JointL
     list.push_back({{"node", n}, {"stiffness", 0.3}, {"dragForce", 0.2}, {"gravityPower", 0.5}, {"hitRadius", 0.01}});
   }
   list.push_back({{"node", 4}});
-  const json colliders = json::array({{{"node", 0}, {"shape", {{"sphere", {{"offset", {0.12, -0.15, 0}}, {"radius", 0.06}}}}}}});
-  const auto loaded = loadVrmDoc(chainNodes(bone), list, colliders, json::array({{{"colliders", {0}}}}), json::array({0}));
+  const json colliders =
+      json::array({{{"node", 0}, {"shape", {{"sphere", {{"offset", {0.12, -0.15, 0}}, {"radius", 0.06}}}}}}});
+  const auto loaded =
+      loadVrmDoc(chainNodes(bone), list, colliders, json::array({{{"colliders", {0}}}}), json::array({0}));
   auto rig = std::make_shared<Rig>(*loaded);
   for (Joint& j : rig->joints) j.limit = applied;
   InstanceOptions options;
@@ -317,7 +323,8 @@ float worstExcess(Integrator integrator, const JointLimit& applied, const JointL
   for (int f = 0; f < 360; ++f) {
     const float t = f / 60.0f;
     const glm::mat4 shake =
-        glm::translate(glm::mat4(1.0f), glm::vec3(0.4f * std::sin(9.0f * t), 0.2f * std::sin(13.0f * t), 0.3f * std::sin(7.0f * t))) *
+        glm::translate(glm::mat4(1.0f),
+                       glm::vec3(0.4f * std::sin(9.0f * t), 0.2f * std::sin(13.0f * t), 0.3f * std::sin(7.0f * t))) *
         glm::rotate(glm::mat4(1.0f), 1.2f * std::sin(5.0f * t), glm::vec3(0, 0, 1)) *
         glm::rotate(glm::mat4(1.0f), 2.0f * std::sin(3.0f * t), glm::vec3(0, 1, 0));
     for (std::size_t d = 0; d < rig->drivers.size(); ++d) {
@@ -347,7 +354,9 @@ TEST(JointLimitMotion, NoLimitedJointLeavesItsLimitUnderShakingWindAndColliders)
       {"cone 30 degrees, bone straight down (-Y)", cone(kPi / 6), {0, -0.1f, 0}},
       {"cone 20 degrees turned, slanted bone", cone(kPi / 9, Quat{0, 0, 0.258819f, 0.965926f}), {0.03f, -0.1f, 0.02f}},
       {"hinge 45 degrees turned about Y", hinge(kPi / 4, Quat{0, 0.382683f, 0, 0.92388f}), {0, -0.1f, 0}},
-      {"spherical pitch 30, yaw 11 degrees", spherical(kPi / 6, kPi / 16, Quat{0, 0.258819f, 0, 0.965926f}), {0.02f, -0.1f, 0}},
+      {"spherical pitch 30, yaw 11 degrees",
+       spherical(kPi / 6, kPi / 16, Quat{0, 0.258819f, 0, 0.965926f}),
+       {0.02f, -0.1f, 0}},
       {"hinge 90 degrees turned about X", hinge(kPi / 2, Quat{h, 0, 0, h}), {0, -0.1f, 0.01f}},
   };
   for (const LimitCase& c : cases) {

@@ -27,8 +27,10 @@ std::shared_ptr<const Rig> hangingChain(bool general_path) {
                 {{"name", "springbone_b"}, {"translation", {0, -0.07, -0.07}}, {"children", {3}}},
                 {{"name", "springbone_c"}, {"translation", {0, -0.07, -0.07}}, {"children", {4}}},
                 {{"name", "springbone_tip"}, {"translation", {0, -0.07, -0.07}}}};
-  return test::rigFromJson(nodes, {{"springbone_a", {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5},
-                                               {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}});
+  return test::rigFromJson(
+      nodes,
+      {{"springbone_a",
+        {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 0.5}, {"gravityDir", {0, -1, 0}}, {"drag", 0.3}}}});
 }
 
 // The hips of a walk: forward at 1.4 m/s with a bob, a sway and a yaw swing, at time t.
@@ -51,7 +53,8 @@ struct Motion {
   int jumps = 0;
 };
 
-// Walks for 6 s (the first second settles from rest), then `jump` (applied to the hips from then on) and one more second of walking.
+// Walks for 6 s (the first second settles from rest), then `jump` (applied to the hips from then on) and one more
+// second of walking.
 Motion walkAndJump(const std::shared_ptr<const Rig>& rig, InstanceOptions options, const glm::mat4& jump) {
   Instance instance(rig, options);
   const double dt = 1.0 / 60.0;
@@ -133,7 +136,8 @@ TEST_P(JumpTest, ExplicitJumpCarriesAChangeBelowTheThresholds) {
       std::vector<float> before(instance.rotations(), instance.rotations() + 12);
       instance.step(1.0 / 60.0);
       if (frame >= 60) {
-        for (int j = 0; j < 3; ++j) largest = std::max(largest, turnBetween(&before[4 * j], instance.rotations() + 4 * j));
+        for (int j = 0; j < 3; ++j)
+          largest = std::max(largest, turnBetween(&before[4 * j], instance.rotations() + 4 * j));
       }
     }
     EXPECT_EQ(instance.jumps(), announced ? 1 : 0);
@@ -174,8 +178,8 @@ TEST(JumpThresholds, AreStatedPerStep) {
   // 0.4 m in one frame of one step is under 0.5 m per step; 0.8 m is over; 0.8 m in a frame of
   // two steps is 0.4 m per step again.
   const auto rig = hangingChain(false);
-  for (const auto& [moved, dt, expected] : {std::tuple{0.4f, 1.0 / 60.0, 0}, std::tuple{0.8f, 1.0 / 60.0, 1},
-                                            std::tuple{0.8f, 2.0 / 60.0, 0}}) {
+  for (const auto& [moved, dt, expected] :
+       {std::tuple{0.4f, 1.0 / 60.0, 0}, std::tuple{0.8f, 1.0 / 60.0, 1}, std::tuple{0.8f, 2.0 / 60.0, 0}}) {
     Instance instance(rig);
     instance.step(1.0 / 60.0);
     const glm::mat4 hips = glm::translate(glm::mat4(1.0f), glm::vec3(moved, 0, 0));

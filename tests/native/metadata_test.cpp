@@ -29,13 +29,10 @@ const std::string kBone = "SpringBone_hair_left";
 const std::string kBonePath = "/models/" + kHash + "/" + kBone;
 
 json fullEntry() {
-  return {{"stiffness", 1.25}, {"gravityPower", 0.75}, {"gravityDir", {0, -1, 0}},
-          {"drag", 0.25}, {"isRoot", true}};
+  return {{"stiffness", 1.25}, {"gravityPower", 0.75}, {"gravityDir", {0, -1, 0}}, {"drag", 0.25}, {"isRoot", true}};
 }
 
-json springBonesWith(const json& entry) {
-  return {{"version", 1}, {"models", {{kHash, {{kBone, entry}}}}}};
-}
+json springBonesWith(const json& entry) { return {{"version", 1}, {"models", {{kHash, {{kBone, entry}}}}}}; }
 
 struct Parsed {
   Error error;
@@ -95,8 +92,8 @@ TEST(Metadata, ReadsEveryFieldOfACompleteEntryWithoutWarnings) {
 }
 
 TEST(Metadata, ReadsTheAdrFullExampleFixture) {
-  const Parsed p = parseText(test::readFixtureText("adr_example.metadata.json"),
-                             test::metadataKeyOf("adr_example.glb"));
+  const Parsed p =
+      parseText(test::readFixtureText("adr_example.metadata.json"), test::metadataKeyOf("adr_example.glb"));
   ASSERT_FALSE(p.error) << p.error.message;
   EXPECT_TRUE(p.warnings.empty()) << test::describeWarnings(p.warnings);
   ASSERT_TRUE(p.model.enabled);
@@ -211,9 +208,8 @@ float scalarOf(const BoneParams& p, const std::string& key) {
 
 TEST(Metadata, ClampsOutOfRangeScalarsAtBothEndsWithAWarning) {
   const RangeCase cases[] = {
-      {"stiffness", -1.0, 0.0f},   {"stiffness", 4.01, 4.0f},  {"stiffness", 1e9, 4.0f},
-      {"gravityPower", -0.5, 0.0f}, {"gravityPower", 2.5, 2.0f},
-      {"drag", -0.1, 0.0f},         {"drag", 1.5, 1.0f},
+      {"stiffness", -1.0, 0.0f},   {"stiffness", 4.01, 4.0f}, {"stiffness", 1e9, 4.0f}, {"gravityPower", -0.5, 0.0f},
+      {"gravityPower", 2.5, 2.0f}, {"drag", -0.1, 0.0f},      {"drag", 1.5, 1.0f},
   };
   for (const RangeCase& c : cases) {
     SCOPED_TRACE(std::string(c.key) + " = " + std::to_string(c.value));
@@ -221,17 +217,15 @@ TEST(Metadata, ClampsOutOfRangeScalarsAtBothEndsWithAWarning) {
     EXPECT_FLOAT_EQ(scalarOf(paramsOf(p), c.key), c.expected);
     EXPECT_EQ(p.warnings.size(), 1u);
     const Warning* w = findWarning(p.warnings, "param-out-of-range", kBonePath + "/" + c.key);
-    if (w) {
-      EXPECT_NE(w->message.find(c.key), std::string::npos) << w->message;
-    }
+    if (w) { EXPECT_NE(w->message.find(c.key), std::string::npos) << w->message; }
   }
 }
 
 TEST(Metadata, AcceptsRangeEndpointsWithoutWarnings) {
   // The schema's ranges are inclusive (validator test vectors V5 and V6).
   const RangeCase cases[] = {
-      {"stiffness", 0, 0.0f}, {"stiffness", 4, 4.0f}, {"gravityPower", 0, 0.0f},
-      {"gravityPower", 2, 2.0f}, {"drag", 0, 0.0f}, {"drag", 1, 1.0f},
+      {"stiffness", 0, 0.0f},    {"stiffness", 4, 4.0f}, {"gravityPower", 0, 0.0f},
+      {"gravityPower", 2, 2.0f}, {"drag", 0, 0.0f},      {"drag", 1, 1.0f},
   };
   for (const RangeCase& c : cases) {
     SCOPED_TRACE(std::string(c.key) + " = " + std::to_string(c.value));
@@ -303,7 +297,10 @@ TEST(Metadata, ReplacesGravityDirOfTheWrongLengthByTheDefault) {
 }
 
 TEST(Metadata, ReplacesGravityDirWithNonNumbersByTheDefault) {
-  const json bad_values[] = {json{0, "down", 0}, json{0, nullptr, 0}, json{true, 0, 0}, json("down"),
+  const json bad_values[] = {json{0, "down", 0},
+                             json{0, nullptr, 0},
+                             json{true, 0, 0},
+                             json("down"),
                              json{{"x", 0}, {"y", -1}, {"z", 0}},
                              json{0, std::numeric_limits<double>::quiet_NaN(), 0}};
   for (const json& value : bad_values) {
@@ -477,9 +474,7 @@ TEST(Metadata, MissingHashDisablesWithModelNotFoundWarning) {
   EXPECT_TRUE(p.model.bones.empty());
   const Warning* w = findWarning(p.warnings, "model-not-found", "/models/bafkreisomeotherglb");
   // The message lists the keys that are there, to spot a hash mix-up.
-  if (w) {
-    EXPECT_NE(w->message.find(kHash), std::string::npos) << w->message;
-  }
+  if (w) { EXPECT_NE(w->message.find(kHash), std::string::npos) << w->message; }
 }
 
 TEST(Metadata, EmptyModelsDisablesWithModelNotFoundWarning) {
@@ -580,8 +575,7 @@ TEST(Metadata, WarningPathsAreJsonPointersWithEscapedKeys) {
   findWarning(p.warnings, "param-missing", "/models/weird~1hash~01/SpringBone~1a~0b/stiffness");
   // Every path must resolve in the document it describes.
   for (const Warning& w : p.warnings) {
-    EXPECT_NO_THROW((void)sb.at(json::json_pointer(w.path.substr(0, w.path.rfind('/')))))
-        << w.path;
+    EXPECT_NO_THROW((void)sb.at(json::json_pointer(w.path.substr(0, w.path.rfind('/'))))) << w.path;
   }
 }
 
@@ -621,9 +615,8 @@ TEST(Metadata, SurvivesDeeplyNestedValuesInText) {
   // not recurse once per level (the WebAssembly stack is far smaller than a native one).
   constexpr int kDepth = 100000;
   const std::string deep = std::string(kDepth, '[') + std::string(kDepth, ']');
-  const std::string text = R"({"version":1,"models":{")" + kHash + R"(":{")" + kBone +
-                           R"(":{"stiffness":)" + deep + R"(,"gravityDir":)" + deep +
-                           R"(,"center":)" + deep + R"(,"isRoot":)" + deep + "}}}}";
+  const std::string text = R"({"version":1,"models":{")" + kHash + R"(":{")" + kBone + R"(":{"stiffness":)" + deep +
+                           R"(,"gravityDir":)" + deep + R"(,"center":)" + deep + R"(,"isRoot":)" + deep + "}}}}";
   const Parsed p = parseText(text);
   ASSERT_FALSE(p.error) << p.error.message;
   ASSERT_EQ(p.model.bones.size(), 1u);

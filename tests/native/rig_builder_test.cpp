@@ -28,8 +28,7 @@ using test::vecNear;
 const std::string kHash = "h";
 
 json entry(double stiffness, double gravity_power, double drag, json extra = json::object()) {
-  json e = {{"stiffness", stiffness}, {"gravityPower", gravity_power}, {"gravityDir", {0, -1, 0}},
-            {"drag", drag}};
+  json e = {{"stiffness", stiffness}, {"gravityPower", gravity_power}, {"gravityDir", {0, -1, 0}}, {"drag", drag}};
   e.update(extra);
   return e;
 }
@@ -54,8 +53,7 @@ std::shared_ptr<const Rig> build(const json& nodes, const json& bones) {
   return buildFromSpringBones(nodes, {{"version", 1}, {"models", {{kHash, bones}}}});
 }
 
-std::shared_ptr<const Rig> buildFixture(const std::string& glb, const std::string& metadata,
-                                        const std::string& key) {
+std::shared_ptr<const Rig> buildFixture(const std::string& glb, const std::string& metadata, const std::string& key) {
   Skeleton skeleton = test::loadFixtureSkeleton(glb);
   ModelEntry model;
   std::vector<Warning> warnings;
@@ -66,8 +64,7 @@ std::shared_ptr<const Rig> buildFixture(const std::string& glb, const std::strin
 }
 
 std::shared_ptr<const Rig> avatarRig() {
-  return buildFixture("avatar_hair.glb", "avatar_hair.metadata.json",
-                      test::metadataKeyOf("avatar_hair.glb"));
+  return buildFixture("avatar_hair.glb", "avatar_hair.metadata.json", test::metadataKeyOf("avatar_hair.glb"));
 }
 
 const std::string& nodeName(const Rig& rig, int node) { return rig.skeleton.nodes.at(node).name; }
@@ -140,8 +137,8 @@ TEST(RigBuilder, MatchesTheTokenAnywhereAsciiCaseInsensitively) {
 }
 
 TEST(RigBuilder, BuildsARootForEveryValidNameInTheNamingTable) {
-  for (const char* name : {"SpringBone_hair_left", "hair_springbone_l", "springbone_earring_r",
-                           "ponytail_SPRINGBONE"}) {
+  for (const char* name :
+       {"SpringBone_hair_left", "hair_springbone_l", "springbone_earring_r", "ponytail_SPRINGBONE"}) {
     SCOPED_TRACE(name);
     const auto rig = build(strandNodes(name), {{name, rootEntry()}});
     ASSERT_EQ(jointNames(*rig), std::vector<std::string>{name});
@@ -231,8 +228,8 @@ TEST(RigBuilder, BuildsTheSameAdrExampleFromGltfText) {
 
 TEST(RigBuilder, MeasuresBoneLengthsOfThePosedAdrExample) {
   // adr_example_posed.glb: the earring tip 4 cm below the earring, the hair tip 10 cm below.
-  const auto rig = buildFixture("adr_example_posed.glb", "adr_example.metadata.json",
-                                test::metadataKeyOf("adr_example_posed.glb"));
+  const auto rig =
+      buildFixture("adr_example_posed.glb", "adr_example.metadata.json", test::metadataKeyOf("adr_example_posed.glb"));
   ASSERT_EQ(rig->joints.size(), 2u);
   EXPECT_NEAR(joint(*rig, "SpringBone_earring_r").rest_length, 0.04f, 1e-6f);
   EXPECT_NEAR(joint(*rig, "SpringBone_hair_left").rest_length, 0.10f, 1e-6f);
@@ -259,8 +256,8 @@ TEST(RigBuilder, ChainTakesEveryDescendantIncludingNodesWithoutTheToken) {
 
 TEST(RigBuilder, FirstChildIsTheTailAndOtherChildrenStartSimulatedBranches) {
   // fork has children a (listed first) and b; each continues to a tip.
-  const json nodes = {node("Avatar_Head", {1}), node("SpringBone_fork", {2, 4}, {0, -0.1, 0}),
-                      node("a", {3}, {0.02, -0.05, 0}), node("a_tip", {}, {0, -0.05, 0}),
+  const json nodes = {node("Avatar_Head", {1}),          node("SpringBone_fork", {2, 4}, {0, -0.1, 0}),
+                      node("a", {3}, {0.02, -0.05, 0}),  node("a_tip", {}, {0, -0.05, 0}),
                       node("b", {5}, {-0.02, -0.05, 0}), node("b_tip", {}, {0, -0.05, 0})};
   const auto rig = build(nodes, {{"SpringBone_fork", rootEntry()}});
   ASSERT_EQ(rig->joints.size(), 3u);
@@ -297,9 +294,9 @@ TEST(RigBuilder, RootWithoutChildrenIsReportedAndSimulatesNothing) {
 }
 
 TEST(RigBuilder, WarnsAboutZeroLengthBones) {
-  const auto rig = build({node("Avatar_Head", {1}), node("SpringBone_z", {2}, {0, -0.1, 0}),
-                          node("SpringBone_z_tip", {}, {0, 0, 0})},
-                         {{"SpringBone_z", rootEntry()}});
+  const auto rig = build(
+      {node("Avatar_Head", {1}), node("SpringBone_z", {2}, {0, -0.1, 0}), node("SpringBone_z_tip", {}, {0, 0, 0})},
+      {{"SpringBone_z", rootEntry()}});
   ASSERT_EQ(rig->joints.size(), 1u);  // still a joint: it keeps its rest rotation
   EXPECT_EQ(rig->joints[0].rest_length, 0.0f);
   EXPECT_TRUE(test::hasWarning(rig->warnings, "zero-length-bone", "SpringBone_z"));
@@ -332,11 +329,14 @@ TEST(RigBuilder, CopiesTheRestLocalTransformOfEachJoint) {
 
 TEST(RigBuilder, MembersTakeTheirOwnEntryElseTheNearestAncestorsInTheChain) {
   // root(1.0) -> m1 (no entry) -> m2 (entry 3.0, isRoot false) -> m3 (no entry) -> tip
-  const json nodes = {node("Avatar_Head", {1}), node("SpringBone_root", {2}, {0, -0.1, 0}),
-                      node("SpringBone_m1", {3}, {0, -0.1, 0}), node("SpringBone_m2", {4}, {0, -0.1, 0}),
-                      node("SpringBone_m3", {5}, {0, -0.1, 0}), node("SpringBone_tip", {}, {0, -0.1, 0})};
-  const auto rig = build(nodes, {{"SpringBone_root", rootEntry(1.0)},
-                                 {"SpringBone_m2", entry(3.0, 1.5, 0.9, {{"isRoot", false}})}});
+  const json nodes = {node("Avatar_Head", {1}),
+                      node("SpringBone_root", {2}, {0, -0.1, 0}),
+                      node("SpringBone_m1", {3}, {0, -0.1, 0}),
+                      node("SpringBone_m2", {4}, {0, -0.1, 0}),
+                      node("SpringBone_m3", {5}, {0, -0.1, 0}),
+                      node("SpringBone_tip", {}, {0, -0.1, 0})};
+  const auto rig =
+      build(nodes, {{"SpringBone_root", rootEntry(1.0)}, {"SpringBone_m2", entry(3.0, 1.5, 0.9, {{"isRoot", false}})}});
   ASSERT_EQ(rig->joints.size(), 4u);
   EXPECT_FLOAT_EQ(joint(*rig, "SpringBone_root").params.stiffness, 1.0f);
   EXPECT_FLOAT_EQ(joint(*rig, "SpringBone_m1").params.stiffness, 1.0f);
@@ -402,9 +402,7 @@ TEST(RigBuilder, FallsBackToWorldSpaceWhenTheCenterDoesNotExist) {
   EXPECT_EQ(joint(*rig, "SpringBone_c_1").center_driver, -1);
   EXPECT_EQ(driverNames(*rig), std::vector<std::string>{"Avatar_Head"});
   const Warning* w = findWarning(rig->warnings, "center-not-found", "/models/h/SpringBone_c/center");
-  if (w) {
-    EXPECT_NE(w->message.find("Avatar_Pelvis"), std::string::npos);
-  }
+  if (w) { EXPECT_NE(w->message.find("Avatar_Pelvis"), std::string::npos); }
 }
 
 TEST(RigBuilder, FallsBackToWorldSpaceWhenTheCenterIsASpringBone) {
@@ -443,13 +441,11 @@ TEST(RigBuilder, MemberCenterOverridesTheInheritedOneAndNullMeansWorldSpace) {
 // Entries that match nothing, duplicates, disabled models
 
 TEST(RigBuilder, WarnsAboutAnEntryNamingANodeThatDoesNotExist) {
-  const auto rig = build(strandNodes("SpringBone_x"),
-                         {{"SpringBone_x", rootEntry()}, {"SpringBone_ghost", rootEntry()}});
+  const auto rig =
+      build(strandNodes("SpringBone_x"), {{"SpringBone_x", rootEntry()}, {"SpringBone_ghost", rootEntry()}});
   EXPECT_EQ(rig->joints.size(), 1u);
   const Warning* w = findWarning(rig->warnings, "bone-not-found", "/models/h/SpringBone_ghost");
-  if (w) {
-    EXPECT_NE(w->message.find("SpringBone_ghost"), std::string::npos);
-  }
+  if (w) { EXPECT_NE(w->message.find("SpringBone_ghost"), std::string::npos); }
 }
 
 TEST(RigBuilder, AppliesAnEntryToEveryNodeOfADuplicatedNameWithAWarning) {
@@ -497,9 +493,8 @@ TEST(RigBuilder, BuildsEveryChainOfTheAvatarFixture) {
   // isRoot) and SpringBone_bangs_1 (nested) are not roots.
   std::vector<std::string> roots;
   for (int j : rig->chain_roots) roots.push_back(nodeName(*rig, rig->joints[j].node));
-  EXPECT_EQ(roots, (std::vector<std::string>{"SpringBone_hair_left", "hair_springbone_r",
-                                             "springbone_earring_r", "SpringBone_braid",
-                                             "SpringBone_bangs", "SpringBone_ribbon",
+  EXPECT_EQ(roots, (std::vector<std::string>{"SpringBone_hair_left", "hair_springbone_r", "springbone_earring_r",
+                                             "SpringBone_braid", "SpringBone_bangs", "SpringBone_ribbon",
                                              "SpringBone_tassel", "ponytail_SPRINGBONE"}));
   // Joints: hair_left 4 (root, _1, _2, _3), hair_r 3 (root, _1, hair_r_bead), earring 1,
   // braid 4 (root, _1, _a, _b), bangs 3 (root, _1, _2), ribbon 1, tassel 1, ponytail 2.

@@ -18,21 +18,26 @@ namespace {
 using nlohmann::json;
 
 std::shared_ptr<const Rig> hangingBone() {
-  const std::string gltf =
-      json{{"asset", {{"version", "2.0"}}},
-           {"nodes", {{{"name", "Avatar_Hips"}, {"children", {1}}},
-                      {{"name", "springbone_a"}, {"children", {2}}},
-                      {{"name", "springbone_tip"}, {"translation", {0.2, 0, 0}}}}}}
-          .dump();
+  const std::string gltf = json{{"asset", {{"version", "2.0"}}},
+                                {"nodes",
+                                 {{{"name", "Avatar_Hips"}, {"children", {1}}},
+                                  {{"name", "springbone_a"}, {"children", {2}}},
+                                  {{"name", "springbone_tip"}, {"translation", {0.2, 0, 0}}}}}}
+                               .dump();
   Skeleton skeleton;
   EXPECT_FALSE(loadSkeleton(reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size(), skeleton));
   ModelEntry model;
   std::vector<Warning> warnings;
-  EXPECT_FALSE(parseSpringBones(
-      json{{"version", 1},
-           {"models", {{"h", {{"springbone_a", {{"isRoot", true}, {"stiffness", 1}, {"gravityPower", 1},
-                                               {"gravityDir", {0, -1, 0}}, {"drag", 0.4}}}}}}}},
-      "h", model, warnings));
+  EXPECT_FALSE(parseSpringBones(json{{"version", 1},
+                                     {"models",
+                                      {{"h",
+                                        {{"springbone_a",
+                                          {{"isRoot", true},
+                                           {"stiffness", 1},
+                                           {"gravityPower", 1},
+                                           {"gravityDir", {0, -1, 0}},
+                                           {"drag", 0.4}}}}}}}},
+                                "h", model, warnings));
   return buildRig(std::move(skeleton), model);
 }
 
@@ -97,7 +102,7 @@ TEST(Scene, AnInstanceReturningToTheBudgetIsReseeded) {
   placeAt(scene, o, 2.0f);
   scene.setBudget(1, Vec3{});
   for (int i = 0; i < 50; ++i) scene.step(1.0 / 60);  // walker swings
-  placeAt(scene, w, 10.0f);                            // walks away: other takes the budget
+  placeAt(scene, w, 10.0f);                           // walks away: other takes the budget
   for (int i = 0; i < 10; ++i) scene.step(1.0 / 60);
   EXPECT_FALSE(scene.isActive(w));
   const glm::quat held = rotationOf(walker);

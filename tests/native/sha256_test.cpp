@@ -23,8 +23,7 @@ TEST(Sha256, HashesTheEmptyMessage) {
 }
 
 TEST(Sha256, AcceptsNullDataWithSizeZero) {
-  EXPECT_EQ(toHex(sha256(nullptr, 0)),
-            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(toHex(sha256(nullptr, 0)), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
 TEST(Sha256, HashesAbc) {
@@ -44,20 +43,15 @@ TEST(Sha256, Hashes896BitMessage) {
 }
 
 TEST(Sha256, HashesOneMillionLetterA) {
-  EXPECT_EQ(sha256Hex(std::string(1000000, 'a')),
-            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  EXPECT_EQ(sha256Hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 TEST(Sha256, PadsCorrectlyAroundTheBlockBoundary) {
   // Expected values from coreutils: head -c N /dev/zero | tr '\0' a | sha256sum
-  EXPECT_EQ(sha256Hex(std::string(55, 'a')),
-            "9f4390f8d30c2dd92ec9f095b65e2b9ae9b0a925a5258e241c9f1e910f734318");
-  EXPECT_EQ(sha256Hex(std::string(56, 'a')),
-            "b35439a4ac6f0948b6d6f9e3c6af0f5f590ce20f1bde7090ef7970686ec6738a");
-  EXPECT_EQ(sha256Hex(std::string(63, 'a')),
-            "7d3e74a05d7db15bce4ad9ec0658ea98e3f06eeecf16b4c6fff2da457ddc2f34");
-  EXPECT_EQ(sha256Hex(std::string(64, 'a')),
-            "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+  EXPECT_EQ(sha256Hex(std::string(55, 'a')), "9f4390f8d30c2dd92ec9f095b65e2b9ae9b0a925a5258e241c9f1e910f734318");
+  EXPECT_EQ(sha256Hex(std::string(56, 'a')), "b35439a4ac6f0948b6d6f9e3c6af0f5f590ce20f1bde7090ef7970686ec6738a");
+  EXPECT_EQ(sha256Hex(std::string(63, 'a')), "7d3e74a05d7db15bce4ad9ec0658ea98e3f06eeecf16b4c6fff2da457ddc2f34");
+  EXPECT_EQ(sha256Hex(std::string(64, 'a')), "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
 }
 
 TEST(Sha256, IncrementalUpdatesInAnySplitEqualTheOneShotDigest) {
@@ -82,8 +76,7 @@ TEST(Sha256, FinalStartsANewMessage) {
   const std::string abc = "abc";
   hasher.update(reinterpret_cast<const std::uint8_t*>(abc.data()), abc.size());
   hasher.final();
-  EXPECT_EQ(toHex(hasher.final()),
-            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(toHex(hasher.final()), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
 TEST(Sha256, InitDiscardsBytesAlreadyHashed) {
@@ -93,8 +86,7 @@ TEST(Sha256, InitDiscardsBytesAlreadyHashed) {
   hasher.init();
   const std::string abc = "abc";
   hasher.update(reinterpret_cast<const std::uint8_t*>(abc.data()), abc.size());
-  EXPECT_EQ(toHex(hasher.final()),
-            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(toHex(hasher.final()), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }
 
 }  // namespace

@@ -24,8 +24,7 @@ using nlohmann::json;
 constexpr double kH = 1.0 / 60.0;
 
 // A glTF node for the scene builder below.
-json node(const std::string& name, glm::vec3 t, std::vector<int> children = {},
-          glm::quat r = glm::quat(1, 0, 0, 0)) {
+json node(const std::string& name, glm::vec3 t, std::vector<int> children = {}, glm::quat r = glm::quat(1, 0, 0, 0)) {
   json n = {{"name", name}, {"translation", {t.x, t.y, t.z}}, {"rotation", {r.x, r.y, r.z, r.w}}};
   if (!children.empty()) n["children"] = children;
   return n;
@@ -34,8 +33,7 @@ json node(const std::string& name, glm::vec3 t, std::vector<int> children = {},
 std::shared_ptr<const Rig> makeRig(const json& nodes, const json& bones) { return test::rigFromJson(nodes, bones); }
 
 json params(double stiffness, double gravity, double drag, glm::vec3 dir = {0, -1, 0}) {
-  return {{"stiffness", stiffness}, {"gravityPower", gravity}, {"drag", drag},
-          {"gravityDir", {dir.x, dir.y, dir.z}}};
+  return {{"stiffness", stiffness}, {"gravityPower", gravity}, {"drag", drag}, {"gravityDir", {dir.x, dir.y, dir.z}}};
 }
 
 // params() of a chain root.
@@ -78,9 +76,7 @@ glm::vec3 worldHead(const Instance& instance, std::size_t joint) {
 bool allFiniteUnit(const Instance& instance) {
   for (std::size_t j = 0; j < instance.jointCount(); ++j) {
     const glm::quat q = rotationOf(instance, j);
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) || !std::isfinite(q.w)) {
-      return false;
-    }
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) || !std::isfinite(q.w)) { return false; }
     if (std::fabs(glm::length(q) - 1.0f) > 1e-4f) return false;
   }
   return true;
@@ -147,8 +143,7 @@ TEST(Solver, ZeroGravityBoneStaysAtRest) {
 
 TEST(Solver, OutputBeforeAnyStepIsTheRestPose) {
   const glm::quat rest = glm::angleAxis(0.3f, glm::vec3(0, 0, 1));
-  auto rig = makeRig(json::array({node("Avatar_Hips", {0, 0, 0}, {1}),
-                                  node("springbone_a", {0, 0.1f, 0}, {2}, rest),
+  auto rig = makeRig(json::array({node("Avatar_Hips", {0, 0, 0}, {1}), node("springbone_a", {0, 0.1f, 0}, {2}, rest),
                                   node("springbone_a_tip", {0, 0.2f, 0})}),
                      json{{"springbone_a", {{"isRoot", true}, {"gravityPower", 1}}}});
   Instance instance(rig);
@@ -224,12 +219,11 @@ TEST(Solver, ExtremeParametersStayFiniteFor100000Steps) {
   Instance instance(rig);
   for (int i = 0; i < 100000; ++i) {
     const float t = static_cast<float>(i * kH);
-    setDriver(instance, 0, glm::rotate(glm::translate(glm::mat4(1), glm::vec3(std::sin(7 * t), 0, 0)),
-                                       3.0f * std::sin(5 * t), glm::vec3(0, 0, 1)));
+    setDriver(instance, 0,
+              glm::rotate(glm::translate(glm::mat4(1), glm::vec3(std::sin(7 * t), 0, 0)), 3.0f * std::sin(5 * t),
+                          glm::vec3(0, 0, 1)));
     instance.step(kH);
-    if (i % 1000 == 0) {
-      ASSERT_TRUE(allFiniteUnit(instance)) << "step " << i;
-    }
+    if (i % 1000 == 0) { ASSERT_TRUE(allFiniteUnit(instance)) << "step " << i; }
   }
   EXPECT_TRUE(allFiniteUnit(instance));
 }
@@ -242,8 +236,9 @@ TEST(Solver, BoneLengthsAreUnchangedAfter10000Steps) {
   Instance instance(rig);
   for (int i = 0; i < 10000; ++i) {
     const float t = static_cast<float>(i * kH);
-    setDriver(instance, 0, glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0.3f * std::sin(3 * t), 0, 0)),
-                                       std::sin(2 * t), glm::vec3(0, 1, 0)));
+    setDriver(instance, 0,
+              glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0.3f * std::sin(3 * t), 0, 0)), std::sin(2 * t),
+                          glm::vec3(0, 1, 0)));
     instance.step(kH);
   }
   ASSERT_EQ(instance.jointCount(), 3u);
@@ -310,8 +305,8 @@ TEST(Solver, SameMotionAt30And60And144Fps) {
     Instance instance(rig);
     for (int f = 1; f <= fps; ++f) {
       const float t = static_cast<float>(double(f) / fps);
-      setDriver(instance, 0, glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, 0, 1.2f * t)),
-                                         1.5f * t, glm::vec3(0, 1, 0)));
+      setDriver(instance, 0,
+                glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, 0, 1.2f * t)), 1.5f * t, glm::vec3(0, 1, 0)));
       instance.step(1.0 / fps);
     }
     return std::vector<glm::vec3>{worldTail(instance, 0), worldTail(instance, 1)};
@@ -437,11 +432,12 @@ TEST(Solver, SingleJointTrajectoriesAgreeWithThreeVrmWithin1e5) {
                         {s["params"]["gravityDir"][0], s["params"]["gravityDir"][1], s["params"]["gravityDir"][2]});
     entry["isRoot"] = true;
     if (s["center"].get<bool>()) entry["center"] = "Avatar_Parent";
-    auto rig = makeRig(json::array({node("Avatar_Parent", {0, 0, 0}, {1}),
-                                    node("springbone_joint", {0, 0, 0}, {2},
-                                         glm::quat(q[3].get<float>(), q[0].get<float>(), q[1].get<float>(), q[2].get<float>())),
-                                    node("springbone_tip", {s["tail"][0], s["tail"][1], s["tail"][2]})}),
-                       json{{"springbone_joint", entry}});
+    auto rig = makeRig(
+        json::array({node("Avatar_Parent", {0, 0, 0}, {1}),
+                     node("springbone_joint", {0, 0, 0}, {2},
+                          glm::quat(q[3].get<float>(), q[0].get<float>(), q[1].get<float>(), q[2].get<float>())),
+                     node("springbone_tip", {s["tail"][0], s["tail"][1], s["tail"][2]})}),
+        json{{"springbone_joint", entry}});
     Instance instance(rig, InstanceOptions{reference["fps"].get<double>(), 4});
     double worst = 0;
     for (std::size_t f = 0; f < s["rotations"].size(); ++f) {

@@ -25,15 +25,12 @@ namespace test {
 // ---------------------------------------------------------------------------------------------
 // Fixtures
 
-inline std::string fixturePath(const std::string& name) {
-  return std::string(SPRINGBONES_FIXTURES_DIR) + "/" + name;
-}
+inline std::string fixturePath(const std::string& name) { return std::string(SPRINGBONES_FIXTURES_DIR) + "/" + name; }
 
 /// The bytes of a fixture file; fails the current test (and returns nothing) when it is missing.
 inline std::vector<std::uint8_t> readFixture(const std::string& name) {
   std::ifstream in(fixturePath(name), std::ios::binary);
-  EXPECT_TRUE(in.good()) << "missing fixture " << fixturePath(name)
-                         << " (run: node scripts/make_fixtures.mjs)";
+  EXPECT_TRUE(in.good()) << "missing fixture " << fixturePath(name) << " (run: node scripts/make_fixtures.mjs)";
   return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
@@ -76,8 +73,8 @@ inline void appendU32(std::vector<std::uint8_t>& out, std::uint32_t v) {
 }
 
 inline std::uint32_t readU32(const std::vector<std::uint8_t>& bytes, std::size_t at) {
-  return std::uint32_t(bytes[at]) | (std::uint32_t(bytes[at + 1]) << 8) |
-         (std::uint32_t(bytes[at + 2]) << 16) | (std::uint32_t(bytes[at + 3]) << 24);
+  return std::uint32_t(bytes[at]) | (std::uint32_t(bytes[at + 1]) << 8) | (std::uint32_t(bytes[at + 2]) << 16) |
+         (std::uint32_t(bytes[at + 3]) << 24);
 }
 
 inline void writeU32(std::vector<std::uint8_t>& bytes, std::size_t at, std::uint32_t v) {
@@ -187,22 +184,21 @@ struct AnyQuat : glm::quat {
 inline ::testing::AssertionResult vecNear(const AnyVec3& actual, const AnyVec3& expected, float eps = 1e-5f) {
   const float d = glm::length(actual - expected);
   if (d <= eps) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "(" << actual.x << ", " << actual.y << ", " << actual.z
-                                       << ") is " << d << " from expected (" << expected.x << ", "
-                                       << expected.y << ", " << expected.z << ")";
+  return ::testing::AssertionFailure() << "(" << actual.x << ", " << actual.y << ", " << actual.z << ") is " << d
+                                       << " from expected (" << expected.x << ", " << expected.y << ", " << expected.z
+                                       << ")";
 }
 
 /// q and -q are the same rotation.
 inline ::testing::AssertionResult quatNear(const AnyQuat& actual, const AnyQuat& expected, float eps = 1e-5f) {
-  const float d = std::fmin(glm::length(glm::vec4(actual.x - expected.x, actual.y - expected.y,
-                                                  actual.z - expected.z, actual.w - expected.w)),
-                            glm::length(glm::vec4(actual.x + expected.x, actual.y + expected.y,
-                                                  actual.z + expected.z, actual.w + expected.w)));
+  const float d = std::fmin(glm::length(glm::vec4(actual.x - expected.x, actual.y - expected.y, actual.z - expected.z,
+                                                  actual.w - expected.w)),
+                            glm::length(glm::vec4(actual.x + expected.x, actual.y + expected.y, actual.z + expected.z,
+                                                  actual.w + expected.w)));
   if (d <= eps) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "(x " << actual.x << ", y " << actual.y << ", z "
-                                       << actual.z << ", w " << actual.w << ") is " << d
-                                       << " from expected (x " << expected.x << ", y " << expected.y
-                                       << ", z " << expected.z << ", w " << expected.w << ")";
+  return ::testing::AssertionFailure() << "(x " << actual.x << ", y " << actual.y << ", z " << actual.z << ", w "
+                                       << actual.w << ") is " << d << " from expected (x " << expected.x << ", y "
+                                       << expected.y << ", z " << expected.z << ", w " << expected.w << ")";
 }
 
 // ---------------------------------------------------------------------------------------------

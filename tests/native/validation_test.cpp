@@ -27,9 +27,7 @@ const std::string kH2 = "bafkreigreflbn4w3a36rgg2ywlhf2asebqlsd4skg5q5djpklcdcjk
 const std::string kBone = "Hair_springBone_L";
 const std::string kBonePath = "/models/" + kH + "/" + kBone;
 
-json baseParams() {
-  return {{"stiffness", 2}, {"gravityPower", 0}, {"gravityDir", {0, -1, 0}}, {"drag", 0.5}};
-}
+json baseParams() { return {{"stiffness", 2}, {"gravityPower", 0}, {"gravityDir", {0, -1, 0}}, {"drag", 0.5}}; }
 
 json withBone(const json& bone) { return {{"version", 1}, {"models", {{kH, {{kBone, bone}}}}}}; }
 
@@ -42,9 +40,7 @@ json withParam(const std::string& key, const json& value) {
 // "path message", the form Ajv's errors are compared in.
 std::vector<std::string> schemaErrors(const json& springBones) {
   std::vector<std::string> out;
-  for (const ValidationError& e : validateSpringBonesSchema(springBones)) {
-    out.push_back(e.path + " " + e.message);
-  }
+  for (const ValidationError& e : validateSpringBonesSchema(springBones)) { out.push_back(e.path + " " + e.message); }
   return out;
 }
 
@@ -119,8 +115,7 @@ TEST(ValidationSchema, AcceptsUnknownKeyInsideBoneEntry) {
 }
 
 TEST(ValidationSchema, LeavesHashFormatAndBoneNamesToTheCrossChecks) {
-  EXPECT_EQ(schemaErrors({{"version", 1}, {"models", {{"not-a-cid", {{"Avatar_Head", baseParams()}}}}}}),
-            Strings{});
+  EXPECT_EQ(schemaErrors({{"version", 1}, {"models", {{"not-a-cid", {{"Avatar_Head", baseParams()}}}}}}), Strings{});
 }
 
 TEST(ValidationSchema, RejectsStiffnessAboveFour) {
@@ -132,8 +127,7 @@ TEST(ValidationSchema, RejectsNegativeStiffness) {
 }
 
 TEST(ValidationSchema, RejectsGravityPowerAboveTwo) {
-  EXPECT_EQ(schemaErrors(withParam("gravityPower", 2.5)),
-            Strings{kBonePath + "/gravityPower must be <= 2"});
+  EXPECT_EQ(schemaErrors(withParam("gravityPower", 2.5)), Strings{kBonePath + "/gravityPower must be <= 2"});
 }
 
 TEST(ValidationSchema, RejectsDragAboveOne) {
@@ -141,8 +135,7 @@ TEST(ValidationSchema, RejectsDragAboveOne) {
 }
 
 TEST(ValidationSchema, RejectsMissingVersion) {
-  EXPECT_EQ(schemaErrors({{"models", json::object()}}),
-            Strings{" must have required property 'version'"});
+  EXPECT_EQ(schemaErrors({{"models", json::object()}}), Strings{" must have required property 'version'"});
 }
 
 TEST(ValidationSchema, RejectsVersionTwo) {
@@ -170,13 +163,11 @@ TEST(ValidationSchema, RejectsGravityDirWithFourItems) {
 }
 
 TEST(ValidationSchema, RejectsGravityDirComponentBelowMinusTen) {
-  EXPECT_EQ(schemaErrors(withParam("gravityDir", {0, -11, 0})),
-            Strings{kBonePath + "/gravityDir/1 must be >= -10"});
+  EXPECT_EQ(schemaErrors(withParam("gravityDir", {0, -11, 0})), Strings{kBonePath + "/gravityDir/1 must be >= -10"});
 }
 
 TEST(ValidationSchema, RejectsNonNumericGravityDirComponent) {
-  EXPECT_EQ(schemaErrors(withParam("gravityDir", {0, "down", 0})),
-            Strings{kBonePath + "/gravityDir/1 must be number"});
+  EXPECT_EQ(schemaErrors(withParam("gravityDir", {0, "down", 0})), Strings{kBonePath + "/gravityDir/1 must be number"});
 }
 
 TEST(ValidationSchema, RejectsExtraTopLevelKey) {
@@ -236,10 +227,8 @@ TEST(ValidationSchema, RejectsNullDocument) { EXPECT_EQ(schemaErrors(nullptr), S
 TEST(ValidationSchema, ReportsEveryErrorInAjvKeywordOrder) {
   // required before additionalProperties before properties; one error per extra key.
   json doc = {{"version", "1"}, {"a", 1}, {"b", 2}};
-  EXPECT_EQ(schemaErrors(doc), (Strings{" must have required property 'models'",
-                                        " must NOT have additional properties",
-                                        " must NOT have additional properties",
-                                        "/version must be integer",
+  EXPECT_EQ(schemaErrors(doc), (Strings{" must have required property 'models'", " must NOT have additional properties",
+                                        " must NOT have additional properties", "/version must be integer",
                                         "/version must be equal to one of the allowed values"}));
   // Inside a bone: required in schema order, then each property in schema order.
   json bone = {{"gravityDir", {0, "x", nullptr, 1}}, {"isRoot", 1}, {"center", 2}};
@@ -248,10 +237,8 @@ TEST(ValidationSchema, ReportsEveryErrorInAjvKeywordOrder) {
                      kBonePath + " must have required property 'gravityPower'",
                      kBonePath + " must have required property 'drag'",
                      kBonePath + "/gravityDir must NOT have more than 3 items",
-                     kBonePath + "/gravityDir/1 must be number",
-                     kBonePath + "/gravityDir/2 must be number",
-                     kBonePath + "/center must be string",
-                     kBonePath + "/isRoot must be boolean"}));
+                     kBonePath + "/gravityDir/1 must be number", kBonePath + "/gravityDir/2 must be number",
+                     kBonePath + "/center must be string", kBonePath + "/isRoot must be boolean"}));
 }
 
 TEST(ValidationSchema, ChecksOnlyTheFirstThreeGravityDirItems) {
@@ -267,8 +254,7 @@ TEST(ValidationSchema, RejectsNonIntegralAndNonFiniteVersions) {
   EXPECT_EQ(schemaErrors({{"version", 1.5}, {"models", json::object()}}), both);
   EXPECT_EQ(schemaErrors({{"version", nullptr}, {"models", json::object()}}), both);
   EXPECT_EQ(schemaErrors({{"version", true}, {"models", json::object()}}), both);
-  EXPECT_EQ(schemaErrors({{"version", std::numeric_limits<double>::quiet_NaN()}, {"models", json::object()}}),
-            both);
+  EXPECT_EQ(schemaErrors({{"version", std::numeric_limits<double>::quiet_NaN()}, {"models", json::object()}}), both);
   // Integral but not 1: only the enum fails.
   EXPECT_EQ(schemaErrors({{"version", 1e300}, {"models", json::object()}}),
             Strings{"/version must be equal to one of the allowed values"});
@@ -301,9 +287,9 @@ TEST(ValidationSchema, EscapesSlashAndTildeInPaths) {
 TEST(ValidationSchema, ListsArrayIndexKeysFirstAsJavaScriptDoes) {
   json doc = {{"version", 1},
               {"models", {{"b", nullptr}, {"10", nullptr}, {"a", nullptr}, {"9", nullptr}, {"007", nullptr}}}};
-  EXPECT_EQ(schemaErrors(doc), (Strings{"/models/9 must be object", "/models/10 must be object",
-                                        "/models/007 must be object", "/models/a must be object",
-                                        "/models/b must be object"}));
+  EXPECT_EQ(schemaErrors(doc),
+            (Strings{"/models/9 must be object", "/models/10 must be object", "/models/007 must be object",
+                     "/models/a must be object", "/models/b must be object"}));
 }
 
 TEST(ValidationSchema, RejectsValuesThatJsonTextCannotHold) {
@@ -320,14 +306,13 @@ TEST(ValidationSchema, RejectsValuesThatJsonTextCannotHold) {
 
 // The entity: file1 is the representation's mainFile (hash H), file2 another file.
 json entityWith(const json& springBones) {
-  json entity = {
-      {"content", {{{"file", "male/file1.glb"}, {"hash", kH}}, {{"file", "male/file2.png"}, {"hash", kH2}}}},
-      {"metadata",
-       {{"data",
-         {{"representations",
-           {{{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
-             {"mainFile", "male/file1.glb"},
-             {"contents", {"male/file1.glb", "male/file2.png"}}}}}}}}}};
+  json entity = {{"content", {{{"file", "male/file1.glb"}, {"hash", kH}}, {{"file", "male/file2.png"}, {"hash", kH2}}}},
+                 {"metadata",
+                  {{"data",
+                    {{"representations",
+                      {{{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
+                        {"mainFile", "male/file1.glb"},
+                        {"contents", {"male/file1.glb", "male/file2.png"}}}}}}}}}};
   if (!springBones.is_discarded()) entity["metadata"]["data"]["springBones"] = springBones;
   return entity;
 }
@@ -356,8 +341,8 @@ TEST(ValidationEntity, ManyRepresentationsAndModelsStayLinear) {
   for (int i = 0; i < kCount; ++i) {
     const std::string n = std::to_string(i);
     content.push_back({{"file", "f" + n + ".glb"}, {"hash", "bafy" + n}});
-    representations.push_back({{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}},
-                                {"mainFile", "f" + n + ".glb"}});
+    representations.push_back(
+        {{"bodyShapes", {"urn:decentraland:off-chain:base-avatars:BaseMale"}}, {"mainFile", "f" + n + ".glb"}});
     models["bafy" + n] = {{kBone, rootParams()}};
   }
   // A later entry for the same file does not count: the first one wins.
@@ -371,9 +356,7 @@ TEST(ValidationEntity, ManyRepresentationsAndModelsStayLinear) {
 
 TEST(ValidationEntity, AcceptsNullSpringBones) { EXPECT_TRUE(validated(entityWith(nullptr)).empty()); }
 
-TEST(ValidationEntity, AcceptsEmptyModels) {
-  EXPECT_TRUE(validated(entityWith(modelsDoc(json::object()))).empty());
-}
+TEST(ValidationEntity, AcceptsEmptyModels) { EXPECT_TRUE(validated(entityWith(modelsDoc(json::object()))).empty()); }
 
 TEST(ValidationEntity, AcceptsModelKeyedByMainFileHash) {
   EXPECT_TRUE(validated(entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}))).empty());
@@ -402,8 +385,7 @@ TEST(ValidationEntity, AcceptsOneEntryForGlbSharedByBothBodyShapes) {
 TEST(ValidationEntity, RejectsKeyOfAFileThatIsNotAMainFile) {
   const auto errors = validated(entityWith(modelsDoc({{kH2, {{kBone, rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
-  EXPECT_EQ(errors[0].message, "springBones.models key " + kH2 +
-                                   " does not match any current representation hash");
+  EXPECT_EQ(errors[0].message, "springBones.models key " + kH2 + " does not match any current representation hash");
   EXPECT_EQ(errors[0].path, "/models/" + kH2);
 }
 
@@ -424,8 +406,8 @@ TEST(ValidationEntity, RejectsStaleKey) {
 TEST(ValidationEntity, RejectsBoneNameWithoutSpringboneToken) {
   const auto errors = validated(entityWith(modelsDoc({{kH, {{"Hair_001", rootParams()}}}})));
   ASSERT_EQ(errors.size(), 1u);
-  EXPECT_EQ(errors[0].message, "Bone name Hair_001 in model " + kH +
-                                   " does not follow the spring bone naming convention");
+  EXPECT_EQ(errors[0].message,
+            "Bone name Hair_001 in model " + kH + " does not follow the spring bone naming convention");
   EXPECT_EQ(errors[0].path, "/models/" + kH + "/Hair_001");
 }
 
@@ -438,8 +420,7 @@ TEST(ValidationEntity, PrefixesSchemaErrorsWithSpringBones) {
   EXPECT_EQ(messages(errors), Strings{"springBones" + kBonePath + "/stiffness must be <= 4"});
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].path, kBonePath + "/stiffness");
-  EXPECT_EQ(messages(validated(entityWith(modelsDoc(nullptr)))),
-            Strings{"springBones/models must be object"});
+  EXPECT_EQ(messages(validated(entityWith(modelsDoc(nullptr)))), Strings{"springBones/models must be object"});
   EXPECT_EQ(messages(validated(entityWith({{"models", json::object()}}))),
             Strings{"springBones must have required property 'version'"});
 }
@@ -448,8 +429,7 @@ TEST(ValidationEntity, StopsAtSchemaErrorsBeforeCrossChecks) {
   // A stale key and a bad bone name would be reported too, were the schema satisfied.
   json doc = modelsDoc({{"stale", {{"Hair_001", rootParams()}}}});
   doc["extra"] = 1;
-  EXPECT_EQ(messages(validated(entityWith(doc))),
-            Strings{"springBones must NOT have additional properties"});
+  EXPECT_EQ(messages(validated(entityWith(doc))), Strings{"springBones must NOT have additional properties"});
 }
 
 TEST(ValidationEntity, AcceptsThirteenBonesAsNoCountLimitIsEnforced) {
@@ -499,9 +479,9 @@ TEST(ValidationEntity, QuotesFieldsAsTheCatalystDoes) {
             Strings{"Bone name tab\\ther in model " + kH + " does not follow the spring bone naming convention"});
   // Longer than 100 UTF-16 units: 99 units and "...".
   const std::string long_key(101, 'k');
-  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{long_key, json::object()}})))),
-            Strings{"springBones.models key " + std::string(99, 'k') +
-                    "... does not match any current representation hash"});
+  EXPECT_EQ(
+      messages(validated(entityWith(modelsDoc({{long_key, json::object()}})))),
+      Strings{"springBones.models key " + std::string(99, 'k') + "... does not match any current representation hash"});
   // Exactly 100 is kept whole.
   const std::string hundred(100, 'k');
   EXPECT_EQ(messages(validated(entityWith(modelsDoc({{hundred, json::object()}})))),
@@ -517,9 +497,9 @@ TEST(ValidationEntity, QuotesFieldsAsTheCatalystDoes) {
             Strings{"springBones.models key " + expected + " does not match any current representation hash"});
   // The schema error's instancePath goes through the same quoting.
   json bones = {{std::string(90, 'b'), nullptr}};
-  EXPECT_EQ(messages(validated(entityWith(modelsDoc({{kH, bones}})))),
-            Strings{"springBones" + ("/models/" + kH + "/" + std::string(90, 'b')).substr(0, 99) +
-                    "... must be object"});
+  EXPECT_EQ(
+      messages(validated(entityWith(modelsDoc({{kH, bones}})))),
+      Strings{"springBones" + ("/models/" + kH + "/" + std::string(90, 'b')).substr(0, 99) + "... must be object"});
 }
 
 TEST(ValidationEntity, RejectsFalsyValuesOtherThanNull) {
@@ -539,10 +519,10 @@ TEST(ValidationEntity, RefusesWhatIsNeitherAnEntityNorABuilderItem) {
   const json spring_bones = modelsDoc({{kH, {{kBone, bone}}}});
   for (const json& subject :
        {json(nullptr), json(5), json("entity"), json::array(), json::object(), json{{"metadata", 3}},
-        json{{"metadata", {{"data", "x"}}}}, json{{"metadata", {{"data", nullptr}}}}, json{{"metadata", json::object()}},
-        json{{"data", {{"springBones", spring_bones}}}},                         // data without contents
-        json{{"contents", {{"a.glb", kH}}}, {"data", nullptr}},                  // contents without data
-        json{{"contents", nullptr}, {"data", {{"springBones", spring_bones}}}},  // contents null
+        json{{"metadata", {{"data", "x"}}}}, json{{"metadata", {{"data", nullptr}}}},
+        json{{"metadata", json::object()}}, json{{"data", {{"springBones", spring_bones}}}},  // data without contents
+        json{{"contents", {{"a.glb", kH}}}, {"data", nullptr}},                               // contents without data
+        json{{"contents", nullptr}, {"data", {{"springBones", spring_bones}}}},               // contents null
         spring_bones}) {
     const Error e = refused(subject);
     EXPECT_EQ(e.code, ErrorCode::kInvalidArgument) << subject.dump();
@@ -568,9 +548,13 @@ json itemWith(const json& springBones) {
 TEST(ValidationItem, GivesTheEntitysAnswer) {
   json bad_bone = rootParams();
   bad_bone["stiffness"] = 9;  // the issue's example: an item answered [] for it
-  const std::vector<json> docs = {json(json::value_t::discarded), nullptr, modelsDoc(json::object()),
-                                  modelsDoc({{kH, {{kBone, rootParams()}}}}), modelsDoc({{kH, {{kBone, bad_bone}}}}),
-                                  modelsDoc({{kH2, {{"Hair_001", rootParams()}}}}), json{{"version", 2}}};
+  const std::vector<json> docs = {json(json::value_t::discarded),
+                                  nullptr,
+                                  modelsDoc(json::object()),
+                                  modelsDoc({{kH, {{kBone, rootParams()}}}}),
+                                  modelsDoc({{kH, {{kBone, bad_bone}}}}),
+                                  modelsDoc({{kH2, {{"Hair_001", rootParams()}}}}),
+                                  json{{"version", 2}}};
   std::size_t rejected = 0;
   for (const json& doc : docs) {
     const auto from_item = validated(itemWith(doc));
@@ -633,8 +617,7 @@ TEST(ValidationEntity, ReportsContentThatIsNotAnArray) {
 TEST(ValidationEntity, ReportsMissingRepresentations) {
   json entity = entityWith(modelsDoc({{kH, {{kBone, rootParams()}}}}));
   entity["metadata"]["data"].erase("representations");
-  EXPECT_EQ(messages(validated(entity)),
-            Strings{"entity metadata.data.representations must be an array"});
+  EXPECT_EQ(messages(validated(entity)), Strings{"entity metadata.data.representations must be an array"});
   entity["metadata"]["data"]["representations"] = "male/file1.glb";
   EXPECT_EQ(validated(entity).size(), 1u);
 }
@@ -665,8 +648,17 @@ TEST(ValidationEntity, IgnoresARepresentationWhoseMainFileHasNoContent) {
 
 TEST(ValidationEntity, NeverThrowsOnHostileValues) {
   const std::string invalid_utf8 = "\xFF\xC0\x80\xED\xA0\x80springbone\xF4\x90\x80\x80\xE2\x82";
-  std::vector<json> values = {nullptr, true, 0, -1, 1.5, std::numeric_limits<double>::quiet_NaN(),
-                              "", invalid_utf8, json::array(), json::object(), json::binary({0}),
+  std::vector<json> values = {nullptr,
+                              true,
+                              0,
+                              -1,
+                              1.5,
+                              std::numeric_limits<double>::quiet_NaN(),
+                              "",
+                              invalid_utf8,
+                              json::array(),
+                              json::object(),
+                              json::binary({0}),
                               json(json::value_t::discarded)};
   json deep = json::array();
   for (int i = 0; i < 1000; ++i) deep = json::array({deep});
@@ -726,7 +718,7 @@ json loadCases() {
 }
 
 bool isFalsyButNotNull(const json& value) {
-  return value.is_boolean() ? !value.get<bool>()
+  return value.is_boolean()  ? !value.get<bool>()
          : value.is_number() ? value.get<double>() == 0.0
          : value.is_string() ? value.get_ref<const std::string&>().empty()
                              : false;
@@ -748,8 +740,9 @@ TEST(ValidationDifferential, AgreesWithDclSchemasOnEveryGeneratedCase) {
       ADD_FAILURE() << name << ": @dcl/schemas says " << (c["valid"].get<bool>() ? "valid" : "invalid");
     } else if (actual != expected) {
       ++list_mismatches;
-      ADD_FAILURE() << name << ": same decision, different errors; first expected: "
-                    << (expected.empty() ? "" : expected[0]) << "; first ours: " << (actual.empty() ? "" : actual[0]);
+      ADD_FAILURE() << name
+                    << ": same decision, different errors; first expected: " << (expected.empty() ? "" : expected[0])
+                    << "; first ours: " << (actual.empty() ? "" : actual[0]);
     }
   }
   EXPECT_EQ(decision_mismatches, 0u);
@@ -769,7 +762,8 @@ TEST(ValidationDifferential, AgreesWithTheCatalystRuleOnEveryGeneratedEntityAndI
     json item = {{"contents", c["contents"]},
                  {"data", {{"representations", c["representations"]}, {"springBones", input}}}};
     // The entity, then the same wearable as a Builder item.
-    for (const auto& [subject, answer] : {std::pair{&entity, "catalystErrors"}, std::pair{&item, "itemCatalystErrors"}}) {
+    for (const auto& [subject, answer] :
+         {std::pair{&entity, "catalystErrors"}, std::pair{&item, "itemCatalystErrors"}}) {
       const Strings actual = messages(validated(*subject));
       Strings expected = c[answer].get<Strings>();
       // Documented difference: see RejectsFalsyValuesOtherThanNull.
@@ -778,8 +772,8 @@ TEST(ValidationDifferential, AgreesWithTheCatalystRuleOnEveryGeneratedEntityAndI
       if (actual != expected) {
         ++mismatches;
         ADD_FAILURE() << name << " (" << answer << "): expected "
-                      << json(expected).dump(-1, ' ', false, json::error_handler_t::replace)
-                      << "\n got " << json(actual).dump(-1, ' ', false, json::error_handler_t::replace);
+                      << json(expected).dump(-1, ' ', false, json::error_handler_t::replace) << "\n got "
+                      << json(actual).dump(-1, ' ', false, json::error_handler_t::replace);
       }
     }
   }

@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "readers/glb_container.h"
-#include "springbones/springbones.h"
 #include "springbones/readers.h"
+#include "springbones/springbones.h"
 #include "springbones/vrm.h"
 #include "test_helpers.h"
 
@@ -193,11 +193,12 @@ TEST(VrmLoader, Vrm10FixtureMapsSpringsJointsAndTails) {
     const Joint& j = joint(*rig, hair[k]);
     EXPECT_EQ(nodes[j.tail_node].name, hair[k + 1]);
     EXPECT_TRUE(vecNear(j.tail_local, nodes[j.tail_node].rest_local.translation, 0.0f));
-    EXPECT_NEAR(j.rest_length, glm::length(glm::vec3(toGlm(nodes[j.tail_node].rest_world)[3]) - glm::vec3(toGlm(nodes[j.node].rest_world)[3])), 1e-6f);
+    EXPECT_NEAR(
+        j.rest_length,
+        glm::length(glm::vec3(toGlm(nodes[j.tail_node].rest_world)[3]) - glm::vec3(toGlm(nodes[j.node].rest_world)[3])),
+        1e-6f);
     EXPECT_TRUE(quatNear(j.rest_local.rotation, nodes[j.node].rest_local.rotation, 0.0f));
-    if (k > 0) {
-      EXPECT_EQ(j.parent_joint, jointNamed(*rig, hair[k - 1]));
-    }
+    if (k > 0) { EXPECT_EQ(j.parent_joint, jointNamed(*rig, hair[k - 1])); }
   }
   EXPECT_EQ(nodes[joint(*rig, "Skirt_L_3").tail_node].name, "Skirt_L_End");
   ASSERT_EQ(rig->chain_roots.size(), 2u);
@@ -419,9 +420,11 @@ TEST(VrmLoader, SkippedNodesBetweenJointsAreHeldAtRest) {
   const Joint& a = joint(*rig, "A");
   EXPECT_EQ(a.tail_node, 4);
   // C in A's frame: B's local transform applied to C's translation.
-  const glm::vec3 expected = toGlm(nodes[3].rest_local.translation) + toGlm(nodes[3].rest_local.rotation) * toGlm(nodes[4].rest_local.translation);
+  const glm::vec3 expected = toGlm(nodes[3].rest_local.translation) +
+                             toGlm(nodes[3].rest_local.rotation) * toGlm(nodes[4].rest_local.translation);
   EXPECT_TRUE(vecNear(a.tail_local, expected, 1e-6f));
-  EXPECT_NEAR(a.rest_length, glm::length(glm::vec3(toGlm(nodes[4].rest_world)[3]) - glm::vec3(toGlm(nodes[2].rest_world)[3])), 1e-6f);
+  EXPECT_NEAR(a.rest_length,
+              glm::length(glm::vec3(toGlm(nodes[4].rest_world)[3]) - glm::vec3(toGlm(nodes[2].rest_world)[3])), 1e-6f);
   const Joint& b = joint(*rig, "B");
   EXPECT_EQ(b.tail_node, 4);
   EXPECT_TRUE(vecNear(b.tail_local, glm::vec3(0.0f), 0.0f));
@@ -467,8 +470,8 @@ TEST(VrmLoader, SpringsEndAtAJointThatIsNotADescendant) {
   // Joints A, C, E, B: B lies above E, so the spring ends with the pair C -> E (E only a tail).
   auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 4, 6, 3})}}})));
   expectRigInvariants(*rig);
-  const Warning* w = test::findWarning(rig->warnings, "vrm-joint-not-descendant",
-                                       "/extensions/VRMC_springBone/springs/0/joints/3");
+  const Warning* w =
+      test::findWarning(rig->warnings, "vrm-joint-not-descendant", "/extensions/VRMC_springBone/springs/0/joints/3");
   ASSERT_NE(w, nullptr);
   EXPECT_NE(w->message.find("'B'"), std::string::npos) << w->message;
   EXPECT_EQ(jointNamed(*rig, "C") >= 0, true);
@@ -483,11 +486,13 @@ TEST(VrmLoader, SpringsEndAtAJointThatIsNotADescendant) {
 TEST(VrmLoader, ANodeIsSimulatedByTheFirstSpringOnly) {
   // Spring 0: A, B, C (B simulated). Spring 1: B, C, D: B is taken, the whole spring 1 is dropped
   // at its first pair. Spring 2: D, E works (D under C, C is spring 0's tail only: held at rest).
-  auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 3, 4})}},
-                                                      {{"joints", joints({3, 4, 5})}},
-                                                      {{"joints", joints({5, 6})}}})));
+  auto rig =
+      mustLoad(chainNodes(),
+               vrmc(json::array(
+                   {{{"joints", joints({2, 3, 4})}}, {{"joints", joints({3, 4, 5})}}, {{"joints", joints({5, 6})}}})));
   expectRigInvariants(*rig);
-  EXPECT_NE(test::findWarning(rig->warnings, "vrm-joint-conflict", "/extensions/VRMC_springBone/springs/1/joints/0"), nullptr);
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-joint-conflict", "/extensions/VRMC_springBone/springs/1/joints/0"),
+            nullptr);
   ASSERT_NE(test::findWarning(rig->warnings, "vrm-fixed-nodes", "/extensions/VRMC_springBone/springs/2"), nullptr);
   // A, B simulated; C fixed (it is between B's joint and D's); D simulated.
   ASSERT_EQ(rig->joints.size(), 4u) << describeWarnings(rig->warnings);
@@ -497,7 +502,8 @@ TEST(VrmLoader, ANodeIsSimulatedByTheFirstSpringOnly) {
   EXPECT_EQ(joint(*rig, "D").tail_node, 6);
   EXPECT_EQ(rig->chain_roots.size(), 1u);
   // A later spring whose pair passes through a simulated node is cut there as well.
-  auto through = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({3, 4})}}, {{"joints", joints({2, 5})}}})));
+  auto through =
+      mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({3, 4})}}, {{"joints", joints({2, 5})}}})));
   EXPECT_EQ(test::countWarnings(through->warnings, "vrm-joint-conflict"), 1);
   EXPECT_EQ(jointNamed(*through, "B"), 0);
   EXPECT_EQ(through->joints.size(), 1u);
@@ -518,10 +524,10 @@ TEST(VrmLoader, MissingParametersGetTheSpecDefaults) {
 }
 
 TEST(VrmLoader, BadParametersAreClampedOrReplacedWithWarnings) {
-  json j0 = {{"node", 2}, {"stiffness", -1}, {"gravityPower", "heavy"}, {"dragForce", 1.5}, {"hitRadius", 1e300},
-             {"gravityDir", {0, 0, 0}}};
-  json j1 = {{"node", 3}, {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}}, {"dragForce", -0.5},
-             {"hitRadius", 1e30}};
+  json j0 = {{"node", 2},        {"stiffness", -1},    {"gravityPower", "heavy"},
+             {"dragForce", 1.5}, {"hitRadius", 1e300}, {"gravityDir", {0, 0, 0}}};
+  json j1 = {{"node", 3},         {"stiffness", 1e30}, {"gravityPower", 2}, {"gravityDir", {1, "x", 0}},
+             {"dragForce", -0.5}, {"hitRadius", 1e30}};
   const std::string p = "/extensions/VRMC_springBone/springs/0/joints/";
   auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", {j0, j1, {{"node", 4}}}}}})));
   expectRigInvariants(*rig);
@@ -573,9 +579,11 @@ TEST(VrmLoader, CentersResolveToDriversOrFallBackToWorldSpace) {
   // The spring's own first joint: it moves with the simulation, so world space.
   auto self = mustLoad(chainNodes(), vrmc(json::array({spring(2)})));
   for (const Joint& j : self->joints) EXPECT_EQ(j.center_driver, -1);
-  EXPECT_NE(test::findWarning(self->warnings, "center-is-spring-bone", "/extensions/VRMC_springBone/springs/0/center"), nullptr);
+  EXPECT_NE(test::findWarning(self->warnings, "center-is-spring-bone", "/extensions/VRMC_springBone/springs/0/center"),
+            nullptr);
   // Below a joint (E under D under C...): world space too.
-  auto below = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 3})}}, {{"joints", joints({4, 5})}, {"center", 3}}})));
+  auto below = mustLoad(chainNodes(),
+                        vrmc(json::array({{{"joints", joints({2, 3})}}, {{"joints", joints({4, 5})}, {"center", 3}}})));
   EXPECT_EQ(joint(*below, "C").center_driver, -1);
   EXPECT_EQ(test::countWarnings(below->warnings, "center-is-spring-bone"), 1);
   for (json bad : {json(99), json(-1), json("Head"), json(1.5)}) {
@@ -588,16 +596,18 @@ TEST(VrmLoader, CentersResolveToDriversOrFallBackToWorldSpace) {
 TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   json nodes = chainNodes();
   json colliders = json::array({
-      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 0.1}}}}}},                      // 0 ok
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 0.1}}}}}},                       // 0 ok
       {{"node", 0}, {"shape", {{"capsule", {{"offset", {0, 0, 0}}, {"radius", 0.05}, {"tail", {0, 1, 0}}}}}}},  // 1 ok
-      {{"node", 3}, {"shape", {{"sphere", {{"radius", 0.1}}}}}},                                                // 2 on joint B
-      {{"node", 1}, {"shape", {{"sphere", {{"radius", -1}}}}}},                                                 // 3 invalid
-      {{"node", 1}, {"shape", {{"plane", {}}}}},                                                                // 4 no base shape
+      {{"node", 3}, {"shape", {{"sphere", {{"radius", 0.1}}}}}},  // 2 on joint B
+      {{"node", 1}, {"shape", {{"sphere", {{"radius", -1}}}}}},   // 3 invalid
+      {{"node", 1}, {"shape", {{"plane", {}}}}},                  // 4 no base shape
       {{"node", 1},
        {"shape", {{"sphere", {{"radius", 0.02}}}}},
-       {"extensions", {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", {{"plane", json::object()}}}}}}}},  // 5 plane
-      {{"node", 42}, {"shape", {{"sphere", {{"radius", 0.1}}}}}},  // 6 no such node
-      {{"node", 0}, {"shape", {{"sphere", {{"radius", 0.3}}}}}},   // 7 unused by any spring
+       {"extensions",
+        {{"VRMC_springBone_extended_collider",
+          {{"specVersion", "1.0"}, {"shape", {{"plane", json::object()}}}}}}}},  // 5 plane
+      {{"node", 42}, {"shape", {{"sphere", {{"radius", 0.1}}}}}},                // 6 no such node
+      {{"node", 0}, {"shape", {{"sphere", {{"radius", 0.3}}}}}},                 // 7 unused by any spring
   });
   json groups = json::array({{{"colliders", {1, 0}}}, {{"colliders", {2, 3, 4, 5, 6, 99}}}, {{"colliders", {7}}}});
   json springs = json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {1, 0, 0, 7}}}});
@@ -620,7 +630,8 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/4"), nullptr);
   EXPECT_EQ(test::countWarnings(rig->warnings, "vrm-extended-collider"), 0) << describeWarnings(rig->warnings);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliders/6"), nullptr);
-  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "colliderGroups/1/colliders/5"), nullptr);
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "colliderGroups/1/colliders/5"),
+            nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "springs/0/colliderGroups/3"), nullptr);
   // Root and Head are drivers (Head: parent of A and collider node), nothing for collider 7.
   EXPECT_EQ(rig->drivers.size(), 2u);
@@ -630,13 +641,16 @@ TEST(VrmLoader, CollidersShapesGroupsAndSkips) {
 // collider move nothing: left out with a warning, as for loadRig's colliders.
 TEST(VrmLoader, CollidersBeyondTheSizeLimitAreIgnoredWithAWarning) {
   json colliders = json::array({
-      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 1e30}}}}}},                      // 0 radius
-      {{"node", 1}, {"shape", {{"capsule", {{"radius", 0.05}, {"tail", {0, -1e7, 0}}}}}}},                      // 1 tail
+      {{"node", 1}, {"shape", {{"sphere", {{"offset", {0, 0.1, 0}}, {"radius", 1e30}}}}}},  // 0 radius
+      {{"node", 1}, {"shape", {{"capsule", {{"radius", 0.05}, {"tail", {0, -1e7, 0}}}}}}},  // 1 tail
       {{"node", 1},
        {"shape", {{"sphere", {{"radius", 0.02}}}}},
-       {"extensions", {{"VRMC_springBone_extended_collider",
-                        {{"specVersion", "1.0"}, {"shape", {{"plane", {{"offset", {3e38, 0, 0}}}}}}}}}}},           // 2 plane offset
-      {{"node", 1}, {"shape", {{"sphere", {{"offset", {kMaxColliderSize, 0, 0}}, {"radius", kMaxColliderSize}}}}}},  // 3 at the limit
+       {"extensions",
+        {{"VRMC_springBone_extended_collider",
+          {{"specVersion", "1.0"}, {"shape", {{"plane", {{"offset", {3e38, 0, 0}}}}}}}}}}},  // 2 plane offset
+      {{"node", 1},
+       {"shape",
+        {{"sphere", {{"offset", {kMaxColliderSize, 0, 0}}, {"radius", kMaxColliderSize}}}}}},  // 3 at the limit
   });
   json groups = json::array({{{"colliders", {0, 1, 2, 3}}}});
   json springs = json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}});
@@ -661,24 +675,27 @@ TEST(VrmLoader, ExtendedCollidersReplaceTheBaseShapeOrFallBack) {
     return json{{"specVersion", version}, {"shape", shape}};
   };
   json colliders = json::array({
-      extended(known({{"sphere", {{"offset", {1, 2, 3}}, {"radius", 0.5}, {"inside", true}}}})),                  // 0
-      extended(known({{"capsule", {{"offset", {0, 0, 0}}, {"tail", {0, -1, 0}}, {"radius", 0.25}, {"inside", true}}}})),  // 1
-      extended(known({{"plane", {{"offset", {0, -0.5, 0}}, {"normal", {0, 2, 0}}}}}, "1.0-draft")),               // 2
-      extended(known({{"sphere", {{"radius", 0.1}}}})),                                                           // 3 outside
-      extended(known({{"plane", json::object()}}, "2.0")),                                                               // 4 unknown version
-      extended({{"shape", {{"plane", json::object()}}}}),                                                          // 5 no version
-      extended(known({{"cone", json::object()}})),                                                                       // 6 unknown shape
-      extended(known({{"plane", {{"normal", {0, 0, 0}}}}})),                                                      // 7 zero normal
-      extended(known({{"sphere", {{"radius", -1}}}})),                                                            // 8 negative radius
-      extended(known({{"capsule", {{"inside", "yes"}}}})),                                                        // 9 inside not a bool
-      extended("plane"),                                                                                          // 10 not an object
+      extended(known({{"sphere", {{"offset", {1, 2, 3}}, {"radius", 0.5}, {"inside", true}}}})),  // 0
+      extended(known(
+          {{"capsule", {{"offset", {0, 0, 0}}, {"tail", {0, -1, 0}}, {"radius", 0.25}, {"inside", true}}}})),  // 1
+      extended(known({{"plane", {{"offset", {0, -0.5, 0}}, {"normal", {0, 2, 0}}}}}, "1.0-draft")),            // 2
+      extended(known({{"sphere", {{"radius", 0.1}}}})),                             // 3 outside
+      extended(known({{"plane", json::object()}}, "2.0")),                          // 4 unknown version
+      extended({{"shape", {{"plane", json::object()}}}}),                           // 5 no version
+      extended(known({{"cone", json::object()}})),                                  // 6 unknown shape
+      extended(known({{"plane", {{"normal", {0, 0, 0}}}}})),                        // 7 zero normal
+      extended(known({{"sphere", {{"radius", -1}}}})),                              // 8 negative radius
+      extended(known({{"capsule", {{"inside", "yes"}}}})),                          // 9 inside not a bool
+      extended("plane"),                                                            // 10 not an object
       {{"node", 1}, {"shape", {{"sphere", {{"radius", 0.1}, {"inside", true}}}}}},  // 11 base shapes have no inside
-      {{"node", 1}, {"extensions", {{"VRMC_springBone_extended_collider", known({{"plane", json::object()}})}}}},  // 12 no base needed
+      {{"node", 1},
+       {"extensions",
+        {{"VRMC_springBone_extended_collider", known({{"plane", json::object()}})}}}},  // 12 no base needed
   });
   std::vector<int> all(colliders.size());
   for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
-  auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}}), colliders,
-                                         json::array({{{"colliders", all}}})));
+  auto rig = mustLoad(chainNodes(), vrmc(json::array({{{"joints", joints({2, 3, 4})}, {"colliderGroups", {0}}}}),
+                                         colliders, json::array({{{"colliders", all}}})));
   expectRigInvariants(*rig);
   ASSERT_EQ(rig->colliders.size(), colliders.size()) << describeWarnings(rig->warnings);
   const auto& c = rig->colliders;
@@ -715,10 +732,10 @@ TEST(VrmLoader, ExtendedCollidersReplaceTheBaseShapeOrFallBack) {
 TEST(VrmLoader, ShortOrBrokenSpringsAreSkippedWithWarnings) {
   const std::string p = "/extensions/VRMC_springBone/springs/";
   json springs = json::array({
-      {{"joints", joints({2})}},                      // 0: one joint, nothing to simulate
-      "spring",                                       // 1: not an object
-      {{"joints", "A"}},                              // 2: joints not an array
-      {{"joints", {{{"node", 2}}, {{"node", 77}}}}},  // 3: second joint names no node
+      {{"joints", joints({2})}},                        // 0: one joint, nothing to simulate
+      "spring",                                         // 1: not an object
+      {{"joints", "A"}},                                // 2: joints not an array
+      {{"joints", {{{"node", 2}}, {{"node", 77}}}}},    // 3: second joint names no node
       {{"joints", {{{"node", 2}}, 5, {{"node", 4}}}}},  // 4: second joint not an object
   });
   auto rig = mustLoad(chainNodes(), vrmc(springs));
@@ -783,15 +800,20 @@ TEST(VrmLoader, Vrm0OverlappingRootsAndZeroLengthLeaves) {
 
 TEST(VrmLoader, Vrm0CollidersCentersAndVectors) {
   json colliders = json::array({
-      {{"node", 1}, {"colliders", {{{"offset", {{"x", 0.1}, {"y", 0.2}, {"z", 0.3}}}, {"radius", 0.05}},
-                                   {{"radius", 0.04}},                               // offset missing: origin
-                                   {{"offset", {{"x", "a"}}}, {"radius", 0.1}},      // invalid
-                                   {{"offset", {{"y", 1}}}, {"radius", -0.1}}}}},    // invalid
-      {{"node", 99}, {"colliders", {{{"radius", 0.1}}}}},                             // no node
-      {{"node", 5}, {"colliders", {{{"radius", 0.1}}}}},                              // on joint D
+      {{"node", 1},
+       {"colliders",
+        {{{"offset", {{"x", 0.1}, {"y", 0.2}, {"z", 0.3}}}, {"radius", 0.05}},
+         {{"radius", 0.04}},                               // offset missing: origin
+         {{"offset", {{"x", "a"}}}, {"radius", 0.1}},      // invalid
+         {{"offset", {{"y", 1}}}, {"radius", -0.1}}}}},    // invalid
+      {{"node", 99}, {"colliders", {{{"radius", 0.1}}}}},  // no node
+      {{"node", 5}, {"colliders", {{{"radius", 0.1}}}}},   // on joint D
   });
-  json groups = json::array({{{"bones", {2}}, {"colliderGroups", {0, 1, 2, 5}}, {"center", 0},
-                              {"gravityDir", {{"x", 0.6}, {"y", -0.8}, {"z", 0.5}}}, {"gravityPower", 0.2}}});
+  json groups = json::array({{{"bones", {2}},
+                              {"colliderGroups", {0, 1, 2, 5}},
+                              {"center", 0},
+                              {"gravityDir", {{"x", 0.6}, {"y", -0.8}, {"z", 0.5}}},
+                              {"gravityPower", 0.2}}});
   auto rig = mustLoad(chainNodes(), vrm0(groups, colliders));
   expectRigInvariants(*rig);
   ASSERT_EQ(rig->colliders.size(), 2u) << describeWarnings(rig->warnings);
@@ -803,7 +825,8 @@ TEST(VrmLoader, Vrm0CollidersCentersAndVectors) {
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-invalid", p + "colliderGroups/0/colliders/3"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "colliderGroups/1"), nullptr);
   EXPECT_NE(test::findWarning(rig->warnings, "collider-on-spring-bone", p + "colliderGroups/2/colliders/0"), nullptr);
-  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "boneGroups/0/colliderGroups/3"), nullptr);
+  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-group-invalid", p + "boneGroups/0/colliderGroups/3"),
+            nullptr);
   // gravityDir in Unity's axes: z negated, then normalized with the length in the power.
   const glm::vec3 dir(0.6f, -0.8f, -0.5f);
   for (const Joint& j : rig->joints) {
@@ -866,8 +889,21 @@ TEST(VrmLoader, UnreadableExtensionShapesAreErrorsWithPaths) {
 }
 
 TEST(VrmLoader, WrongTypesEverywhereNeverCrash) {
-  const json values[] = {nullptr, true, -1, 0, 1, 2.5, 1e300, -1e300, "x", json::array(), json::object(),
-                         json::array({1, 2, 3}), json::array({0, -1, 0}), json{{"x", 1}, {"y", "z"}}, 4294967296.0,
+  const json values[] = {nullptr,
+                         true,
+                         -1,
+                         0,
+                         1,
+                         2.5,
+                         1e300,
+                         -1e300,
+                         "x",
+                         json::array(),
+                         json::object(),
+                         json::array({1, 2, 3}),
+                         json::array({0, -1, 0}),
+                         json{{"x", 1}, {"y", "z"}},
+                         4294967296.0,
                          18446744073709551615ull};
   for (const json& v : values) {
     for (const char* key : {"node", "stiffness", "gravityPower", "gravityDir", "dragForce", "hitRadius"}) {
@@ -875,14 +911,17 @@ TEST(VrmLoader, WrongTypesEverywhereNeverCrash) {
       bad[key] = v;
       json spring = {{"joints", {bad, {{"node", 3}}, {{"node", 4}}}}, {"center", v}, {"colliderGroups", v}};
       std::shared_ptr<const Rig> rig;
-      loadDoc(chainNodes(), vrmc(json::array({spring}), json::array({{{"node", v}, {"shape", v}}}),
-                                 json::array({{{"colliders", v}}})),
-              rig);
+      loadDoc(
+          chainNodes(),
+          vrmc(json::array({spring}), json::array({{{"node", v}, {"shape", v}}}), json::array({{{"colliders", v}}})),
+          rig);
       if (rig) expectRigInvariants(*rig);
       json group = {{"bones", v}, {"stiffiness", v}, {"gravityDir", v}, {"center", v}, {"colliderGroups", v}};
       group[key] = v;
-      loadDoc(chainNodes(), vrm0(json::array({group, {{"bones", {2}}, {"center", v}}}), json::array({{{"node", v}, {"colliders", v}}})),
-              rig);
+      loadDoc(
+          chainNodes(),
+          vrm0(json::array({group, {{"bones", {2}}, {"center", v}}}), json::array({{{"node", v}, {"colliders", v}}})),
+          rig);
       if (rig) expectRigInvariants(*rig);
     }
   }
@@ -944,8 +983,8 @@ TEST(VrmLoader, LongSkippedRunsAreBounded) {
   constexpr int kSprings = 2000;
   json nodes = json::array();
   for (int i = 0; i < kDepth; ++i) {
-    nodes.push_back(gnode("n" + std::to_string(i), i + 1 < kDepth ? std::vector<int>{i + 1} : std::vector<int>{},
-                          {0, -0.01f, 0}));
+    nodes.push_back(
+        gnode("n" + std::to_string(i), i + 1 < kDepth ? std::vector<int>{i + 1} : std::vector<int>{}, {0, -0.01f, 0}));
   }
   // Spring 0 simulates n1; every other spring pairs n0 with the deepest node, which passes n1.
   json springs = json::array({{{"joints", joints({1, 2})}}});
@@ -972,9 +1011,10 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
     // Extended shapes count like the others: every third collider a plane, every third an inside sphere.
     for (int c = 0; c < collider_count; ++c) {
       json collider = {{"node", 0}, {"shape", {{"sphere", {{"radius", 0.01}}}}}};
-      const json extended = c % 3 == 1 ? json{{"plane", {{"normal", {0, 1, 0}}}}}
-                                       : json{{"sphere", {{"radius", 0.5}, {"inside", true}}}};
-      if (c % 3 != 0) collider["extensions"] = {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", extended}}}};
+      const json extended =
+          c % 3 == 1 ? json{{"plane", {{"normal", {0, 1, 0}}}}} : json{{"sphere", {{"radius", 0.5}, {"inside", true}}}};
+      if (c % 3 != 0)
+        collider["extensions"] = {{"VRMC_springBone_extended_collider", {{"specVersion", "1.0"}, {"shape", extended}}}};
       colliders.push_back(collider);
     }
     json ids = json::array();
@@ -985,8 +1025,8 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
     for (int i = 1; i <= joint_count; ++i) listed.push_back(i);
     json group_refs = json::array();
     for (int r = 0; r < repeats; ++r) group_refs.push_back(0);
-    return std::make_pair(nodes, vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", group_refs}}}), colliders,
-                                      json::array({{{"colliders", ids}}})));
+    return std::make_pair(nodes, vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", group_refs}}}),
+                                      colliders, json::array({{{"colliders", ids}}})));
   };
   std::shared_ptr<const Rig> rig;
   const int side = static_cast<int>(std::sqrt(double(kMaxVrmColliderReferences))) + 2;
@@ -999,7 +1039,8 @@ TEST(VrmLoader, ColliderReferencesAreLimited) {
   ASSERT_FALSE(loadDoc(nodes, ext, rig));
   ASSERT_EQ(rig->joints.size(), 20u);
   for (const Joint& j : rig->joints) EXPECT_EQ(j.colliders.size(), 50u);
-  EXPECT_EQ(std::count_if(rig->colliders.begin(), rig->colliders.end(), [](const Collider& c) { return c.inside; }), 16);
+  EXPECT_EQ(std::count_if(rig->colliders.begin(), rig->colliders.end(), [](const Collider& c) { return c.inside; }),
+            16);
   EXPECT_EQ(std::count_if(rig->colliders.begin(), rig->colliders.end(),
                           [](const Collider& c) { return c.shape == Collider::Shape::kPlane; }),
             17);
@@ -1038,7 +1079,8 @@ TEST(VrmLoaderScaling, LongArraysOfSmallObjectsAnywhereLoadInLinearTime) {
                            R"({"name":"tip","translation":[0,-0.1,0]},)" +
                            repeated("{}", kNodes) + R"(],"accessors":[)" + repeated(R"({"count":1})", kCount) +
                            R"(],"extensions":{"VRMC_springBone":{"specVersion":"1.0","springs":[{"joints":[{"node":0},)"
-                           R"({"node":1}]}],"extras":[)" + repeated("[{}]", kCount) + "]}}}";
+                           R"({"node":1}]}],"extras":[)" +
+                           repeated("[{}]", kCount) + "]}}}";
   std::shared_ptr<const Rig> rig;
   const Error e = loadText(text, rig);
   ASSERT_FALSE(e) << e.message;
@@ -1064,8 +1106,8 @@ TEST(VrmLoaderScaling, ManySpringsSharingALargeColliderGroupHitTheLimitBeforeBui
   for (int c = 0; c < kColliders; ++c) ids += (c ? "," : "") + std::to_string(c);
   const std::string text =
       R"({"asset":{"version":"2.0"},"nodes":)" + nodes + R"(],"extensions":{"VRMC_springBone":{"colliders":[)" +
-      repeated(R"({"node":0,"shape":{"sphere":{"radius":0.1}}})", kColliders) + R"(],"colliderGroups":[{"colliders":[)" +
-      ids + "," + ids + R"(]}],"springs":[)" + springs + "]}}}";
+      repeated(R"({"node":0,"shape":{"sphere":{"radius":0.1}}})", kColliders) +
+      R"(],"colliderGroups":[{"colliders":[)" + ids + "," + ids + R"(]}],"springs":[)" + springs + "]}}}";
   std::shared_ptr<const Rig> rig;
   const Error e = loadText(text, rig);
   EXPECT_EQ(e.code, ErrorCode::kLimitExceeded) << e.message;
@@ -1085,15 +1127,17 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnTheJoint) {
   const auto rig = mustLoad(nodes, vrmc(springs, colliders, groups));
   ASSERT_EQ(rig->joints.size(), 1u);
   EXPECT_EQ(rig->joints[0].colliders, (std::vector<int>{0, 1, 1, 2}));
-  EXPECT_NE(test::findWarning(rig->warnings, "vrm-collider-repeated", "/extensions/VRMC_springBone/springs/0/colliderGroups"),
-            nullptr);
+  EXPECT_NE(
+      test::findWarning(rig->warnings, "vrm-collider-repeated", "/extensions/VRMC_springBone/springs/0/colliderGroups"),
+      nullptr);
 
   // 1,000 joints x two groups of the same 2,100 colliders: 4.2 million references, 2.1 million distinct.
   constexpr int kJoints = 1000, kColliders = 2100;
   json chain = json::array({gnode("body", {1})});
   std::vector<int> listed;
   for (int i = 1; i <= kJoints + 1; ++i) {
-    chain.push_back(gnode("n" + std::to_string(i), i <= kJoints ? std::vector<int>{i + 1} : std::vector<int>{}, {0, -0.01f, 0}));
+    chain.push_back(
+        gnode("n" + std::to_string(i), i <= kJoints ? std::vector<int>{i + 1} : std::vector<int>{}, {0, -0.01f, 0}));
     listed.push_back(i);
   }
   json many = json::array();
@@ -1103,8 +1147,9 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnTheJoint) {
     ids.push_back(c);
   }
   std::shared_ptr<const Rig> limited;
-  const Error e = loadDoc(chain, vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", {0, 1}}}}), many,
-                                      json::array({{{"colliders", ids}}, {{"colliders", ids}}})),
+  const Error e = loadDoc(chain,
+                          vrmc(json::array({{{"joints", joints(listed)}, {"colliderGroups", {0, 1}}}}), many,
+                               json::array({{{"colliders", ids}}, {{"colliders", ids}}})),
                           limited);
   EXPECT_EQ(e.code, ErrorCode::kLimitExceeded) << e.message;
   EXPECT_NE(e.message.find("4200000 times"), std::string::npos) << e.message;
@@ -1115,9 +1160,10 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnTheJoint) {
 TEST(VrmLoaderScaling, ALongNodeNameRepeatedInManyWarningsIsShortened) {
   constexpr int kSprings = 100000;
   const std::string name = "\xc3\xa9" + std::string(1 << 20, 'x');  // a two-byte character first
-  const std::string text = R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + name +
-                           R"(","children":[1]},{"translation":[0,-0.1,0]}],"extensions":{"VRMC_springBone":{"springs":[)" +
-                           repeated(R"({"joints":[{"node":0},{"node":1}]})", kSprings) + "]}}}";
+  const std::string text =
+      R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + name +
+      R"(","children":[1]},{"translation":[0,-0.1,0]}],"extensions":{"VRMC_springBone":{"springs":[)" +
+      repeated(R"({"joints":[{"node":0},{"node":1}]})", kSprings) + "]}}}";
   std::shared_ptr<const Rig> rig;
   ASSERT_FALSE(loadText(text, rig));
   ASSERT_EQ(test::countWarnings(rig->warnings, "vrm-joint-conflict"), kSprings - 1);

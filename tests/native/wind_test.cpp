@@ -30,10 +30,12 @@ Wind breeze(std::uint32_t seed = 7, float gusts = 1.5f) {
 
 // A chain of three 5 cm bones hanging from Avatar_Head at (0, 1.6, 0).
 std::shared_ptr<const Rig> hangingChain() {
-  const nlohmann::json nodes = nlohmann::json::array(
-      {node("Avatar_Head", {1}, {0, 1.6, 0}), node("SpringBone_a", {2}, {0, -0.05, 0}), node("SpringBone_b", {3}, {0, -0.05, 0}),
-       node("SpringBone_c", {4}, {0, -0.05, 0}), node("SpringBone_tip", {}, {0, -0.05, 0})});
-  return rigFromJson(nodes, {{"SpringBone_a", {{"isRoot", true}, {"stiffness", 1.0}, {"drag", 0.4}, {"gravityPower", 0.5}}}});
+  const nlohmann::json nodes =
+      nlohmann::json::array({node("Avatar_Head", {1}, {0, 1.6, 0}), node("SpringBone_a", {2}, {0, -0.05, 0}),
+                             node("SpringBone_b", {3}, {0, -0.05, 0}), node("SpringBone_c", {4}, {0, -0.05, 0}),
+                             node("SpringBone_tip", {}, {0, -0.05, 0})});
+  return rigFromJson(nodes,
+                     {{"SpringBone_a", {{"isRoot", true}, {"stiffness", 1.0}, {"drag", 0.4}, {"gravityPower", 0.5}}}});
 }
 
 enum class Path { kLanes, kGeneral, kXpbd };

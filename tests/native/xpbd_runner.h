@@ -82,8 +82,8 @@ class XpbdRunner {
     for (int i = 0; i < steps; ++i) {
       const double at = dropped ? double(i + 1) / steps : ((i + 1) * h - start) / dt;
       prepare(static_cast<float>(std::clamp(at, 0.0, 1.0)));
-      solver_.step(step_drivers_.data(), colliders_.data(), colliders_.size(), static_cast<float>(h),
-                   rotations_.data(), joint_world_.data());
+      solver_.step(step_drivers_.data(), colliders_.data(), colliders_.size(), static_cast<float>(h), rotations_.data(),
+                   joint_world_.data());
       ++substeps_run_;
     }
     accumulator_ = dropped ? 0.0 : std::max(0.0, accumulator_ - steps * h);

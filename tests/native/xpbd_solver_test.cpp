@@ -39,7 +39,10 @@ std::shared_ptr<const Rig> makeRig(const json& nodes, const json& bones, const R
 }
 
 json rootParams(double stiffness, double gravity, double drag) {
-  return {{"isRoot", true}, {"stiffness", stiffness}, {"gravityPower", gravity}, {"drag", drag},
+  return {{"isRoot", true},
+          {"stiffness", stiffness},
+          {"gravityPower", gravity},
+          {"drag", drag},
           {"gravityDir", {0, -1, 0}}};
 }
 
@@ -133,8 +136,8 @@ TEST(XpbdSolver, BoneLengthsAreExactAfter10000Steps) {
     runner.step(kSubstep);  // one substep per call
     for (std::size_t j = 0; j < 3; ++j) {
       const double rest = rig->joints[j].rest_length;
-      worst_particle = std::max(
-          worst_particle, std::fabs(glm::length(runner.solver().tailWorld(j) - headOf(runner, j)) - rest) / rest);
+      worst_particle = std::max(worst_particle,
+                                std::fabs(glm::length(runner.solver().tailWorld(j) - headOf(runner, j)) - rest) / rest);
     }
   }
   EXPECT_EQ(runner.substepsRun(), 10000);
@@ -169,7 +172,8 @@ TEST(XpbdSolver, AggressiveParametersAt30FpsWithHalfSecondSpikesStayFiniteAndUni
     for (std::size_t j = 0; j < runner.jointCount(); ++j) {
       const double rest = rig->joints[j].rest_length;
       const glm::vec3 head = headOf(runner, j);
-      worst_particle = std::max(worst_particle, std::fabs(glm::length(runner.solver().tailWorld(j) - head) - rest) / rest);
+      worst_particle =
+          std::max(worst_particle, std::fabs(glm::length(runner.solver().tailWorld(j) - head) - rest) / rest);
       worst_output = std::max(worst_output, std::fabs(glm::length(tailOf(runner, j) - head) - rest) / rest);
     }
   }
@@ -196,8 +200,8 @@ TEST(XpbdSolver, SingleJointSettlesAtTheDefaultsEquilibrium) {
   // Stiffness 1, gravityPower 1, bone resting along +X: the default settles where the two impulses
   // point along the bone, 45 degrees down. The XPBD bend constraint has the same tangential force
   // at every angle, so the equilibrium is the same; only rounding separates the two.
-  for (const auto& [stiffness, gravity, length] :
-       {std::tuple{1.0, 1.0, 0.3f}, std::tuple{1.0, 1.0, 0.03f}, std::tuple{4.0, 1.0, 0.3f}, std::tuple{0.5, 2.0, 1.5f}}) {
+  for (const auto& [stiffness, gravity, length] : {std::tuple{1.0, 1.0, 0.3f}, std::tuple{1.0, 1.0, 0.03f},
+                                                   std::tuple{4.0, 1.0, 0.3f}, std::tuple{0.5, 2.0, 1.5f}}) {
     auto rig = singleJointRig({length, 0, 0}, rootParams(stiffness, gravity, 0.4));
     XpbdRunner runner(rig);
     Instance reference(rig);
@@ -229,7 +233,8 @@ double settleSeconds(double drag, double band) {
   double last_outside = 0;
   for (int f = 1; f <= 60 * 20; ++f) {
     runner.step(kFrame60);
-    if (std::fabs(droopDegrees(headOf(runner, 0), runner.solver().tailWorld(0)) - 45.0) > band) last_outside = f * kFrame60;
+    if (std::fabs(droopDegrees(headOf(runner, 0), runner.solver().tailWorld(0)) - 45.0) > band)
+      last_outside = f * kFrame60;
   }
   return last_outside;
 }
@@ -293,7 +298,7 @@ TEST(XpbdSolver, CenterSpaceRemovesTheSwayOfAUniformlyTranslatingAvatar) {
     centered.step(kFrame60);
   }
   EXPECT_NEAR(std::fabs(rotationOf(centered.rotations(), 0).w), 1.0, 1e-6);  // hangs exactly at rest
-  EXPECT_LT(std::fabs(rotationOf(world.rotations(), 0).w), 0.9999);         // trails behind in world space
+  EXPECT_LT(std::fabs(rotationOf(world.rotations(), 0).w), 0.9999);          // trails behind in world space
 }
 
 TEST(XpbdSolver, TwoRunsAreBitIdentical) {
@@ -336,7 +341,8 @@ TEST(XpbdSolver, MotionConvergesAsTheSubstepShrinks) {
   std::vector<double> worst(rates.size(), 0.0);
   for (int f = 1; f <= 120; ++f) {
     const float t = static_cast<float>(f * kFrame60);
-    const glm::mat4 m = glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, 0, 1.2f * t)), 1.5f * t, glm::vec3(0, 1, 0));
+    const glm::mat4 m =
+        glm::rotate(glm::translate(glm::mat4(1), glm::vec3(0, 0, 1.2f * t)), 1.5f * t, glm::vec3(0, 1, 0));
     for (auto& runner : runners) {
       runner->drivers()[0] = m;
       runner->step(kFrame60);
