@@ -2,8 +2,9 @@
 // drop-in constructed without a module, the three.js loader plugin without `sb`). One per page,
 // shared by every simulation and wearable that asked for it.
 //
-// It starts on request, not when asked for: the adapters request it when the first wearable is
-// worn (three.js: wear(); Babylon: registerWearable). By then the page has its GLBs, so on a slow
+// Asking for it (pageModule()) downloads nothing; its download starts when a holder calls
+// start(), which the adapters do when the first wearable is worn (three.js: wear(); Babylon:
+// registerWearable). By then the page has its GLBs, so on a slow
 // link the module's download (the API, the glue, the WebAssembly) never shares the bandwidth with
 // them, and the item is drawn as early as without springbones; docs/performance.md ("Fetch
 // order") has the measurements against the other orders. The API is imported then too, so a page
