@@ -30,8 +30,10 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
   for (const w of worn.warnings) if (w.code !== 'node-not-found') fixes.push(w.fix);
   console.log(fixes, reasons.map((r) => r.path));
 
-  // @ts-expect-error the plugin needs the springbones module
+  // Without sb the plugin starts the page's module at the first wear(); an sb that is not the module is an error.
   new SpringBonesLoaderPlugin(loader as never, { springBones: null });
+  // @ts-expect-error sb is the springbones module or a promise of it
+  new SpringBonesLoaderPlugin(loader as never, { sb: 42, springBones: null });
   // @ts-expect-error rotations are read-only typed arrays of numbers, not strings
   const wrong: string = worn.instance.rotations[0];
   // @ts-expect-error version is read-only
