@@ -31,7 +31,7 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
 
 /**
  * Loads a wearable's spring-bone rig with the GLB:
- * `loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones, entity, bodyShape }))`,
+ * `loader.register((parser) => new SpringBonesLoaderPlugin(parser, { springBones, entity, bodyShape }))`,
  * then `gltf.userData.springBones` is a SpringBonesWearable. Every file that loader loads gets
  * one, so load the avatar with a loader without the plugin.
  */

@@ -1,7 +1,7 @@
 // GLTFLoader plugin for springbones: loading a wearable also loads its spring-bone rig, the way
 // three.js users take VRM avatars (register a plugin, then read gltf.userData):
 //
-//   loader.register((parser) => new SpringBonesLoaderPlugin(parser, { sb, springBones, entity, bodyShape }));
+//   loader.register((parser) => new SpringBonesLoaderPlugin(parser, { springBones, entity, bodyShape }));
 //   const wearable = (await loader.loadAsync(url)).userData.springBones;
 //   const worn = wearable.wear(avatar.scene);   // then every frame: worn.update(dt)
 //
@@ -33,7 +33,7 @@ const kOptions = ['sb', 'springBones', 'glb', 'onWarning', ...kRigOptions];
 export class SpringBonesLoaderPlugin {
   /**
    * parser: GLTFLoader's parser (the argument of loader.register's callback).
-   * options: { sb, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
+   * options: { sb?, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
    * sb is the module from createSpringBones() or the promise of it (the load then does not wait
    * for the module: the rig follows, see SpringBonesWearable.ready), or left out: the page's
    * module, started at the first wear(); springBones the wearable's data.springBones
@@ -44,7 +44,7 @@ export class SpringBonesLoaderPlugin {
       throw new TypeError('SpringBonesLoaderPlugin: parser must be GLTFLoader\'s parser (the argument of loader.register\'s callback)');
     }
     if (options === null || typeof options !== 'object') {
-      throw new TypeError('SpringBonesLoaderPlugin: options must be an object ({ sb, springBones, ... })');
+      throw new TypeError('SpringBonesLoaderPlugin: options must be an object ({ springBones, entity, bodyShape, ... })');
     }
     for (const key of Object.keys(options)) {
       if (!kOptions.includes(key)) throw new TypeError(`SpringBonesLoaderPlugin: unknown option ${key} (expected ${kOptions.join(', ')})`);
