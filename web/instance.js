@@ -1,8 +1,9 @@
 // An instance: the simulation state of one avatar wearing a rig, with typed-array views over its
 // buffers in WebAssembly memory (made again when memory growth detaches them).
 
-import { checkDt, checkInteger, checkRange, checkVec3, windArguments } from './arguments.js';
+import { checkDt, checkFloat32, checkInteger, checkRange, checkVec3, windArguments } from './arguments.js';
 import { disposedError } from './errors.js';
+import { kLongFrameSeconds, warnLongFrame } from './long_frame.js';
 import { isStale } from './wasm_memory.js';
 
 /**
@@ -87,6 +88,7 @@ export class Instance {
   /** Advances by a frame of dt seconds (fixed substeps inside). dt <= 0 does nothing. */
   step(dt) {
     this.#m.step(this.#live(), checkDt(dt));
+    if (dt > kLongFrameSeconds) warnLongFrame(this.#m, 'step', dt);
   }
 
   /**
@@ -155,12 +157,17 @@ export class Instance {
   /**
    * Holds rig.joints[joint]'s tail toward a world point ([x, y, z]) from the next step on, as far
    * as its chain reaches, colliders still holding; call it every frame with the moving point.
-   * RangeError for a disposed instance, a joint out of range or a non-finite point.
+   * RangeError for a disposed instance, a joint out of range or a point that is not finite in
+   * float32 (it crosses as float32, where [1e39, 0, 0] would be infinite and the core would
+   * ignore it).
    */
   grab(joint, point) {
     const handle = this.#grabHandle('grab');
     checkInteger('grab: joint', joint, 0, this.#rotationFloats / 4 - 1);
     const [x, y, z] = checkVec3('grab: point', point);
+    checkFloat32('grab: point[0]', x);
+    checkFloat32('grab: point[1]', y);
+    checkFloat32('grab: point[2]', z);
     this.#m.grab(handle, joint, x, y, z);
   }
 

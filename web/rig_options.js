@@ -99,7 +99,7 @@ function colliderJson(where, c) {
   only('normal', ['plane']);
   only('radius', ['sphere', 'capsule']);
   only('inside', ['sphere', 'capsule']);
-  const collider = { node: c.node, offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset) };
+  const collider = { node: c.node, shape, offset: c.offset === undefined ? [0, 0, 0] : checkVec3(`${where}.offset`, c.offset) };
   if (shape === 'plane') {
     const normal = c.normal === undefined ? [0, 0, 1] : checkVec3(`${where}.normal`, c.normal);
     if (normal.every((v) => v === 0)) throw new RangeError(`${where}.normal must not be [0, 0, 0]`);

@@ -3,6 +3,7 @@
 import { checkDt, checkFloat32, checkInteger, windArguments } from './arguments.js';
 import { call, disposedError, takeError } from './errors.js';
 import { Instance, instanceInternals } from './instance.js';
+import { kLongFrameSeconds, warnLongFrame } from './long_frame.js';
 import { isStale } from './wasm_memory.js';
 
 export class Scene {
@@ -110,6 +111,7 @@ export class Scene {
   /** Steps every instance (or the budget's nearest) by dt seconds, in one call into WebAssembly. */
   step(dt) {
     this.#m.sceneStep(this.#live(), checkDt(dt));
+    if (dt > kLongFrameSeconds) warnLongFrame(this.#m, 'scene.step', dt);
   }
 
   /** Whether the instance was simulated by the last step (false when it is not in the scene). */
