@@ -49,7 +49,9 @@ export interface CreateOptions {
    * dist/springbones_wasm.wasm (the package's `springbones/wasm` export). A failed download or
    * compile rejects with SpringBonesError 'module-load-failed', whose message names what was read
    * (the wasm option or the Response's URL, the wasmBinary option, the inline module, or the URL
-   * fetched). At most one of wasm, wasmBinary and wasmUrl.
+   * fetched) and what came back: the HTTP status, the content type when it is not
+   * application/wasm, how bytes that are not WebAssembly begin (an HTML page served in its
+   * place). At most one of wasm, wasmBinary and wasmUrl.
    */
   wasm?: Response | WebAssembly.Module | PromiseLike<Response | WebAssembly.Module>;
   /** The .wasm bytes, when the caller has them (bundlers, service workers, tests). */

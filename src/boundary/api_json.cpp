@@ -142,6 +142,50 @@ ApiFailure readCollider(const TypedValue& c, const OptionPath& at, ColliderSpec&
   return {};
 }
 
+// The limits option by the rules of web/rig_options.js (checkedLimits): joint names to one limit
+// each, {cone|hinge: {angle, rotation?}} or {spherical: {pitch, yaw, rotation?}}, every angle a
+// finite number, a rotation 4 finite numbers not all 0. What passes is then read as the VRM
+// extension's limits are (readLimitOptions), which clamps angles out of the draft's ranges with a
+// warning.
+ApiFailure checkLimits(const TypedValue& limits, const OptionPath& at) {
+  if (!limits.is_object()) return badOption(at, "must be an object of joint names");
+  for (auto it = limits.begin(); it != limits.end(); ++it) {
+    const OptionPath joint = at.key(it.key());
+    const TypedValue limit = *it;
+    if (!limit.is_object()) return badOption(joint, "must be an object");
+    const bool one_kind =
+        limit.size() == 1 && (limit.find("cone") != limit.end() || limit.find("hinge") != limit.end() ||
+                              limit.find("spherical") != limit.end());
+    if (!one_kind) return badOption(joint, "must have exactly one of cone, hinge, spherical");
+    const std::string kind = limit.begin().key();
+    const OptionPath shape_at = joint.key(kind);
+    const TypedValue shape = *limit.begin();  // a copy: the iterator is a temporary
+    if (!shape.is_object()) return badOption(shape_at, "must be an object");
+    const bool spherical = kind == "spherical";
+    ApiFailure keys = spherical ? checkKeys(shape, shape_at, {"pitch", "yaw", "rotation"})
+                                : checkKeys(shape, shape_at, {"angle", "rotation"});
+    if (keys) return keys;
+    for (const char* angle :
+         spherical ? std::initializer_list<const char*>{"pitch", "yaw"} : std::initializer_list<const char*>{"angle"}) {
+      double value = 0.0;
+      const auto found = shape.find(angle);
+      if (ApiFailure f = readFinite(found == shape.end() ? TypedValue() : *found, shape_at.key(angle), value)) return f;
+    }
+    if (auto rotation = shape.find("rotation"); rotation != shape.end()) {
+      const OptionPath r = shape_at.key("rotation");
+      if (!rotation->is_array() || rotation->size() != 4) return badOption(r, "must be 4 numbers (x, y, z, w)");
+      bool all_zero = true;
+      for (std::size_t i = 0; i < 4; ++i) {
+        double value = 0.0;
+        if (ApiFailure f = readFinite((*rotation)[i], r.index(i), value)) return f;
+        all_zero = all_zero && value == 0.0;
+      }
+      if (all_zero) return badOption(r, "must not be [0, 0, 0, 0]");
+    }
+  }
+  return {};
+}
+
 // The rig options as they cross from loadRig (web/rig_options.js writes them): {colliders?,
 // preset?, hitRadius?, limits?}, with the rules the JavaScript checks them by, so that a value
 // the JavaScript refuses is refused here too, at the same path (tests/wasm/rig_options.test.mjs).
@@ -161,6 +205,7 @@ ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
     out.preset = ColliderPreset::kDclBody;
   }
   if (auto limits = value.find("limits"); limits != value.end()) {
+    if (ApiFailure f = checkLimits(*limits, root.key("limits"))) return f;
     std::string why;
     if (!readLimitOptions(*limits, out.limits, why))
       return ApiFailure{"invalid-argument", "rig options: " + why, "/limits"};

@@ -79,3 +79,30 @@ test('the list of body shapes is bounded', () => {
   assert.throws(() => sb.loadRig(rig.doc, rig.springBones, { entity, bodyShape: 'BaseMale' }),
                 (e) => /'urn:shape:7' and 22 more/.test(e.message) && !e.message.includes('urn:shape:8'));
 });
+
+test("a collider on 'Head', a node the rig does not have, warns with the nodes that exist", () => {
+  const rig = springRig({ chains: 2 });
+  const loaded = sb.loadRig(rig.doc, rig.springBones, { contentHash: rig.hash, colliders: [{ node: 'Head', radius: 0.1 }] });
+  const warnings = loaded.warnings.filter((w) => w.code === 'collider-node-not-found');
+  assert.equal(warnings.length, 1, JSON.stringify(loaded.warnings));
+  assert.match(warnings[0].message, /collider node 'Head' is neither a node of this GLB nor a Decentraland avatar bone/);
+  assert.match(warnings[0].message, /nodes a collider can be on are 'Avatar_Head'$/, 'spring bones are not offered');
+  // It still becomes a driver the page may supply, as before.
+  assert.ok(loaded.drivers.some((d) => d.name === 'Head' && d.node === -1));
+  // An avatar bone the GLB lacks is what the option is for: no warning.
+  const chest = sb.loadRig(rig.doc, rig.springBones, { contentHash: rig.hash, colliders: [{ node: 'Avatar_Chest', radius: 0.1 }] });
+  assert.deepEqual(chest.warnings, []);
+});
+
+test('the nodes listed for a missing collider node are bounded', () => {
+  const rig = springRig();
+  for (let i = 0; i < 25; i++) {
+    rig.doc.nodes.push({ name: `Prop_${i}_${'x'.repeat(100)}` });
+    rig.doc.nodes[0].children.push(rig.doc.nodes.length - 1);
+  }
+  const loaded = sb.loadRig(rig.doc, rig.springBones, { contentHash: rig.hash, colliders: [{ node: 'Head', radius: 0.1 }] });
+  const [warning] = loaded.warnings.filter((w) => w.code === 'collider-node-not-found');
+  assert.match(warning.message, /and 16 more$/, 'Avatar_Head and 9 props listed, 16 props left');
+  assert.ok(warning.message.length < 1200, `${warning.message.length} characters`);
+  assert.match(warning.message, /'Prop_0_x{57}\.\.\.'/, 'a long name quoted to 64 bytes');
+});

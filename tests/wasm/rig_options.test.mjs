@@ -4,6 +4,8 @@
 // straight into the core's loadRig binding, past every JavaScript check. Each side must refuse
 // them, JavaScript with a TypeError or RangeError naming the option, the core with
 // invalid-argument and a JSON pointer to the same option; what one accepts the other accepts.
+// Colliders, hitRadius and limits: the keys that say which models entry applies are resolved
+// before anything crosses (models_entry.js), and jumpDistance / jumpAngle stay in JavaScript.
 import assert from 'node:assert/strict';
 import { before, test } from 'node:test';
 
@@ -16,6 +18,7 @@ import { springRig } from './helpers.mjs';
 
 const rig = springRig();
 const head = 'Avatar_Head';  // a node of the rig, not a spring bone
+const joint = 'SpringBone_0_0';  // a simulated joint of the rig
 
 // Options that are the same object in the caller's form and in the form that crosses (no preset
 // name, every collider spelled out), so both sides read exactly the same value.
@@ -49,6 +52,26 @@ const kRefused = [
   { colliders: [{ node: head, radius: 0.1, tail: null }] },
   { colliders: [{ node: head, radius: 0.1, inside: 'yes' }] },
   { colliders: [{ node: head, radius: 0.1 }, { node: head, radius: 0.1, tail: [0, 1, 0], inside: 1 }] },
+  { limits: [] },
+  { limits: 5 },
+  { limits: { [joint]: 5 } },
+  { limits: { [joint]: [] } },
+  { limits: { [joint]: {} } },
+  { limits: { [joint]: { cone: { angle: 1 }, hinge: { angle: 1 } } } },
+  { limits: { [joint]: { box: {} } } },
+  { limits: { [joint]: { cone: 5 } } },
+  { limits: { [joint]: { cone: {} } } },
+  { limits: { [joint]: { cone: { angle: '1' } } } },
+  { limits: { [joint]: { cone: { angle: NaN } } } },
+  { limits: { [joint]: { cone: { angle: 1, extra: 2 } } } },
+  { limits: { [joint]: { hinge: { angle: 1, pitch: 1 } } } },
+  { limits: { [joint]: { spherical: { pitch: 1 } } } },
+  { limits: { [joint]: { spherical: { pitch: 1, yaw: 1, angle: 1 } } } },
+  { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 1] } } } },
+  { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 0, 0] } } } },
+  { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 0, 'a'] } } } },
+  { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 0, Infinity] } } } },
+  { limits: { 'a "quoted" joint': { cone: { angle: -Infinity } } } },
 ];
 
 const kAccepted = [
@@ -63,6 +86,11 @@ const kAccepted = [
   { colliders: [{ node: head, shape: 'plane' }] },
   { colliders: [{ node: head, shape: 'plane', normal: [0, 1e39, 0], offset: [0, 1, 0] }] },
   { colliders: [{ node: 'Avatar_Hips', radius: 0.2 }], hitRadius: 0.01 },  // a bone the caller supplies
+  { limits: {} },
+  { limits: { [joint]: { cone: { angle: 0.5 } } } },
+  { limits: { [joint]: { hinge: { angle: 7, rotation: [0, 0, 1e20, 1e20] } } } },  // clamped, warned
+  { limits: { [joint]: { spherical: { pitch: 0.2, yaw: 0.3, rotation: [0, 0, 0, 1] } } } },
+  { limits: { 'no such joint': { cone: { angle: 0.5 } } } },  // warned: limit-joint-not-found
 ];
 
 let sb;
@@ -100,13 +128,25 @@ function jsAnswer(options) {
     sb.loadRig(rig.doc, rig.springBones, { contentHash: rig.hash, ...options }).dispose();
     return null;
   } catch (error) {
-    const named = /^loadRig: ([\w.[\]]+)/.exec(error.message);
-    assert.ok(named, `the message names the option: ${error.message}`);
-    let steps = named[1].split(/[.[\]]+/).filter(Boolean);
+    const steps = optionNamed(error.message);
     const unknown = /unknown option '([^']+)'/.exec(error.message);
-    if (unknown) steps = [...steps, unknown[1]];
+    if (unknown) steps.push(unknown[1]);
     return { kind: error.constructor.name, path: steps.map((s) => `/${s}`).join(''), message: error.message };
   }
+}
+
+// The steps of the option a message begins with, as JavaScript writes a path: `loadRig:
+// colliders[0].radius` or `loadRig: limits["a \"quoted\" joint"].cone.angle`.
+function optionNamed(message) {
+  assert.ok(message.startsWith('loadRig: '), message);
+  const steps = [];
+  const step = /^(?:\.?([A-Za-z_$][\w$]*)|\[(\d+)\]|\[("(?:[^"\\]|\\.)*")\])/;
+  let rest = message.slice('loadRig: '.length);
+  for (let m = step.exec(rest); m; rest = rest.slice(m[0].length), m = step.exec(rest)) {
+    steps.push(m[1] ?? m[2] ?? JSON.parse(m[3]));
+  }
+  assert.ok(steps.length > 0, `the message names the option: ${message}`);
+  return steps;
 }
 
 test('options JavaScript refuses, the core refuses too, naming the same option', () => {
