@@ -98,7 +98,8 @@ async function compiledModule({ wasm, wasmBinary, url }, loading) {
   if (wasm !== undefined) return compileGiven(wasm, loading);
   if (wasmBinary !== undefined) return compileBytes(wasmBinary);
   if (kIsNode && url.protocol === 'file:') {
-    const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ 'node:fs/promises');
+    // A specifier built at run time: bundlers for the browser (Vite) then neither resolve nor warn about it.
+    const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ ['node:fs', 'promises'].join('/'));
     return compileBytes(await readFile(url));
   }
   let response;

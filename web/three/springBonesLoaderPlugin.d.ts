@@ -1,7 +1,7 @@
 // Types of the GLTFLoader plugin (springBonesLoaderPlugin.js). `three` is a peer dependency.
 import type { Object3D } from 'three';
 import type { GLTF, GLTFLoaderPlugin, GLTFParser } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import type { InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, Warning } from '../springbones.js';
+import type { InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, SpringBonesData, Warning } from '../springbones.js';
 import type { AttachOptions, SpringBonesAttachment, StaticHairWarning } from './springBonesThree.js';
 
 /**
@@ -17,8 +17,11 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
    * plugin and Babylon simulation given none.
    */
   sb?: SpringBones | PromiseLike<SpringBones>;
-  /** The wearable's data.springBones, as an object or JSON text; null or left out: no spring bones. */
-  springBones?: object | string | null;
+  /**
+   * The wearable's data.springBones ({ version, models }: parameters are numbers), or its JSON
+   * text; null or left out: no spring bones.
+   */
+  springBones?: SpringBonesData | string | null;
   /**
    * The bytes GLTFLoader parses, when the caller has neither contentHash nor the entity: the
    * models entry is then the one under these bytes' content hash. With contentHash or
@@ -56,6 +59,15 @@ export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
    */
   afterRoot(gltf: GLTF): Promise<void>;
 }
+
+/**
+ * gltf.userData.springBones, typed: the SpringBonesWearable the plugin put on this GLTFLoader
+ * result, or null (loaded without the plugin). three's GLTF type declares `userData` as
+ * `Record<string, any>`, and TypeScript lets a declaration merge add members to an interface but
+ * not narrow one it has, so `gltf.userData.springBones` itself stays `any` (as three-vrm's
+ * `userData.vrm` does): read it through this to have its type checked.
+ */
+export function springBonesOf(gltf: GLTF): SpringBonesWearable | null;
 
 /** What SpringBonesLoaderPlugin puts on gltf.userData.springBones. */
 export class SpringBonesWearable {

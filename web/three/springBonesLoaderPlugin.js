@@ -105,6 +105,15 @@ class ModuleFailure {
 }
 
 /**
+ * gltf.userData.springBones, typed (see the .d.ts: three's GLTF['userData'] is
+ * Record<string, any> and cannot be narrowed): the SpringBonesWearable the plugin put there, or null.
+ */
+export function springBonesOf(gltf) {
+  const wearable = gltf?.userData?.springBones;
+  return wearable instanceof SpringBonesWearable ? wearable : null;
+}
+
+/**
  * A loaded wearable with its rig: what SpringBonesLoaderPlugin puts on gltf.userData.springBones.
  * The loaded scene stays a template: each wear() attaches a clone of it, so one load serves any
  * number of avatars, all sharing the rig.
