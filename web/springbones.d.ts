@@ -477,6 +477,7 @@ export interface Instance {
   /**
    * Advances by a frame of dt seconds: fixed steps of 1/stepHz, at most maxSubsteps per frame.
    * dt <= 0 does nothing. The only call per frame that crosses into WebAssembly; allocates nothing.
+   * A dt over 1 s (milliseconds given for seconds: step(16)) prints one console warning per module.
    * @throws TypeError if dt is not a number, RangeError if it is NaN or infinite
    */
   step(dt: number): void;
@@ -532,8 +533,9 @@ export interface Instance {
    * Holds rig.joints[joint]'s tail toward a world point from the next step on: the joints from its
    * chain root down to it turn toward the point as far as the chain reaches, colliders still
    * holding; the joints below swing. Call it every frame with a moving point (a drag).
-   * @throws RangeError for a disposed instance, a joint out of range or a non-finite point;
-   *   TypeError for a non-number joint or a point that is not 3 numbers
+   * @throws RangeError for a disposed instance, a joint out of range or a point not finite in
+   *   float32 (it crosses as float32: [1e39, 0, 0] is refused, naming point[0]); TypeError for a
+   *   non-number joint or a point that is not 3 numbers
    */
   grab(joint: number, point: readonly number[] | Float32Array | Float64Array): void;
   /**

@@ -76,7 +76,7 @@ describe('SpringBonesLoaderPlugin', () => {
     await assert.rejects(loadWithPlugin({ springBones: metadata }), (error) =>
       error instanceof TypeError && /contentHash, entity \+ bodyShape, or glb/.test(error.message));
     await assert.rejects(loadWithPlugin({ springBones: metadata, glb: wearableBytes, stepHz: 30 }),
-        (error) => error instanceof TypeError && /unknown option stepHz/.test(error.message));
+        (error) => error instanceof TypeError && /unknown option 'stepHz'/.test(error.message));
     await assert.rejects(loadWithPlugin({ sb: 42, springBones: metadata, glb: wearableBytes }), /options.sb must be the springbones module/);
   });
 

@@ -1,10 +1,13 @@
 // Types of the GLTFLoader plugin (springBonesLoaderPlugin.js). `three` is a peer dependency.
 import type { Object3D } from 'three';
 import type { GLTF, GLTFLoaderPlugin, GLTFParser } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import type { LoadOptions, Rig, SpringBones, Warning } from '../springbones.js';
+import type { InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, Warning } from '../springbones.js';
 import type { AttachOptions, SpringBonesAttachment, StaticHairWarning } from './springBonesThree.js';
 
-/** sb.loadRig's options (which models entry, colliders, hitRadius) and these. */
+/**
+ * sb.loadRig's options (which models entry, colliders, limits, hitRadius, ...), handed to loadRig
+ * as they are, and these.
+ */
 export type SpringBonesLoaderPluginOptions = LoadOptions & {
   /**
    * The module from createSpringBones(), or the promise of it, not awaited: the GLB then loads
@@ -27,6 +30,8 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
    * Default: console.warn once per code for the wearable, however many avatars wear it.
    */
   onWarning?: (warning: StaticHairWarning) => void;
+  /** rig.createInstance's options for every wear() (its own `instance` option overrides them). */
+  instance?: InstanceOptions;
 };
 
 /**
@@ -85,6 +90,14 @@ export class SpringBonesWearable {
    * clone is worn at rest and simulates from the first update after the rig arrives.
    */
   wear(avatarRoot: Object3D, options?: Omit<AttachOptions, 'nodes'>): SpringBonesAttachment;
+  /**
+   * The Builder's live tuning, as the Babylon drop-in's updateParams: `params` (node name ->
+   * parameters, the whole models entry) merged over the current entry, the rig loaded again, and
+   * every attachment switched to it keeping its motion.
+   * @throws TypeError for params that are not an object; Error before the rig is loaded or after
+   *   dispose; loadRig's errors for the edited entry (nothing changes then)
+   */
+  updateParams(params: { readonly [nodeName: string]: SpringBoneEntry }): void;
   /** Disposes of the attachments (taking them off their avatars) and the rig; not the geometries or materials. */
   dispose(): void;
 }
