@@ -252,6 +252,7 @@ describe('the tarball', () => {
       'package/web/three/index.d.ts',
       'package/web/three/springBonesLoaderPlugin.d.ts',
       'package/web/three/springBonesThree.d.ts',
+      'package/web/wearable/diagnostics.d.ts',
     ]);
   });
 

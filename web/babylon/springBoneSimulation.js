@@ -33,8 +33,7 @@ import { readWearableSkeleton } from './wearableSkeleton.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { modelsEntry } from '../wearable/models_entry.js';
 import { carryMotion, liveEdit, loadWearableRig } from '../wearable/rig_life.js';
-
-const kNoView = new Float32Array(0);
+import { FrameCopyLists } from '../wearable/frame_copies.js';
 
 /**
  * The one place that carries an instance across a discontinuity of its drivers (an animation
@@ -206,32 +205,21 @@ class RegisteredWearable {
  * The per-frame copies for every wearable with an instance, in flat arrays rebuilt when the
  * members change (so a frame walks arrays and allocates nothing).
  */
-class FrameCopies {
-  constructor() {
-    this.set([]);
-  }
-
+class FrameCopies extends FrameCopyLists {
   set(wearables) {
-    this.instances = wearables.map((w) => w.instance);
-    this.driverCounts = wearables.map((w) => w.driverNodes.length);
-    this.jointCounts = wearables.map((w) => w.jointNodes.length);
+    this.setCounts(wearables.map((w) => w.instance), wearables.map((w) => w.driverNodes.length), wearables.map((w) => w.jointNodes.length));
     this.driverNodes = wearables.flatMap((w) => w.driverNodes);
     ({ nodes: this.recompute, force: this.forceRecompute } = nodesToRecompute(this.driverNodes));
     this.jointNodes = wearables.flatMap((w) => w.jointNodes);
-    this.driverViews = wearables.map(() => kNoView);
-    this.rotationViews = wearables.map(() => kNoView);
   }
 
   /** Each driver's current world matrix into its instance, in the glTF's space. */
   readDrivers(mirrored) {
-    const { instances, driverCounts, driverViews, driverNodes, recompute, forceRecompute } = this;
+    const { instances, driverCounts, driverNodes, recompute, forceRecompute } = this;
     for (let i = 0; i < recompute.length; i++) recompute[i].computeWorldMatrix(forceRecompute);
     for (let i = 0, d = 0; i < instances.length; i++) {
-      const count = driverCounts[i];
-      let view = driverViews[i];
-      // A view detaches when WebAssembly memory grows (its length drops to 0): fetch it again.
-      if (view.length !== 16 * count) view = driverViews[i] = instances[i].driverMatrices;
-      for (let o = 0, end = d + count; d < end; d++, o += 16) {
+      const view = this.driverView(i);
+      for (let o = 0, end = d + driverCounts[i]; d < end; d++, o += 16) {
         const node = driverNodes[d];
         if (node !== null) copyWorldMatrix(node.getWorldMatrix().m, view, o, mirrored);
       }
@@ -240,12 +228,10 @@ class FrameCopies {
 
   /** Each instance's rotations into its joints' rotationQuaternion (set() marks them dirty). */
   writeRotations() {
-    const { instances, jointCounts, rotationViews, jointNodes } = this;
+    const { instances, jointCounts, jointNodes } = this;
     for (let i = 0, j = 0; i < instances.length; i++) {
-      const count = jointCounts[i];
-      let r = rotationViews[i];
-      if (r.length !== 4 * count) r = rotationViews[i] = instances[i].rotations;
-      for (let k = 0, end = j + count; j < end; j++, k += 4) {
+      const r = this.rotationView(i);
+      for (let k = 0, end = j + jointCounts[i]; j < end; j++, k += 4) {
         const q = jointNodes[j]?.rotationQuaternion;
         if (q) q.set(r[k], r[k + 1], r[k + 2], r[k + 3]);
       }

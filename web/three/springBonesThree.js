@@ -25,6 +25,7 @@ import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments
 import { AnimationStartWatch } from './animationStarts.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { carryMotion, checkOptionKeys } from '../wearable/rig_life.js';
+import { FrameCopyLists } from '../wearable/frame_copies.js';
 import { isSpringBoneName } from '../wearable/spring_bone_name.js';
 
 /** Symbol of the option with which SpringBonesWearable.wear() hands its context to attachWearable. */
@@ -86,51 +87,34 @@ export function wearableNodes(gltf, root = gltf.scene) {
   return nodes;
 }
 
-const kNoView = new Float32Array(0);
-
 /**
  * The per-frame copies between three.js and springbones for a list of attachments (one attachment
  * on its own, or a group's): each driver's matrixWorld into its instance's driverMatrices, and each
- * instance's rotations into its joints' quaternions. Allocation-free per frame.
+ * instance's rotations into its joints' quaternions (the kept views: web/wearable/frame_copies.js).
+ * Allocation-free per frame.
  *
  * Shaped by measurements (web/three/README.md, "Flat loops, kept views"): the copies are
  * memory-bound, since every driver matrix is its own small array and every quaternion its own
- * object with each field a separately boxed double, scattered over three.js's heap. So one flat loop runs over all
- * members' drivers (and one over all joints) instead of a loop per attachment, the 16 elements of
- * a matrix are copied by 16 statements rather than an inner loop, and each instance's views are
- * kept: instance.driverMatrices / rotations are getters that check for memory growth on every
- * call. A kept view is fetched again when its instance is disposed of (the getter then throws the
- * API's 'disposed' error: nothing is written into freed memory) or its length is not the expected
- * one (growing WebAssembly memory detaches the old buffer; a detached view has length 0). All 16
+ * object with each field a separately boxed double, scattered over three.js's heap. So one flat
+ * loop runs over all members' drivers (and one over all joints) instead of a loop per attachment,
+ * and the 16 elements of a matrix are copied by 16 statements rather than an inner loop. All 16
  * elements are copied, so a non-affine matrixWorld reaches the core, which checks for it.
  */
-class FrameCopies {
-  constructor() {
-    this.setMembers([]);
-  }
-
+class FrameCopies extends FrameCopyLists {
   /** Takes the attachments' current instances and objects; call whenever they change. */
   setMembers(attachments) {
-    this._instances = attachments.map((a) => a.instance);
-    this._driverCounts = attachments.map((a) => a._driverElements.length);
-    this._jointCounts = attachments.map((a) => a._quaternions.length);
-    this._driverElements = attachments.flatMap((a) => a._driverElements);  // null: no object
-    this._quaternions = attachments.flatMap((a) => a._quaternions);
-    this._driverViews = attachments.map(() => kNoView);  // fetched on first use
-    this._rotationViews = attachments.map(() => kNoView);
+    this.setCounts(attachments.map((a) => a.instance), attachments.map((a) => a._driverElements.length),
+      attachments.map((a) => a._quaternions.length));
+    this.driverElements = attachments.flatMap((a) => a._driverElements);  // null: no object
+    this.quaternions = attachments.flatMap((a) => a._quaternions);
   }
 
   readDrivers() {
-    const instances = this._instances;
-    const counts = this._driverCounts;
-    const views = this._driverViews;
-    const drivers = this._driverElements;
+    const { instances, driverCounts, driverElements } = this;
     for (let i = 0, d = 0; i < instances.length; i++) {
-      const count = counts[i];
-      let m = views[i];
-      if (instances[i].disposed || m.length !== 16 * count) m = views[i] = instances[i].driverMatrices;
-      for (let o = 0, end = d + count; d < end; d++, o += 16) {
-        const e = drivers[d];
+      const m = this.driverView(i);
+      for (let o = 0, end = d + driverCounts[i]; d < end; d++, o += 16) {
+        const e = driverElements[d];
         if (e === null) continue;
         m[o] = e[0]; m[o + 1] = e[1]; m[o + 2] = e[2]; m[o + 3] = e[3];
         m[o + 4] = e[4]; m[o + 5] = e[5]; m[o + 6] = e[6]; m[o + 7] = e[7];
@@ -150,18 +134,14 @@ class FrameCopies {
    * instance held its pose, which their joints already show.
    */
   writeRotations(active = null) {
-    const instances = this._instances;
-    const counts = this._jointCounts;
-    const views = this._rotationViews;
-    const quaternions = this._quaternions;
+    const { instances, jointCounts, quaternions } = this;
     for (let i = 0, j = 0; i < instances.length; i++) {
-      const count = counts[i];
+      const count = jointCounts[i];
       if (active !== null && active[i] === 0) {
         j += count;
         continue;
       }
-      let r = views[i];
-      if (instances[i].disposed || r.length !== 4 * count) r = views[i] = instances[i].rotations;
+      const r = this.rotationView(i);
       for (let k = 0, end = j + count; j < end; j++, k += 4) {
         const q = quaternions[j];
         q._x = r[k];
