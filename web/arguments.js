@@ -60,14 +60,17 @@ function loneSurrogateIndex(text) {
 
 /**
  * An array argument with an element at every index: a hole (`[a, , b]`, `new Array(3)`) is a
- * TypeError, as an undefined element is, rather than skipped by map() or written as null.
+ * TypeError, as an undefined element is, rather than skipped by map() or written as null. Returns
+ * the elements as read, in a new array.
  */
 export function checkDenseArray(what, array) {
-  for (let i = 0; i < array.length; ++i) {
+  // The length and each element read once, into a copy: an array that grows as it is read is taken as it was.
+  const out = new Array(array.length);
+  for (let i = 0; i < out.length; ++i) {
     if (!(i in array)) throw new TypeError(`${what}[${i}] is a hole (a sparse array); give every element`);
-    if (array[i] === undefined) throw new TypeError(`${what}[${i}] is undefined`);
+    if ((out[i] = array[i]) === undefined) throw new TypeError(`${what}[${i}] is undefined`);
   }
-  return array;
+  return out;
 }
 
 export function toBytes(what, value) {

@@ -18,7 +18,7 @@
 import { checkDenseArray, checkKeys, checkNonEmptyString, checkWellFormed, kHashOptions, optionsObject, toBytes } from './arguments.js';
 import { SpringBonesError, call, takeError, withCause } from './errors.js';
 import { instantiateModule, kIsNode, loadFailed, moduleSource } from './module_loader.js';
-import { encodeGltf, encodeTyped } from './typed_value.js';
+import { checkStringBound, encodeGltf, encodeTyped } from './typed_value.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
@@ -705,13 +705,13 @@ function isStale(m, view, length) {
 // the core hash the GLB itself.
 function resolveHash(m, where, options) {
   const { contentHash, entity, bodyShape } = options;
-  if (contentHash !== undefined) checkNonEmptyString(`${where}: contentHash`, contentHash);
+  if (contentHash !== undefined) checkStringBound(`${where}: contentHash`, checkNonEmptyString(`${where}: contentHash`, contentHash));
   if (entity !== undefined || bodyShape !== undefined) {
     if (entity === undefined) throw new TypeError(`${where}: bodyShape needs an entity`);
     if (typeof bodyShape !== 'string') {
       throw new TypeError(`${where}: with an entity, bodyShape must be a string (a body shape URN)`);
     }
-    checkNonEmptyString(`${where}: bodyShape`, bodyShape);
+    checkStringBound(`${where}: bodyShape`, checkNonEmptyString(`${where}: bodyShape`, bodyShape));
   }
   const typedEntity = entity === undefined ? undefined : encodeTyped(`${where}: entity`, parsedArgument(
     `${where}: entity`, entity, 'entity-bad-json', 'an object or JSON text'));

@@ -2,6 +2,8 @@
 
 #include <unordered_map>
 
+#include "common/shown_name.h"
+
 namespace springbones {
 namespace {
 
@@ -87,15 +89,16 @@ Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, s
     for (const std::string& shape : r.body_shapes) {
       if (!bodyShapeMatches(shape, body_shape)) continue;
       if (r.main_file_hash.empty()) {
-        return invalid(
-            "main file '" + r.main_file + "' of body shape " + body_shape + " is not in the entity's content list",
-            "/content");
+        return invalid("main file '" + shownName(r.main_file) + "' of body shape " + shownName(body_shape) +
+                           " is not in the entity's content list",
+                       "/content");
       }
       hash = r.main_file_hash;
       return {};
     }
   }
-  return invalid("the entity has no representation for body shape " + body_shape, "/metadata/data/representations");
+  return invalid("the entity has no representation for body shape " + shownName(body_shape),
+                 "/metadata/data/representations");
 }
 
 }  // namespace springbones
