@@ -61,14 +61,17 @@ function loneSurrogateIndex(text) {
 
 /**
  * An array argument with an element at every index: a hole (`[a, , b]`, `new Array(3)`) is a
- * TypeError, as an undefined element is, rather than skipped by map() or written as null.
+ * TypeError, as an undefined element is, rather than skipped by map() or written as null. Returns
+ * the elements as read, in a new array.
  */
 export function checkDenseArray(what, array) {
-  for (let i = 0; i < array.length; ++i) {
+  // The length and each element read once, into a copy: an array that grows as it is read is taken as it was.
+  const out = new Array(array.length);
+  for (let i = 0; i < out.length; ++i) {
     if (!(i in array)) throw new TypeError(`${what}[${i}] is a hole (a sparse array); give every element`);
-    if (array[i] === undefined) throw new TypeError(`${what}[${i}] is undefined`);
+    if ((out[i] = array[i]) === undefined) throw new TypeError(`${what}[${i}] is undefined`);
   }
-  return array;
+  return out;
 }
 
 export function toBytes(what, value) {
@@ -106,8 +109,9 @@ export function checkVec3(what, value) {
   if (!(Array.isArray(value) || ArrayBuffer.isView(value)) || value.length !== 3) {
     throw new TypeError(`${what} must be an array of 3 numbers`);
   }
-  if (Array.isArray(value)) checkDenseArray(what, value);  // a hole is a TypeError that says so
-  const out = Array.from(value);
+  // A hole is a TypeError that says so; the elements are read once, into a copy.
+  const out = Array.isArray(value) ? checkDenseArray(what, value) : Array.from(value);
+  if (out.length !== 3) throw new TypeError(`${what} must be an array of 3 numbers`);
   for (const v of out) {
     if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);
     checkFinite(what, v);

@@ -4,7 +4,7 @@
 
 import { checkNonEmptyString, checkWellFormed } from './arguments.js';
 import { SpringBonesError, call, takeError, withCause } from './errors.js';
-import { encodeTyped } from './typed_value.js';
+import { checkStringBound, encodeTyped } from './typed_value.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
 
 /** The options that say which models entry applies (loadRig, detectSpringBones). */
@@ -14,13 +14,13 @@ export const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 // the core hash the GLB itself.
 export function resolveHash(m, where, options) {
   const { contentHash, entity, bodyShape } = options;
-  if (contentHash !== undefined) checkNonEmptyString(`${where}: contentHash`, contentHash);
+  if (contentHash !== undefined) checkStringBound(`${where}: contentHash`, checkNonEmptyString(`${where}: contentHash`, contentHash));
   if (entity !== undefined || bodyShape !== undefined) {
     if (entity === undefined) throw new TypeError(`${where}: bodyShape needs an entity`);
     if (typeof bodyShape !== 'string') {
       throw new TypeError(`${where}: with an entity, bodyShape must be a string (a body shape URN)`);
     }
-    checkNonEmptyString(`${where}: bodyShape`, bodyShape);
+    checkStringBound(`${where}: bodyShape`, checkNonEmptyString(`${where}: bodyShape`, bodyShape));
   }
   const typedEntity = entity === undefined ? undefined : encodeTyped(`${where}: entity`, parsedArgument(
     `${where}: entity`, entity, 'entity-bad-json', 'an object or JSON text'));

@@ -241,7 +241,7 @@ ApiFailure readRigOptions(TypedBytes options, RigOptions& out) {
   out = RigOptions{};
   if (options.size == 0) return {};
   TypedDocument doc;
-  if (Error e = doc.decode(options.data, options.size)) return toFailure(e);
+  if (Error e = doc.decode(options.data, options.size, kMaxMetadataBytes)) return toFailure(e);
   ApiFailure failure = readOptions(doc.root(), out);
   if (failure) out = RigOptions{};
   return failure;

@@ -4,11 +4,13 @@
 // read every input through this view, so both front ends meet the same code.
 //
 // The encoding, little-endian, one value:
-//   0 null | 1 false | 2 true
-//   3 number: f64 (NaN and infinities allowed: a JS object can hold them)
-//   4 string: u32 byte length, UTF-8 bytes
-//   5 array:  u32 count, then that many values
-//   6 object: u32 count, then per member a u32 key length, the key's UTF-8 bytes and a value
+//   null | false | true: the tag alone
+//   number: the tag, f64 (NaN and infinities allowed: a JS object can hold them)
+//   string: the tag, u32 byte length, UTF-8 bytes
+//   array:  the tag, u32 count, then that many values
+//   object: the tag, u32 count, then per member a u32 key length, the key's UTF-8 bytes and a value
+// The tags and bounds are described once, in src/common/typed_encoding.json (typed_encoding.h and
+// web/typed_encoding.js are generated from it).
 // The view mimics the part of nlohmann::json's interface the readers use (is_*, size, find, end,
 // operator[], get<T>, key()), and iterates an object's members in byte order of their keys, as
 // nlohmann's std::map does, so warnings come out in one order whatever parsed the input.
@@ -20,23 +22,29 @@
 #include <string_view>
 #include <vector>
 
+#include "common/typed_encoding.h"
 #include "springbones/springbones.h"
 
 namespace springbones {
 
 class TypedDocument;
 
+// The bounds of one typed input (typed_encoding.h: kTypedMaxStringBytes for a string or a key,
+// kTypedMaxContainerSize for an array's elements or an object's members, kTypedMaxValues in all)
+// are each checked before the work they bound. The whole input is bounded by its kind:
+// kMaxGltfJsonBytes for a glTF document, kMaxMetadataBytes for springBones, an entity, options.
+
 /// One value of a TypedDocument: a cheap handle, valid while the document lives.
 class TypedValue {
  public:
   enum class Type : std::uint8_t {
-    kNull = 0,
-    kFalse = 1,
-    kTrue = 2,
-    kNumber = 3,
-    kString = 4,
-    kArray = 5,
-    kObject = 6
+    kNull = kTypedTagNull,
+    kFalse = kTypedTagFalse,
+    kTrue = kTypedTagTrue,
+    kNumber = kTypedTagNumber,
+    kString = kTypedTagString,
+    kArray = kTypedTagArray,
+    kObject = kTypedTagObject
   };
 
   class iterator;
@@ -129,20 +137,22 @@ int TypedValue::get<int>() const;
 class TypedDocument {
  public:
   /// Decodes `size` bytes at `data`, which must outlive the document (strings point into them).
-  /// kInvalidArgument when the bytes are not exactly one value in the encoding.
-  Error decode(const std::uint8_t* data, std::size_t size);
+  /// kInvalidArgument when the bytes are not exactly one value in the encoding; kLimitExceeded,
+  /// with the JSON path of the value, past `max_bytes` or a bound above. Nothing is allocated for
+  /// the table until the whole input has been checked, and then 16 bytes per value and 4 per child.
+  Error decode(const std::uint8_t* data, std::size_t size, std::size_t max_bytes);
   TypedValue root() const { return TypedValue(this, 0); }
 
  private:
   friend class TypedValue;
+  // 16 bytes: a number's bits and a key's length stay in data_, read when asked for.
   struct Node {
     TypedValue::Type type = TypedValue::Type::kNull;
     std::uint32_t count = 0;  ///< containers: children; strings: bytes
-    std::uint32_t first = 0;  ///< containers: start in children_; strings: offset in data_
-    std::uint32_t key = 0;    ///< object members: offset of the key in data_
-    std::uint32_t key_size = 0;
-    double number = 0;
+    std::uint32_t first = 0;  ///< containers: start in children_; strings, numbers: offset in data_
+    std::uint32_t key = 0;    ///< object members: offset of the key's u32 length in data_
   };
+  std::string_view keyOf(const Node& node) const;
   const std::uint8_t* data_ = nullptr;
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> children_;  ///< each container's children, contiguous, objects' by key
@@ -151,8 +161,8 @@ class TypedDocument {
 /// Writes the encoding of a value, for the producers on the C++ side (the readers, tests).
 class TypedWriter {
  public:
-  void null() { bytes_.push_back(0); }
-  void boolean(bool v) { bytes_.push_back(v ? 2 : 1); }
+  void null() { bytes_.push_back(kTypedTagNull); }
+  void boolean(bool v) { bytes_.push_back(v ? kTypedTagTrue : kTypedTagFalse); }
   void number(double v);
   void string(std::string_view v);
   void array(std::uint32_t count);

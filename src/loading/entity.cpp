@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "common/shown_name.h"
+
 namespace springbones {
 namespace {
 
@@ -47,10 +49,7 @@ bool equalsIgnoringAsciiCase(const std::string& a, const std::string& b) {
 // (matching is case-sensitive, as the catalyst writes the URNs).
 std::string noRepresentationMessage(const std::vector<Representation>& representations, const std::string& wanted) {
   constexpr std::size_t kListed = 8;
-  constexpr std::size_t kQuoted = 100;
-  const auto quoted = [&](const std::string& s) {
-    return "'" + (s.size() > kQuoted ? s.substr(0, kQuoted) + "..." : s) + "'";
-  };
+  const auto quoted = [](const std::string& s) { return "'" + shownName(s) + "'"; };
   std::vector<std::string> shapes;
   for (const Representation& r : representations) {
     for (const std::string& shape : r.body_shapes) {
@@ -133,9 +132,9 @@ Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, s
     for (const std::string& shape : r.body_shapes) {
       if (!bodyShapeMatches(shape, body_shape)) continue;
       if (r.main_file_hash.empty()) {
-        return invalid(
-            "main file '" + r.main_file + "' of body shape " + body_shape + " is not in the entity's content list",
-            "/content");
+        return invalid("main file '" + shownName(r.main_file) + "' of body shape " + shownName(body_shape) +
+                           " is not in the entity's content list",
+                       "/content");
       }
       hash = r.main_file_hash;
       return {};

@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "common/shown_name.h"
 #include "common/transform_math.h"
 #include "springbones/springbones.h"
 
@@ -84,11 +85,11 @@ Error linkHierarchy(Skeleton& skeleton) {
       }
       if (c == p) {
         return fail(ErrorCode::kHierarchyCycle,
-                    "node " + std::to_string(p) + " ('" + nodes[p].name + "') is its own child");
+                    "node " + std::to_string(p) + " ('" + shownName(nodes[p].name) + "') is its own child");
       }
       if (nodes[c].parent != -1) {
         return fail(ErrorCode::kHierarchyMultipleParents,
-                    "node " + std::to_string(c) + " ('" + nodes[c].name + "') is a child of both node " +
+                    "node " + std::to_string(c) + " ('" + shownName(nodes[c].name) + "') is a child of both node " +
                         std::to_string(nodes[c].parent) + " and node " + std::to_string(p));
       }
       nodes[c].parent = p;
@@ -109,7 +110,7 @@ Error linkHierarchy(Skeleton& skeleton) {
     for (int i : order) reached[i] = true;
     int first = 0;
     while (reached[first]) ++first;
-    return fail(ErrorCode::kHierarchyCycle, "node " + std::to_string(first) + " ('" + nodes[first].name +
+    return fail(ErrorCode::kHierarchyCycle, "node " + std::to_string(first) + " ('" + shownName(nodes[first].name) +
                                                 "') is its own ancestor (the hierarchy has a cycle)");
   }
   for (int i : order) {
@@ -132,8 +133,8 @@ Error linkHierarchy(Skeleton& skeleton) {
       finite = finite && std::isfinite(w[4 * c]) && std::isfinite(w[4 * c + 1]) && std::isfinite(w[4 * c + 2]);
     }
     if (!finite) {
-      return fail(ErrorCode::kGltfInvalid,
-                  "node " + std::to_string(i) + " ('" + n.name + "'): its rest transform overflows float range");
+      return fail(ErrorCode::kGltfInvalid, "node " + std::to_string(i) + " ('" + shownName(n.name) +
+                                               "'): its rest transform overflows float range");
     }
   }
   return {};

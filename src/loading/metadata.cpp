@@ -12,6 +12,7 @@
 
 #include "common/json_pointer.h"
 #include "common/json_text.h"
+#include "common/shown_name.h"
 #include "loading/bone_params.h"
 #include "springbones/springbones.h"
 
@@ -220,8 +221,8 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
   for (auto it = model->begin(); it != model->end(); ++it) {
     const std::string path = model_path + pointerToken(it.key());
     if (!it->is_object()) {
-      reader.warn("bone-entry-invalid", "entry for '" + it.key() + "' is " + describe(*it) + ", not an object; ignored",
-                  path);
+      reader.warn("bone-entry-invalid",
+                  "entry for '" + shownName(it.key()) + "' is " + describe(*it) + ", not an object; ignored", path);
       continue;
     }
     BoneEntry bone;

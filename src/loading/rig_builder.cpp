@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "common/shown_name.h"
 #include "common/transform_math.h"
 #include "loading/body_colliders.h"
 #include "loading/collider_size.h"
@@ -177,15 +178,17 @@ class RigBuilder {
     const BoneEntry& entry = model_.bones[e];
     const int matches = matches_[e];
     if (matches == 0) {
-      warn("bone-not-found", "metadata names '" + entry.name + "', but the GLB has no such node",
+      warn("bone-not-found", "metadata names '" + shownName(entry.name) + "', but the GLB has no such node",
            model_.entryPath(entry));
     } else if (!entry_is_spring_[e]) {
       warn("bone-not-spring",
-           "metadata names '" + entry.name + "', whose name lacks the 'springbone' token; the entry is ignored",
+           "metadata names '" + shownName(entry.name) +
+               "', whose name lacks the 'springbone' token; the entry is ignored",
            model_.entryPath(entry));
     } else if (matches > 1) {
       warn("duplicate-node-name",
-           "the GLB has " + std::to_string(matches) + " nodes named '" + entry.name + "'; the entry applies to each",
+           "the GLB has " + std::to_string(matches) + " nodes named '" + shownName(entry.name) +
+               "'; the entry applies to each",
            model_.entryPath(entry));
     }
   }
@@ -212,8 +215,8 @@ class RigBuilder {
   void warnNestedRoot(int n, int parent_chain, int entry) {
     const auto& all = nodes();
     warn("nested-root",
-         "'" + all[n].name + "' is marked isRoot but lies inside the chain of '" + all[parent_chain].name +
-             "'; it is simulated as a member of that chain with its own parameters",
+         "'" + shownName(all[n].name) + "' is marked isRoot but lies inside the chain of '" +
+             shownName(all[parent_chain].name) + "'; it is simulated as a member of that chain with its own parameters",
          model_.entryPath(model_.bones[entry]));
   }
 
@@ -240,11 +243,13 @@ class RigBuilder {
       const int node = nodeNamed(entry.center);
       if (node < 0) {
         warn("center-not-found",
-             "center '" + entry.center + "' of '" + entry.name + "' is not a node of the GLB; using world space",
+             "center '" + shownName(entry.center) + "' of '" + shownName(entry.name) +
+                 "' is not a node of the GLB; using world space",
              model_.entryPath(entry) + "/center");
       } else if (is_candidate_[node] || chain_of_node_[node] >= 0) {
         warn("center-is-spring-bone",
-             "center '" + entry.center + "' of '" + entry.name + "' is a spring bone itself; using world space",
+             "center '" + shownName(entry.center) + "' of '" + shownName(entry.name) +
+                 "' is a spring bone itself; using world space",
              model_.entryPath(entry) + "/center");
       } else {
         driver = driverFor(node);
@@ -315,20 +320,20 @@ class RigBuilder {
 
   void warnTipEntry(int n, int entry) {
     warn("tip-entry-ignored",
-         "'" + nodes()[n].name +
+         "'" + shownName(nodes()[n].name) +
              "' is a chain tip (no children): it only marks where its parent bone ends, so "
              "its parameters are ignored",
          model_.entryPath(model_.bones[entry]));
   }
 
   void warnZeroLength(int n, int tail) {
-    warn("zero-length-bone", "'" + nodes()[n].name + "' and its tail '" + nodes()[tail].name +
+    warn("zero-length-bone", "'" + shownName(nodes()[n].name) + "' and its tail '" + shownName(nodes()[tail].name) +
                                  "' are at the same place; the bone keeps its rest rotation");
   }
 
   void warnRootWithoutTail(int root) {
     warn("root-without-tail",
-         "spring root '" + nodes()[root].name + "' has no child bone, so there is nothing to simulate");
+         "spring root '" + shownName(nodes()[root].name) + "' has no child bone, so there is nothing to simulate");
   }
 
   // Colliders are attached to drivers by node name; a name the GLB lacks becomes an external
@@ -351,24 +356,25 @@ class RigBuilder {
       const bool finite = isFinite(toGlm(spec.offset)) && isFinite(toGlm(spec.tail)) &&
                           (!plane || isFinite(toGlm(spec.normal))) && std::isfinite(spec.radius);
       if (!finite || spec.radius < 0.0f) {
-        warn("collider-invalid", "collider on '" + spec.node + "' has a non-finite or negative size; ignored");
+        warn("collider-invalid",
+             "collider on '" + shownName(spec.node) + "' has a non-finite or negative size; ignored");
         continue;
       }
       if (exceedsMaxColliderSize(spec)) {
-        warn("collider-invalid", "collider on '" + spec.node + "' has a radius, offset or tail beyond " +
+        warn("collider-invalid", "collider on '" + shownName(spec.node) + "' has a radius, offset or tail beyond " +
                                      formatNumber(kMaxColliderSize) + " (the node's units); ignored");
         continue;
       }
       glm::vec3 normal = toGlm(spec.normal);
       if (plane && !toUnitLength(normal)) {
-        warn("collider-invalid", "plane collider on '" + spec.node + "' has a zero normal; ignored");
+        warn("collider-invalid", "plane collider on '" + shownName(spec.node) + "' has a zero normal; ignored");
         continue;
       }
       int driver = -1;
       const int node = nodeNamed(spec.node);
       if (node >= 0) {
         if (is_candidate_[node] || chain_of_node_[node] >= 0) {
-          warn("collider-on-spring-bone", "collider node '" + spec.node + "' is a spring bone; ignored");
+          warn("collider-on-spring-bone", "collider node '" + shownName(spec.node) + "' is a spring bone; ignored");
           continue;
         }
         driver = driverFor(node);

@@ -7,6 +7,8 @@
 #include <limits>
 #include <optional>
 
+#include "common/glm_interop.h"
+#include "common/shown_name.h"
 
 namespace springbones {
 namespace {
@@ -206,7 +208,7 @@ bool readLimitOptions(const json& limits, std::map<std::string, JointLimit>& out
     JointLimit limit;
     std::string problem;
     if (!readLimitShape(*it, limit, problem)) {
-      why = "limits['" + it.key() + "']: " + problem;
+      why = "limits['" + shownName(it.key()) + "']: " + problem;
       out.clear();
       return false;
     }
@@ -230,7 +232,7 @@ void applyLimitOptions(const std::map<std::string, JointLimit>& limits, Rig& rig
     auto done = sanitized.find(*name);
     if (done == sanitized.end()) {
       JointLimit limit = it->second;
-      sanitizeJointLimit(limit, "joint '" + *name + "'", "", rig.warnings);
+      sanitizeJointLimit(limit, "joint '" + shownName(*name) + "'", "", rig.warnings);
       done = sanitized.emplace(*name, limit).first;
     }
     joint.limit = done->second;
@@ -242,7 +244,7 @@ void applyLimitOptions(const std::map<std::string, JointLimit>& limits, Rig& rig
       const std::string* tail = nameOf(joint.tail_node);
       if (tail != nullptr && *tail == name) tip = true;
     }
-    const std::string what = "limit for '" + name + "': ";
+    const std::string what = "limit for '" + shownName(name) + "': ";
     if (tip) {
       rig.warnings.push_back(
           Warning{"limit-on-end-joint", what + "the node is a chain's tip, a tail only; ignored", ""});

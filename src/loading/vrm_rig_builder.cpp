@@ -7,13 +7,11 @@
 #include <utility>
 
 #include "common/glm_interop.h"
+#include "common/shown_name.h"
 #include "loading/collider_size.h"
 
 namespace springbones {
 namespace {
-
-// Bytes of a node name shown in a message (shownName).
-constexpr std::size_t kMaxNameBytesInWarning = 64;
 
 Error fail(ErrorCode code, std::string message, std::string path = {}) {
   return Error{code, std::move(message), std::move(path)};
@@ -91,12 +89,7 @@ void VrmRigBuilder::warn(const char* code, std::string message, std::string path
   rig_->warnings.push_back(Warning{code, std::move(message), std::move(path)});
 }
 
-std::string VrmRigBuilder::shownName(const std::string& name) {
-  if (name.size() <= kMaxNameBytesInWarning) return name;
-  std::size_t cut = kMaxNameBytesInWarning;
-  while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 sequence
-  return name.substr(0, cut) + "...";
-}
+std::string VrmRigBuilder::shownName(const std::string& name) { return springbones::shownName(name); }
 
 std::string VrmRigBuilder::nodeLabel(int n) const {
   return "node " + std::to_string(n) + " ('" + shownName(nodes()[n].name) + "')";

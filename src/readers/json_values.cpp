@@ -16,7 +16,7 @@ Error withTyped(const json& value, Read read) {
   std::vector<std::uint8_t> bytes;
   writeTyped(value, bytes);
   TypedDocument doc;
-  if (Error e = doc.decode(bytes.data(), bytes.size())) return e;
+  if (Error e = doc.decode(bytes.data(), bytes.size(), kMaxMetadataBytes)) return e;
   return read(doc.root());
 }
 

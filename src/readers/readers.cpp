@@ -1,32 +1,84 @@
-// The readers (springbones/readers.h): the GLB container, one nlohmann-json parse, and what the
-// runtime reads of the document written as typed input.
+// The readers (springbones/readers.h): the GLB container, one reading of its JSON as a page's
+// JSON.parse reads it (page_json.h), and what the runtime reads of the document written as typed
+// input.
 #include "springbones/readers.h"
 
 #include <exception>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "common/typed_encoding.h"
 #include "readers/glb_container.h"
 #include "readers/json_values.h"
+#include "readers/page_json.h"
 
 namespace springbones {
 namespace {
 
 using nlohmann::json;
 
-constexpr const char* kNodeFields[] = {"children", "matrix", "name", "rotation", "scale", "translation"};
+// A member the runtime reads only for its type: a scalar as it is, a container by its kind alone.
+void writeShapeOnly(const json& value, TypedWriter& w) {
+  if (value.is_array()) {
+    w.array(0);
+  } else if (value.is_object()) {
+    w.object(0);
+  } else if (value.is_string()) {
+    w.string("");
+  } else {
+    writeTyped(value, w.bytes());
+  }
+}
+
+// The root extensions the runtime reads (kGltfRootExtensionMembers), and of each only its members
+// the runtime reads, as web/typed_value.js keeps them of a parsed document.
+void writeRootExtensions(const json& extensions, TypedWriter& w) {
+  if (!extensions.is_object()) return writeShapeOnly(extensions, w);
+  std::vector<const char*> present;
+  for (const auto& [extension, member] : kGltfRootExtensionMembers) {
+    if (extensions.contains(extension) && (present.empty() || std::string_view(present.back()) != extension)) {
+      present.push_back(extension);
+    }
+  }
+  w.object(static_cast<std::uint32_t>(present.size()));
+  for (const char* name : present) {
+    w.key(name);
+    const json& extension = extensions.at(name);
+    std::vector<const char*> members;
+    bool all = false;
+    for (const auto& [e, member] : kGltfRootExtensionMembers) {
+      if (std::string_view(e) != name) continue;
+      if (member == nullptr) all = true;
+      if (member != nullptr && extension.is_object() && extension.contains(member)) members.push_back(member);
+    }
+    if (all) {
+      writeTyped(extension, w.bytes());
+    } else if (!extension.is_object()) {
+      writeShapeOnly(extension, w);
+    } else {
+      w.object(static_cast<std::uint32_t>(members.size()));
+      for (const char* member : members) {
+        w.key(member);
+        writeTyped(extension.at(member), w.bytes());
+      }
+    }
+  }
+}
 
 // {asset: {version}, nodes: [{the node fields}], extensions}: what the runtime reads of a glTF
-// document. A member of a shape the runtime refuses (a node that is not an object, an asset that
-// is not one) is written as null, which it refuses in the same words.
-void writeGltfPart(const json& doc, GltfPart part, std::vector<std::uint8_t>& out) {
+// document (src/common/typed_encoding.json, "gltf"). A member of a shape the runtime refuses (a
+// node that is not an object, an asset that is not one) is written as null, which it refuses in
+// the same words. More nodes than kMaxNodes is refused before any is written.
+Error writeGltfPart(const json& doc, GltfPart part, std::vector<std::uint8_t>& out) {
   TypedWriter w;
   if (!doc.is_object()) {
     w.null();
     out = std::move(w.bytes());
-    return;
+    return {};
   }
   const auto asset = doc.find("asset");
   const auto nodes = doc.find("nodes");
@@ -50,6 +102,11 @@ void writeGltfPart(const json& doc, GltfPart part, std::vector<std::uint8_t>& ou
     w.key("nodes");
     if (!nodes->is_array()) {
       w.null();
+    } else if (nodes->size() > kMaxNodes) {
+      return Error{
+          ErrorCode::kLimitExceeded,
+          "glTF has " + std::to_string(nodes->size()) + " nodes, more than the limit of " + std::to_string(kMaxNodes),
+          "/nodes"};
     } else {
       w.array(static_cast<std::uint32_t>(nodes->size()));
       for (const json& node : *nodes) {
@@ -58,9 +115,9 @@ void writeGltfPart(const json& doc, GltfPart part, std::vector<std::uint8_t>& ou
           continue;
         }
         std::uint32_t present = 0;
-        for (const char* field : kNodeFields) present += node.contains(field) ? 1 : 0;
+        for (const char* field : kGltfNodeFields) present += node.contains(field) ? 1 : 0;
         w.object(present);
-        for (const char* field : kNodeFields) {
+        for (const char* field : kGltfNodeFields) {
           if (auto it = node.find(field); it != node.end()) {
             w.key(field);
             writeTyped(*it, w.bytes());
@@ -71,9 +128,10 @@ void writeGltfPart(const json& doc, GltfPart part, std::vector<std::uint8_t>& ou
   }
   if (extensions != doc.end()) {
     w.key("extensions");
-    writeTyped(*extensions, w.bytes());
+    writeRootExtensions(*extensions, w);
   }
   out = std::move(w.bytes());
+  return {};
 }
 
 }  // namespace
@@ -84,13 +142,12 @@ Error readGltf(const std::uint8_t* data, std::size_t size, GltfPart part, std::v
   std::size_t json_size = 0;
   if (Error e = findGltfJson(data, size, json_begin, json_size)) return e;
   try {
-    // No parser callback: nlohmann's callback parser scans a container's elements each time one of
-    // them ends, which is quadratic in the length of an array or object.
-    const json doc = json::parse(json_begin, json_begin + json_size);
-    writeGltfPart(doc, part, typed);
-  } catch (const json::exception& ex) {
-    typed.clear();
-    return Error{ErrorCode::kGltfBadJson, std::string("glTF JSON does not parse: ") + ex.what(), ""};
+    json doc;
+    if (Error e = readGltfJsonAsPage(json_begin, json_size, part == GltfPart::kNodesAndExtensions, doc)) return e;
+    if (Error e = writeGltfPart(doc, part, typed)) {
+      typed.clear();
+      return e;
+    }
   } catch (const std::exception& ex) {  // allocation failure on an absurd document
     typed.clear();
     return Error{ErrorCode::kGltfBadJson, std::string("glTF JSON could not be read: ") + ex.what(), ""};

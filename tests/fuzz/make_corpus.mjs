@@ -7,11 +7,13 @@
 //   simulation/    pseudo-random byte programs (the target builds everything from bytes)
 //   vrm/           the VRM fixtures (0.x, 1.0, 1.0 with extended colliders), both extensions in one file, glTF text
 //   typed/         typed input (web/typed_value.js) of the fixtures' glTF documents, metadata, the
-//                  sample's entity and rig options, and a few malformed encodings
+//                  sample's entity and rig options, a few malformed encodings, and inputs at and
+//                  past the bounds of src/common/typed_encoding.json
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { glbOfJson, jsonChunkOf } from '../../scripts/lib/fixtures/glb.mjs';
+import { kTypedLimits, kTypedTags } from '../../web/typed_encoding.js';
 import { encodeGltf, encodeTyped } from '../../web/typed_value.js';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -60,6 +62,13 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
       })),
     ],
     truncated_header: [fixture('adr_example.glb').subarray(0, 16), null],
+    // What JSON.parse and a byte-level JSON library read differently (docs/input.md, "Bytes are
+    // read as the page reads them"): the reader's own grammar, UTF-8 decoding and number rules.
+    page_unread_members: [glbOfJson('{"asset":{"version":"2.0"},"nodes":[{"name":"a","rotation":[-0,0,0,1]}],' +
+      '"accessors":[{"max":[1e400]}],"meshes":[{"name":"\\ud800"}]}'), null],
+    page_ill_formed_utf8: [glbOfJson(Buffer.concat([Buffer.from('{"asset":{"version":"2.0"},"nodes":[{"name":"'),
+      Buffer.from([0xff, 0xe2, 0x82, 0xed, 0xa0, 0x80]), Buffer.from('"}]}')])), null],
+    page_nul_padding: [glbOfJson(Buffer.concat([Buffer.from('{"asset":{"version":"2.0"},"nodes":[]}'), Buffer.from([0, 0x67])])), null],
   };
   for (const [name, [glb, meta]] of Object.entries(seeds)) {
     writeFileSync(join(dir, name), meta ? Buffer.concat([glb, separator, meta]) : glb);
@@ -153,4 +162,17 @@ const compact = (name) => Buffer.from(JSON.stringify(JSON.parse(fixture(name).to
   writeFileSync(join(dir, 'options_preset'), encodeTyped('corpus', { preset: 'dcl-body' }));
   const malformed = [[7], [5, 255, 255, 255, 255], [6, 1, 0, 0, 0, 9, 0, 0, 0], [3, 0, 0], [4, 3, 0, 0, 0, 0xff, 0xfe, 0x80], [0, 0]];
   malformed.forEach((bytes, i) => writeFileSync(join(dir, `malformed_${String(i).padStart(2, '0')}`), Buffer.from(bytes)));
+  // The bounds of typed_encoding.json, reached: written by hand, as the encoder refuses them.
+  const u32 = (v) => Buffer.from(new Uint32Array([v]).buffer);
+  const sized = (text) => Buffer.concat([u32(Buffer.byteLength(text)), Buffer.from(text)]);
+  const { tags, limits } = { tags: kTypedTags, limits: kTypedLimits };
+  const gltfNamed = (name) => Buffer.concat([Buffer.from([tags.object]), u32(2), sized('asset'), Buffer.from([tags.object]), u32(1),
+    sized('version'), Buffer.from([tags.string]), sized('2.0'), sized('nodes'), Buffer.from([tags.array]), u32(1),
+    Buffer.from([tags.object]), u32(1), sized('name'), Buffer.from([tags.string]), sized(name)]);
+  writeFileSync(join(dir, 'bound_string_at_limit'), gltfNamed('n'.repeat(limits.maxStringBytes)));
+  writeFileSync(join(dir, 'bound_string_past_limit'), gltfNamed('n'.repeat(limits.maxStringBytes + 1)));
+  writeFileSync(join(dir, 'bound_key_past_limit'), Buffer.concat([Buffer.from([tags.object]), u32(1),
+    sized('k'.repeat(limits.maxStringBytes + 1)), Buffer.from([tags.null])]));
+  writeFileSync(join(dir, 'bound_container_past_limit'), Buffer.concat([Buffer.from([tags.object]), u32(1), sized('nodes'),
+    Buffer.from([tags.array]), u32(limits.maxContainerSize + 1)]));
 }

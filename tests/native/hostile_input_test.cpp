@@ -17,11 +17,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/typed_value.h"
 #include "creator_tools/builder_edits.h"
 #include "creator_tools/validation.h"
 #include "readers/json_values.h"
 #include "springbones/readers.h"
 #include "springbones/springbones.h"
+#include "springbones/typed_input.h"
 #include "test_helpers.h"
 
 namespace springbones {
@@ -352,20 +354,55 @@ TEST(HostileInput, BuilderEditsRefuseMetadataNestedDeeperThanTheyCanCopy) {
 // ---------------------------------------------------------------------------------------------
 // Names
 
-TEST(HostileInput, InvalidUtf8InNodeNamesIsAGltfBadJsonError) {
-  // glTF JSON must be UTF-8; nlohmann's parser rejects ill-formed bytes and lone surrogates, so
-  // no invalid string ever reaches a node name.
-  const std::vector<std::string> names = {"springbone_\xff\xfe", "springbone_\xc3", "springbone_\xed\xa0\x80",
-                                          "\xc0\xaf"};
-  for (const std::string& name : names) {
-    const std::string text = R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + name + R"("}]})";
-    EXPECT_EQ(loadWearable(makeGlb(text), "null").error.code, ErrorCode::kGltfBadJson);
+TEST(HostileInput, InvalidUtf8InNodeNamesBecomesReplacementCharactersAsThePageDecodesIt) {
+  // The page decodes the JSON chunk with TextDecoder: each ill-formed sequence is one U+FFFD (EF BF
+  // BD), so the name is valid UTF-8 and the readers give the same (docs/input.md).
+  const std::string fffd = "\xef\xbf\xbd";
+  const std::vector<std::pair<std::string, std::string>> names = {
+      {"springbone_\xff\xfe", "springbone_" + fffd + fffd},
+      {"springbone_\xc3", "springbone_" + fffd},
+      {"springbone_\xed\xa0\x80", "springbone_" + fffd + fffd + fffd},
+      {"\xc0\xaf", fffd + fffd},
+      {"\xe2\x82"
+       "A",
+       fffd + "A"},
+  };
+  for (const auto& [bytes, decoded] : names) {
+    const std::string text = R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + bytes + R"("}]})";
+    const std::vector<std::uint8_t> glb = makeGlb(text);
+    Skeleton skeleton;
+    ASSERT_FALSE(loadSkeleton(glb.data(), glb.size(), skeleton)) << decoded;
+    EXPECT_EQ(skeleton.nodes[0].name, decoded);
   }
+  // An escaped lone surrogate in a name the runtime reads: the page's encoder refuses it, so do the
+  // readers, with the path.
   const std::string escaped = R"({"asset":{"version":"2.0"},"nodes":[{"name":"springbone_\ud800"}]})";
-  EXPECT_EQ(loadWearable(makeGlb(escaped), "null").error.code, ErrorCode::kGltfBadJson);
+  const Loaded lone = loadWearable(makeGlb(escaped), "null");
+  EXPECT_EQ(lone.error.code, ErrorCode::kGltfInvalid);
+  EXPECT_EQ(lone.error.path, "/nodes/0/name");
   // Well-formed but odd names load: NUL, escapes, astral characters.
   const std::string odd = R"({"asset":{"version":"2.0"},"nodes":[{"name":"springbone_\u0000\ud83d\ude00/~\"\\"}]})";
   EXPECT_FALSE(loadWearable(makeGlb(odd), "null").error);
+}
+
+TEST(HostileInput, WhatJsonParseRefusesTheReadersRefuseAndWhatItAcceptsInUnreadMembersTheyNeverCheck) {
+  const std::string head = R"({"asset":{"version":"2.0"},"nodes":[{"name":"a","rotation":[-0,0,0,1]}])";
+  const auto load = [](const std::string& text, Skeleton& skeleton) {
+    return loadSkeleton(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), skeleton);
+  };
+  Skeleton skeleton;
+  for (const std::string& refused :
+       {head + "}" + std::string(3, '\0'), head + "}" + std::string("\0garbage", 8), head + "} x", head + ",}",
+        head + R"(,"a":01})", head + R"(,"a":"\x"})", head + ",\"a\":\"\t\"}", head}) {
+    EXPECT_EQ(load(refused, skeleton).code, ErrorCode::kGltfBadJson) << refused;
+  }
+  for (const std::string& accepted :
+       {head + R"(,"accessors":[{"max":[1e400]}]})", head + R"(,"meshes":[{"name":"\ud800\udc00\udfff"}]})",
+        head + ",\"meshes\":[{\"name\":\"\xff\xc0\"}]}", head + ",\"extras\":[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]}"}) {
+    ASSERT_FALSE(load(accepted, skeleton)) << accepted;
+    // -0 keeps its sign through to the rest rotation, as JSON.parse keeps it.
+    EXPECT_TRUE(std::signbit(skeleton.nodes[0].rest_local.rotation.x));
+  }
 }
 
 TEST(HostileInput, InvalidUtf8InMetadataIsAnErrorAsTextAndHarmlessAsAJsonValue) {
@@ -701,6 +738,136 @@ TEST(HostileInput, RigOfHundredThousandJointsLoadsAndSteps) {
   constexpr int kFrames = 10;
   for (int i = 0; i < kFrames; ++i) instance.step(1.0 / 60);
   EXPECT_TRUE(finiteUnitRotations(instance));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bounded by its input (docs/input.md, the limits table): each bound of the typed input is checked
+// before the work it bounds, and is limit-exceeded with the limit in the message and the path.
+
+// {"asset": {"version": "2.0"}, "nodes": [{"name": <name>}]} with the name's bytes given.
+std::vector<std::uint8_t> typedGltfWithName(const std::string& name) {
+  TypedWriter w;
+  w.object(2);
+  w.key("asset");
+  w.object(1);
+  w.key("version");
+  w.string("2.0");
+  w.key("nodes");
+  w.array(1);
+  w.object(1);
+  w.key("name");
+  w.string(name);
+  return w.bytes();
+}
+
+Error loadTyped(const std::vector<std::uint8_t>& typed) {
+  Skeleton skeleton;
+  return loadSkeleton(TypedBytes{typed.data(), typed.size()}, skeleton);
+}
+
+TEST(HostileInput, TypedStringPastItsBoundIsLimitExceededWithItsPath) {
+  EXPECT_FALSE(loadTyped(typedGltfWithName(std::string(kTypedMaxStringBytes, 'a'))));
+  const Error e = loadTyped(typedGltfWithName(std::string(kTypedMaxStringBytes + 1, 'a')));
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded);
+  EXPECT_EQ(e.path, "/nodes/0/name");
+  EXPECT_NE(e.message.find(std::to_string(kTypedMaxStringBytes)), std::string::npos) << e.message;
+}
+
+TEST(HostileInput, TypedKeyPastItsBoundIsLimitExceededAndThePathQuotesAPrefixOfIt) {
+  TypedWriter w;
+  w.object(1);
+  w.key("models");
+  w.object(1);
+  w.key(std::string(kTypedMaxStringBytes + 1, 'k'));
+  w.null();
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  const Error e = parseSpringBones(TypedBytes{w.bytes().data(), w.bytes().size()}, "h", model, warnings);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded);
+  EXPECT_EQ(e.path, "/models");
+  EXPECT_LT(e.message.size(), 200u) << e.message;
+}
+
+TEST(HostileInput, TypedContainerCountPastItsBoundIsRefusedBeforeItsElementsAreRead) {
+  // The count alone: no element follows, and the bound is what is reported, not the short input.
+  for (const bool object : {false, true}) {
+    TypedWriter w;
+    w.object(1);
+    w.key("nodes");
+    if (object) {
+      w.object(static_cast<std::uint32_t>(kTypedMaxContainerSize + 1));
+    } else {
+      w.array(static_cast<std::uint32_t>(kTypedMaxContainerSize + 1));
+    }
+    const Error e = loadTyped(w.bytes());
+    EXPECT_EQ(e.code, ErrorCode::kLimitExceeded);
+    EXPECT_EQ(e.path, "/nodes");
+    EXPECT_NE(e.message.find(std::to_string(kTypedMaxContainerSize)), std::string::npos) << e.message;
+  }
+}
+
+TEST(HostileInput, TypedInputOfMoreValuesThanTheBoundIsRefused) {
+  // Nine arrays of a million nulls: 9 MiB, within the glTF's bytes, past the values.
+  TypedWriter w;
+  w.object(1);
+  w.key("extensions");
+  const std::size_t arrays = kTypedMaxValues / kTypedMaxContainerSize + 1;
+  w.array(static_cast<std::uint32_t>(arrays));
+  for (std::size_t a = 0; a < arrays; ++a) {
+    w.array(static_cast<std::uint32_t>(kTypedMaxContainerSize));
+    w.bytes().insert(w.bytes().end(), kTypedMaxContainerSize, std::uint8_t(kTypedTagNull));
+  }
+  std::shared_ptr<const Rig> rig;
+  const Error e = loadVrm(TypedBytes{w.bytes().data(), w.bytes().size()}, rig);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded);
+  EXPECT_NE(e.message.find(std::to_string(kTypedMaxValues)), std::string::npos) << e.message;
+}
+
+TEST(HostileInput, TypedInputPastItsKindsBytesIsRefusedBeforeDecoding) {
+  // springBones as typed input has the bound of its text; a glTF document that of its JSON chunk.
+  std::vector<std::uint8_t> big(kMaxMetadataBytes + 1, 0);
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  EXPECT_EQ(parseSpringBones(TypedBytes{big.data(), big.size()}, "h", model, warnings).code, ErrorCode::kLimitExceeded);
+  std::string hash;
+  EXPECT_EQ(mainFileHashFor(TypedBytes{big.data(), big.size()}, "BaseMale", hash).code, ErrorCode::kLimitExceeded);
+  // The same bytes are within a glTF's bound: malformed, not too large.
+  EXPECT_EQ(loadTyped(big).code, ErrorCode::kInvalidArgument);
+}
+
+TEST(HostileInput, HashAndBodyShapePastTheStringBoundAreRefusedBeforeUse) {
+  const std::vector<std::uint8_t> null_value{kTypedTagNull};
+  ModelEntry model;
+  std::vector<Warning> warnings;
+  const std::string long_text(kTypedMaxStringBytes + 1, 'Q');
+  EXPECT_EQ(parseSpringBones(TypedBytes{null_value.data(), null_value.size()}, long_text, model, warnings).code,
+            ErrorCode::kLimitExceeded);
+  std::string hash;
+  EXPECT_EQ(mainFileHashFor(TypedBytes{null_value.data(), null_value.size()}, long_text, hash).code,
+            ErrorCode::kLimitExceeded);
+}
+
+TEST(HostileInput, MessagesQuoteABoundedPrefixOfALongName) {
+  // A node that is its own child, named with 60,000 bytes: the error names it by its first bytes.
+  const std::string name(60000, 'n');
+  const json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", json::array({{{"name", name}, {"children", {0}}}})}};
+  const std::string text = doc.dump();
+  Skeleton skeleton;
+  const Error e = loadSkeleton(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), skeleton);
+  EXPECT_EQ(e.code, ErrorCode::kHierarchyCycle);
+  EXPECT_NE(e.message.find(std::string(kTypedMaxNameBytesInMessage, 'n') + "..."), std::string::npos);
+  EXPECT_LT(e.message.size(), 200u);
+}
+
+TEST(HostileInput, ReadersRefuseMoreNodesThanTheLimitBeforeWritingAny) {
+  std::string text = R"({"asset":{"version":"2.0"},"nodes":[)";
+  for (std::size_t i = 0; i <= kMaxNodes; ++i) text += i == 0 ? "0" : ",0";
+  text += "]}";
+  std::vector<std::uint8_t> typed;
+  const Error e = readGltf(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), GltfPart::kNodes, typed);
+  EXPECT_EQ(e.code, ErrorCode::kLimitExceeded);
+  EXPECT_EQ(e.path, "/nodes");
+  EXPECT_TRUE(typed.empty());
 }
 
 }  // namespace

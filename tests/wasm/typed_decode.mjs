@@ -1,6 +1,8 @@
 // The typed encoding (web/typed_value.js, src/common/typed_value.h) read back into a JavaScript
 // value, for tests that compare what two front ends hand the runtime. Objects come back with their
 // members in byte order of their keys, as the core reads them.
+import { kTypedTags as kTag } from '../../web/typed_encoding.js';
+
 export function decodeTyped(bytes) {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
   const decoder = new TextDecoder('utf-8', { fatal: true });
@@ -34,16 +36,16 @@ export function decodeTyped(bytes) {
     if (top && !Array.isArray(top.container)) top.key = text();
     const tag = bytes[at++];
     let value;
-    if (tag === 0) value = null;
-    else if (tag === 1) value = false;
-    else if (tag === 2) value = true;
-    else if (tag === 3) {
+    if (tag === kTag.null) value = null;
+    else if (tag === kTag.false) value = false;
+    else if (tag === kTag.true) value = true;
+    else if (tag === kTag.number) {
       value = view.getFloat64(at, true);
       at += 8;
-    } else if (tag === 4) value = text();
-    else if (tag === 5 || tag === 6) {
+    } else if (tag === kTag.string) value = text();
+    else if (tag === kTag.array || tag === kTag.object) {
       const count = u32();
-      value = tag === 5 ? [] : {};
+      value = tag === kTag.array ? [] : {};
       place(value);
       open.push({ container: value, remaining: count, key: undefined });
       while (open.length > 0 && open[open.length - 1].remaining === 0) open.pop();
