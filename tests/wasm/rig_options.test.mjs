@@ -1,4 +1,4 @@
-// loadRig's options have one home per side: web/rig_options.js checks the caller's object, and the
+// loadRig's options (colliders, hitRadius, avatarBones) have one home per side: web/rig_options.js checks the caller's object, and the
 // core's reader of what crosses (readRigOptions, src/boundary/api_json.cpp) checks it by the same
 // rules. The same bad options go to both: through loadRig in JavaScript, and as typed input
 // straight into the core's loadRig binding, past every JavaScript check. Each side must refuse
@@ -16,6 +16,7 @@ import { springRig } from './helpers.mjs';
 
 const rig = springRig();
 const head = 'Avatar_Head';  // a node of the rig, not a spring bone
+const kIdentity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
 
 // Options that are the same object in the caller's form and in the form that crosses (no preset
 // name, every collider spelled out), so both sides read exactly the same value.
@@ -49,6 +50,12 @@ const kRefused = [
   { colliders: [{ node: head, radius: 0.1, tail: null }] },
   { colliders: [{ node: head, radius: 0.1, inside: 'yes' }] },
   { colliders: [{ node: head, radius: 0.1 }, { node: head, radius: 0.1, tail: [0, 1, 0], inside: 1 }] },
+  { avatarBones: [] },
+  { avatarBones: { [head]: [1, 0, 0] } },
+  { avatarBones: { [head]: 'identity' } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 15), '1'] } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 15), NaN] } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 12), 1e13, 0, 0, 1] } },
 ];
 
 const kAccepted = [
@@ -63,6 +70,8 @@ const kAccepted = [
   { colliders: [{ node: head, shape: 'plane' }] },
   { colliders: [{ node: head, shape: 'plane', normal: [0, 1e39, 0], offset: [0, 1, 0] }] },
   { colliders: [{ node: 'Avatar_Hips', radius: 0.2 }], hitRadius: 0.01 },  // a bone the caller supplies
+  { avatarBones: {} },
+  { avatarBones: { [head]: kIdentity, Avatar_Neck: [...kIdentity.slice(0, 12), 0, 1.5, 0, 1] } },
 ];
 
 let sb;
