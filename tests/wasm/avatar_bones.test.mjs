@@ -10,7 +10,7 @@ import { Group, Matrix4, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from './sample_wearable.mjs';
 
-const { sb, avatarGltf, wearableBytes, metadata } = await loadSampleWearable();
+const { sb, avatarGltf, wearableBytes, metadata, wear } = await loadSampleWearable();
 const kHitRadius = 0.01;  // the demo's
 const kDt = 1 / 60;
 const kShapes = ['Avatar_Head', 'Avatar_Neck', 'Avatar_Spine2', 'Avatar_Spine1', 'Avatar_LeftShoulder',
@@ -141,6 +141,24 @@ function depthInside(p, a, b, radius) {
   const t = length2 > 0 ? Math.min(1, Math.max(0, ab.dot(new Vector3().subVectors(p, a)) / length2)) : 0;
   return radius - p.distanceTo(ab.multiplyScalar(t).add(a));
 }
+
+test("the three.js adapter feeds the shapes the GLB lacks from the avatar's bones of their names", () => {
+  const rig = sb.loadRig(wearableBytes, metadata, { colliders: 'dcl-body', hitRadius: kHitRadius, avatarBones });
+  const { scene, avatarRoot, attachment } = wear(rig);
+  assert.deepEqual(attachment.warnings, []);
+  rig.drivers.forEach((d, i) => {
+    assert.equal(attachment.driverObjects[i], avatarRoot.getObjectByName(d.name), `${d.name} is the avatar's bone`);
+  });
+  // Each frame the instance reads the avatar's left arm for the left upper-arm shape.
+  scene.updateMatrixWorld(true);
+  attachment.update(kDt);
+  const d = rig.drivers.findIndex((x) => x.name === 'Avatar_LeftArm');
+  const arm = avatarRoot.getObjectByName('Avatar_LeftArm').matrixWorld.elements;
+  const fed = attachment.instance.driverMatrices.subarray(16 * d, 16 * d + 16);
+  assert.ok(arm.every((v, k) => Math.abs(v - fed[k]) < 1e-6), 'the driver holds the arm\'s world matrix');
+  attachment.dispose();
+  rig.dispose();
+});
 
 describe('under a fast half turn and a jump', () => {
   for (const integrator of ['vrm', 'xpbd']) {
