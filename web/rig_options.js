@@ -10,7 +10,7 @@ import { encodeTyped } from './typed_value.js';
 const kJumpOptions = ['jumpDistance', 'jumpAngle'];
 
 /** loadRig's option keys. */
-export const kRigOptionKeys = [...kHashOptions, 'colliders', 'hitRadius', 'limits', ...kJumpOptions];
+export const kRigOptionKeys = [...kHashOptions, 'colliders', 'avatarBones', 'hitRadius', 'limits', ...kJumpOptions];
 
 /**
  * loadRig's options, checked: `hash` the options that say which models entry applies (checked
@@ -60,12 +60,15 @@ function jumpOptions(where, options, defaults) {
   return out;
 }
 
-// The colliders (a list, or a preset's name) and hitRadius of loadRig's options, checked, as the
-// typed input the bindings read (no bytes for none).
+// The colliders (a list, or a preset's name), the avatar's bones and hitRadius of loadRig's
+// options, checked, as the typed input the bindings read (no bytes for none).
 function typedRigOptions(where, options) {
-  const { colliders, hitRadius, limits } = options;
-  if (colliders === undefined && hitRadius === undefined && limits === undefined) return new Uint8Array(0);
+  const { colliders, avatarBones, hitRadius, limits } = options;
+  if (colliders === undefined && avatarBones === undefined && hitRadius === undefined && limits === undefined) {
+    return new Uint8Array(0);
+  }
   const out = {};
+  if (avatarBones !== undefined) out.avatarBones = checkedAvatarBones(`${where}: avatarBones`, avatarBones);
   if (limits !== undefined) out.limits = checkedLimits(`${where}: limits`, limits);
   if (hitRadius !== undefined) out.hitRadius = checkNonNegative(`${where}: hitRadius`, hitRadius);
   if (typeof colliders === 'string') {
@@ -78,6 +81,30 @@ function typedRigOptions(where, options) {
     out.colliders = checkDenseArray(`${where}: colliders`, colliders).map((c, i) => colliderJson(`${where}: colliders[${i}]`, c));
   }
   return encodeTyped(`${where}: options`, out);
+}
+
+// The drivers' bound (kMaxDriverEntry, springbones.h): a rest pose beyond it is no pose a driver takes.
+const kMaxMatrixEntry = 1e12;
+
+// loadRig's `avatarBones`: bone names to rest world matrices, each 16 finite numbers (an array or a
+// typed array, column-major as three.js's Matrix4.elements), within +-1e12.
+function checkedAvatarBones(where, bones) {
+  if (bones === null || typeof bones !== 'object' || Array.isArray(bones)) {
+    throw new TypeError(`${where} must be an object from bone names to rest world matrices`);
+  }
+  const out = {};
+  for (const [name, matrix] of Object.entries(bones)) {
+    const at = `${where}.${name}`;
+    if (!(Array.isArray(matrix) || ArrayBuffer.isView(matrix)) || matrix.length !== 16) {
+      throw new TypeError(`${at} must be 16 numbers (a column-major matrix)`);
+    }
+    out[name] = Array.from(matrix, (v, i) => {
+      checkFinite(`${at}[${i}]`, v);
+      if (Math.abs(v) > kMaxMatrixEntry) throw new RangeError(`${at}[${i}] must be within +-1e12, got ${v}`);
+      return v;
+    });
+  }
+  return out;
 }
 
 const kColliderShapes = ['sphere', 'capsule', 'plane'];

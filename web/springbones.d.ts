@@ -132,9 +132,9 @@ export interface ColliderOptions {
 /**
  * A ready-made collider set. 'dcl-body' (a preview option, not part of the standard): a head
  * sphere and capsules for the neck, chest, shoulders and upper arms, built from the rest pose of
- * the Decentraland armature bones the GLB carries, sized from their rest lengths
- * (docs/semantics.md, "Body colliders"). Shapes whose bones the GLB lacks are left out with a
- * `body-collider-skipped` warning.
+ * the Decentraland armature bones, sized from their rest lengths (docs/semantics.md, "Body
+ * colliders"): the avatar's bones when `avatarBones` gives them, else those the GLB carries.
+ * Shapes whose bones are missing are left out with a `body-collider-skipped` warning.
  */
 export type ColliderPreset = 'dcl-body';
 
@@ -153,6 +153,16 @@ export type JointLimit =
 export type LoadOptions = HashOptions & {
   /** Colliders every joint collides with (none by default), or a preset's name. The GLB is not touched. */
   colliders?: readonly ColliderOptions[] | ColliderPreset;
+  /**
+   * The bones of the avatar the wearable is worn on, by name, with their rest world matrices (16
+   * finite numbers within +-1e12, column-major: three.js's `Matrix4.elements`). With
+   * `colliders: 'dcl-body'` every shape is measured on these, not on the bones the GLB carries, and
+   * rides on the avatar's bone of its name (a driver in `rig.drivers` the page supplies each frame
+   * when the GLB lacks it), so a hair wearable that carries Hips to Head still gets its shoulder and
+   * arm shapes. The adapters pass the avatar's. Wrong types are a TypeError, a non-finite or
+   * larger entry a RangeError.
+   */
+  avatarBones?: Readonly<Record<string, readonly number[] | Float32Array | Float64Array>>;
   /** Radius of each joint's tail against the colliders, world units, finite, >= 0. Default 0.
    *  Beyond 1e6 it is clamped there, with the rig warning `hit-radius-out-of-range`. */
   hitRadius?: number;

@@ -220,10 +220,21 @@ inline constexpr float kMaxHitRadius = 1e6f;
 /// collider beyond it is ignored with `collider-invalid`, as a non-finite one is.
 inline constexpr float kMaxColliderSize = 1e6f;
 
+/// One bone of the avatar a wearable is worn on: its armature name and its rest world matrix (the
+/// avatar's world space in its rest pose). The 'dcl-body' preset measures its shapes on these.
+struct AvatarBone {
+  std::string name;
+  Mat4 rest_world;
+};
+
 struct RigOptions {
   std::vector<ColliderSpec> colliders;            ///< every joint collides with all of them
   ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
-  float hit_radius = 0.0f;                        ///< joint radius against them, world units, in [0, kMaxHitRadius]
+  /// The avatar's bones, for the preset: when given, every shape is measured on them (the first of
+  /// each name), not on the bones the wearable's GLB carries, and is carried by the avatar's bone
+  /// of that name (a driver the caller supplies when the GLB lacks it). Empty: the GLB's bones.
+  std::vector<AvatarBone> avatar_bones;
+  float hit_radius = 0.0f;  ///< joint radius against them, world units, in [0, kMaxHitRadius]
   /// Angle limits by joint node name (the standard's metadata has no field for them). Values out of
   /// the draft's ranges are clamped, a name that is no simulated joint is dropped, with warnings.
   std::map<std::string, JointLimit> limits;

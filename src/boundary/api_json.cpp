@@ -186,14 +186,38 @@ ApiFailure checkLimits(const TypedValue& limits, const OptionPath& at) {
   return {};
 }
 
+// avatarBones: an object from the avatar's bone names to their rest world matrices (16 numbers,
+// column-major), each entry within the drivers' bound kMaxDriverEntry (the pose it describes is
+// one a driver could take).
+ApiFailure readAvatarBones(const TypedValue& bones, const OptionPath& at, std::vector<AvatarBone>& out) {
+  if (!bones.is_object()) return badOption(at, "must be an object of bone names");
+  out.reserve(bones.size());
+  for (auto it = bones.begin(); it != bones.end(); ++it) {
+    const OptionPath bone_at = at.key(it.key());
+    const TypedValue& m = *it;
+    if (!m.is_array() || m.size() != 16) return badOption(bone_at, "must be 16 numbers");
+    AvatarBone bone;
+    bone.name = it.key();
+    for (std::size_t i = 0; i < 16; ++i) {
+      double v = 0.0;
+      if (ApiFailure f = readFinite(m[i], bone_at.index(i), v)) return f;
+      if (!(std::fabs(v) <= kMaxDriverEntry)) return badOption(bone_at.index(i), "must be within +-1e12");
+      bone.rest_world.m[i] = static_cast<float>(v);
+    }
+    out.push_back(std::move(bone));
+  }
+  return {};
+}
+
 // The rig options as they cross from loadRig (web/rig_options.js writes them): {colliders?,
-// preset?, hitRadius?, limits?}, with the rules the JavaScript checks them by, so that a value
-// the JavaScript refuses is refused here too, at the same path (tests/wasm/rig_options.test.mjs).
+// preset?, avatarBones?, hitRadius?, limits?}, with the rules the JavaScript checks them by, so
+// that a value the JavaScript refuses is refused here too, at the same path
+// (tests/wasm/rig_options.test.mjs).
 ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
   const OptionPath root;
   if (value.is_null()) return {};
   if (!value.is_object()) return badOption(root, "must be an object");
-  if (ApiFailure f = checkKeys(value, root, {"colliders", "preset", "hitRadius", "limits"})) return f;
+  if (ApiFailure f = checkKeys(value, root, {"colliders", "preset", "avatarBones", "hitRadius", "limits"})) return f;
   if (auto hit = value.find("hitRadius"); hit != value.end()) {
     double radius = 0.0;
     if (ApiFailure f = readFinite(*hit, root.key("hitRadius"), radius)) return f;
@@ -203,6 +227,9 @@ ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
   if (auto preset = value.find("preset"); preset != value.end()) {
     if (!preset->is_string() || *preset != "dcl-body") return badOption(root.key("preset"), "must be 'dcl-body'");
     out.preset = ColliderPreset::kDclBody;
+  }
+  if (auto bones = value.find("avatarBones"); bones != value.end()) {
+    if (ApiFailure f = readAvatarBones(*bones, root.key("avatarBones"), out.avatar_bones)) return f;
   }
   if (auto limits = value.find("limits"); limits != value.end()) {
     if (ApiFailure f = checkLimits(*limits, root.key("limits"))) return f;

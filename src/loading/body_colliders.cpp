@@ -79,17 +79,23 @@ float largestAxisScale(const glm::mat4& m) {
 
 }  // namespace
 
-std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector<Warning>& warnings) {
-  // The first node of each name, in one pass (a skeleton may have many nodes, the preset ten names).
-  int node[kBoneCount];
-  std::fill(node, node + kBoneCount, -1);
-  for (std::size_t n = 0; n < skeleton.nodes.size(); ++n) {
-    const std::string& name = skeleton.nodes[n].name;
+std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, const std::vector<AvatarBone>& avatar,
+                                           std::vector<Warning>& warnings) {
+  // The rest world matrix of each bone: the first of its name, in one pass over the avatar's bones
+  // when the caller gave them (all from one space: never mixed with the GLB's), else the GLB's nodes.
+  const Mat4* rest[kBoneCount] = {};
+  const auto find = [&](const std::string& name, const Mat4& matrix) {
     for (int b = 0; b < kBoneCount; ++b) {
-      if (node[b] < 0 && name == kBoneNames[b]) node[b] = static_cast<int>(n);
+      if (rest[b] == nullptr && name == kBoneNames[b]) rest[b] = &matrix;
     }
+  };
+  const bool from_avatar = !avatar.empty();
+  if (from_avatar) {
+    for (const AvatarBone& bone : avatar) find(bone.name, bone.rest_world);
+  } else {
+    for (const SkeletonNode& n : skeleton.nodes) find(n.name, n.rest_world);
   }
-  const auto position = [&](Bone b) { return glm::vec3(toGlm(skeleton.nodes[node[b]].rest_world)[3]); };
+  const auto position = [&](Bone b) { return glm::vec3(toGlm(*rest[b])[3]); };
 
   std::vector<ColliderSpec> out;
   std::string skipped;
@@ -99,12 +105,12 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector
     skipped += rule.name;
   };
   for (const Rule& rule : kRules) {
-    if (node[rule.carrier] < 0 || node[rule.from] < 0 || node[rule.to] < 0) {
-      for (Bone b : {rule.carrier, rule.from, rule.to}) missing[b] = missing[b] || node[b] < 0;
+    if (rest[rule.carrier] == nullptr || rest[rule.from] == nullptr || rest[rule.to] == nullptr) {
+      for (Bone b : {rule.carrier, rule.from, rule.to}) missing[b] = missing[b] || rest[b] == nullptr;
       leaveOut(rule);
       continue;
     }
-    const glm::mat4 carrier = toGlm(skeleton.nodes[node[rule.carrier]].rest_world);
+    const glm::mat4 carrier = toGlm(*rest[rule.carrier]);
     glm::mat4 to_local;
     const glm::vec3 from = position(rule.from), segment = position(rule.to) - from;
     const float length = glm::length(segment);
@@ -141,7 +147,8 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, std::vector
       lacks += kBoneNames[b];
     }
     std::string message = "dcl-body colliders: left out " + skipped;
-    message += lacks.empty() ? " (their bones sit on each other in the rest pose)" : " (the GLB lacks " + lacks + ")";
+    message += lacks.empty() ? " (their bones sit on each other in the rest pose)"
+                             : std::string(from_avatar ? " (the avatar lacks " : " (the GLB lacks ") + lacks + ")";
     warnings.push_back(Warning{"body-collider-skipped", std::move(message), ""});
   }
   return out;

@@ -345,7 +345,7 @@ class RigBuilder {
     const std::vector<ColliderSpec>* specs = &options_.colliders;
     std::vector<ColliderSpec> with_preset;
     if (options_.preset == ColliderPreset::kDclBody) {
-      with_preset = dclBodyColliders(rig_->skeleton, rig_->warnings);
+      with_preset = dclBodyColliders(rig_->skeleton, options_.avatar_bones, rig_->warnings);
       rig_->collider_passes = kBodyColliderPasses;
       for (const ColliderSpec& spec : options_.colliders) with_preset.push_back(spec);
       specs = &with_preset;

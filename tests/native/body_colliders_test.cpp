@@ -46,7 +46,7 @@ Skeleton scaled(Skeleton skeleton, float factor) {
 TEST(BodyColliders, EightShapesFromTheFullArmatureWithSizesFromRestLengths) {
   const Skeleton skeleton = loadFixtureSkeleton("avatar_hair.glb");
   std::vector<Warning> warnings;
-  const std::vector<ColliderSpec> specs = dclBodyColliders(skeleton, warnings);
+  const std::vector<ColliderSpec> specs = dclBodyColliders(skeleton, {}, warnings);
   EXPECT_TRUE(warnings.empty());
   ASSERT_EQ(specs.size(), 8u);
 
@@ -91,8 +91,8 @@ TEST(BodyColliders, ScaleWithTheAvatarInWorldAndStayTheSameInBoneSpace) {
   const Skeleton skeleton = loadFixtureSkeleton("avatar_hair.glb");
   const Skeleton big = scaled(skeleton, 1.5f);
   std::vector<Warning> warnings;
-  const std::vector<ColliderSpec> normal = dclBodyColliders(skeleton, warnings);
-  const std::vector<ColliderSpec> larger = dclBodyColliders(big, warnings);
+  const std::vector<ColliderSpec> normal = dclBodyColliders(skeleton, {}, warnings);
+  const std::vector<ColliderSpec> larger = dclBodyColliders(big, {}, warnings);
   ASSERT_EQ(normal.size(), larger.size());
   for (std::size_t i = 0; i < normal.size(); ++i) {
     // Bone space is the same: the world sizes grow with the bones' scale.
@@ -129,6 +129,57 @@ TEST(BodyColliders, ShapesWhoseBonesTheGlbLacksAreLeftOutWithOneWarning) {
   EXPECT_EQ(rig->joints[0].colliders.size(), 4u);
   // Unscaled bones: the sizes are metres. Head radius 0.94 x |(0, 0.1, 0.01)|.
   EXPECT_NEAR(rig->colliders[0].radius, 0.94f * 0.100499f, 1e-5f);
+}
+
+// The demo's case: the wearable carries Hips to Head, the avatar it is worn on all 62 bones. Given
+// the avatar's bones, every shape is measured on them and the ones the GLB lacks ride on the
+// avatar's bone by name (an external driver); only a bone the avatar lacks leaves a shape out.
+TEST(BodyColliders, TheAvatarsBonesGiveEveryShapeToAWearableThatLacksThem) {
+  const nlohmann::json nodes = nlohmann::json::array(
+      {node("Avatar_Hips", {1}, {0, 1.0, 0}), node("Avatar_Spine", {2}, {0, 0.1, 0}),
+       node("Avatar_Spine1", {3}, {0, 0.12, 0}), node("Avatar_Spine2", {4}, {0, 0.12, 0}),
+       node("Avatar_Neck", {5}, {0, 0.16, -0.01}), node("Avatar_Head", {6}, {0, 0.1, 0.01}),
+       node("SpringBone_hair", {7}, {0, 0.05, -0.1}), node("SpringBone_hair_tip", {}, {0, -0.1, 0})});
+  const Skeleton avatar = loadFixtureSkeleton("avatar_hair.glb");
+  std::vector<AvatarBone> bones;
+  for (const SkeletonNode& n : avatar.nodes) bones.push_back(AvatarBone{n.name, n.rest_world});
+  RigOptions options;
+  options.preset = ColliderPreset::kDclBody;
+  options.avatar_bones = bones;
+  const auto rig = rigFromJson(nodes, {{"SpringBone_hair", {{"isRoot", true}}}}, options);
+  EXPECT_FALSE(hasWarning(rig->warnings, "body-collider-skipped")) << describeWarnings(rig->warnings);
+  ASSERT_EQ(rig->colliders.size(), 8u);
+  // The same shapes as the full armature's own, in each bone's space.
+  std::vector<Warning> warnings;
+  const std::vector<ColliderSpec> own = dclBodyColliders(avatar, {}, warnings);
+  ASSERT_EQ(own.size(), 8u);
+  for (std::size_t i = 0; i < own.size(); ++i) {
+    const Collider& c = rig->colliders[i];
+    EXPECT_EQ(rig->drivers[c.driver].name, own[i].node);
+    EXPECT_TRUE(vecNear(c.offset, own[i].offset, 1e-4f)) << own[i].node;
+    EXPECT_TRUE(vecNear(c.tail, own[i].tail, 1e-4f)) << own[i].node;
+    EXPECT_NEAR(c.radius, own[i].radius, 1e-4f) << own[i].node;
+  }
+  // The arms are not in the wearable: the page supplies them by name.
+  for (const Collider& c : rig->colliders) {
+    const Driver& d = rig->drivers[c.driver];
+    const bool in_glb = d.name.find("Shoulder") == std::string::npos && d.name.find("Arm") == std::string::npos;
+    EXPECT_EQ(d.node >= 0, in_glb) << d.name;
+  }
+
+  // An avatar without a left forearm: the left upper arm alone is left out, and the warning says
+  // the avatar lacks it.
+  std::vector<AvatarBone> no_forearm;
+  for (const AvatarBone& b : bones) {
+    if (b.name != "Avatar_LeftForeArm") no_forearm.push_back(b);
+  }
+  options.avatar_bones = no_forearm;
+  const auto partial = rigFromJson(nodes, {{"SpringBone_hair", {{"isRoot", true}}}}, options);
+  EXPECT_EQ(partial->colliders.size(), 7u);
+  const Warning* skipped = findWarning(partial->warnings, "body-collider-skipped", "");
+  ASSERT_NE(skipped, nullptr);
+  EXPECT_NE(skipped->message.find("left out left-upper-arm (the avatar lacks Avatar_LeftForeArm)"), std::string::npos)
+      << skipped->message;
 }
 
 TEST(BodyColliders, NoArmatureNoShapes) {

@@ -1,4 +1,4 @@
-// loadRig's options have one home per side: web/rig_options.js checks the caller's object, and the
+// loadRig's options (colliders, hitRadius, avatarBones) have one home per side: web/rig_options.js checks the caller's object, and the
 // core's reader of what crosses (readRigOptions, src/boundary/api_json.cpp) checks it by the same
 // rules. The same bad options go to both: through loadRig in JavaScript, and as typed input
 // straight into the core's loadRig binding, past every JavaScript check. Each side must refuse
@@ -19,6 +19,7 @@ import { springRig } from './helpers.mjs';
 const rig = springRig();
 const head = 'Avatar_Head';  // a node of the rig, not a spring bone
 const joint = 'SpringBone_0_0';  // a simulated joint of the rig
+const kIdentity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
 
 // Options that are the same object in the caller's form and in the form that crosses (no preset
 // name, every collider spelled out), so both sides read exactly the same value.
@@ -72,6 +73,12 @@ const kRefused = [
   { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 0, 'a'] } } } },
   { limits: { [joint]: { cone: { angle: 1, rotation: [0, 0, 0, Infinity] } } } },
   { limits: { 'a "quoted" joint': { cone: { angle: -Infinity } } } },
+  { avatarBones: [] },
+  { avatarBones: { [head]: [1, 0, 0] } },
+  { avatarBones: { [head]: 'identity' } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 15), '1'] } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 15), NaN] } },
+  { avatarBones: { [head]: [...kIdentity.slice(0, 12), 1e13, 0, 0, 1] } },
 ];
 
 const kAccepted = [
@@ -91,6 +98,8 @@ const kAccepted = [
   { limits: { [joint]: { hinge: { angle: 7, rotation: [0, 0, 1e20, 1e20] } } } },  // clamped, warned
   { limits: { [joint]: { spherical: { pitch: 0.2, yaw: 0.3, rotation: [0, 0, 0, 1] } } } },
   { limits: { 'no such joint': { cone: { angle: 0.5 } } } },  // warned: limit-joint-not-found
+  { avatarBones: {} },
+  { avatarBones: { [head]: kIdentity, Avatar_Neck: [...kIdentity.slice(0, 12), 0, 1.5, 0, 1] } },
 ];
 
 let sb;

@@ -293,7 +293,11 @@ export class SpringBonesAttachment {
     };
     this.jointObjects = rig.joints.map((j) => find(j.node, 'joint', j.name));
     this.tailObjects = rig.joints.map((j) => this.nodes[j.tailNode] ?? null);
-    this.driverObjects = rig.drivers.map((d) => find(d.node, 'driver', d.name));
+    // A driver that is no node of the wearable (node -1: a collider on an avatar bone, such as the
+    // 'dcl-body' shapes loadRig measured on the avatar's bones, avatarBones) is the avatar's object
+    // of that name, as the core's rule has it.
+    const avatarObject = (d) => (d.node < 0 && d.name ? this.avatarRoot.getObjectByName(d.name) ?? null : null);
+    this.driverObjects = rig.drivers.map((d) => avatarObject(d) ?? find(d.node, 'driver', d.name));
     this._diagnose(rig);
     for (const object of this.jointObjects) {
       if (object && !this._restQuaternions.has(object)) {
