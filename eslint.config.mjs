@@ -4,6 +4,13 @@
 import js from '@eslint/js';
 import globals from 'globals';
 
+const kUnderscoreMembers = [
+  'PropertyDefinition[key.name=/^_/]',
+  'MethodDefinition[key.name=/^_/]',
+  'ClassBody MemberExpression[object.type="ThisExpression"][property.name=/^_/]',
+];
+const kPrivateMessage = 'a private member is a # field or method, not a _ name (CONTRIBUTING.md, "Naming")';
+
 export default [
   // Generated or third-party: Emscripten's glue and the minified bundles, npm's and the builds'.
   { ignores: ['web/dist/**', 'build/**', 'node_modules/**', 'tests/artifacts/**', 'conformance/**/*.json'] },
@@ -18,6 +25,15 @@ export default [
     rules: {
       // Arguments kept for a signature's sake are named with a leading _; a rest sibling leaves keys out on purpose.
       'no-unused-vars': ['error', { argsIgnorePattern: '^_', caughtErrors: 'none', ignoreRestSiblings: true }],
+      // A class's private members are # fields and methods (CONTRIBUTING.md, "Naming"): a _ name is
+      // public to every caller and to the .d.ts. Only inside classes, so that code patching another
+      // library's objects (three-vrm's joints in scripts/lib/) may still reach their _ fields.
+      'no-restricted-syntax': ['error', ...kUnderscoreMembers.map((selector) => ({ selector, message: kPrivateMessage }))],
     },
+  },
+  {
+    // The adapters predate the rule; the engine-neutral wearable layer (issue 37) rewrites them.
+    files: ['web/three/**', 'web/babylon/**'],
+    rules: { 'no-restricted-syntax': 'off' },
   },
 ];

@@ -18,7 +18,7 @@
 // missing, bad GLB or metadata) or, for validate, the entity would be rejected, 2 usage error.
 // Commands live in one table below; adding one is adding an entry.
 import { realpathSync } from 'node:fs';
-import { readFile } from 'node:fs/promises';
+import { open } from 'node:fs/promises';
 import { basename } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { parseArgs } from 'node:util';
@@ -160,6 +160,8 @@ async function inspect({ glb, values }, out, err) {
 async function simulate({ glb, values }, out, err) {
   const frames = parseNumber('--frames', values.frames, { integer: true, min: 0 });
   const fps = parseNumber('--fps', values.fps, { positive: true });
+  // A rate so small that its frame time is not a number (5e-324: 1/F is Infinity) has no frames.
+  if (!Number.isFinite(1 / fps)) throw new UsageError(`--fps ${values.fps} gives a frame time of ${1 / fps} s`);
   if (values.drive !== 'rest' && values.drive !== 'sway') {
     throw new UsageError(`--drive must be rest or sway, not '${values.drive}'`);
   }
@@ -198,7 +200,7 @@ async function simulate({ glb, values }, out, err) {
 
 // Exit code 1 when the catalyst would reject the entity: the errors are the command's answer.
 async function validate({ entity: path, values }, out) {
-  const text = (await readInput(path)).toString('utf8');
+  const text = utf8Text(path, await readInput(path, kMaxJsonFileBytes));
   let entity;
   try {
     entity = JSON.parse(text);
@@ -221,7 +223,7 @@ async function validate({ entity: path, values }, out) {
     out.write(`${path}: valid\n`);
   } else {
     const lines = [`${path}: ${errors.length} error${errors.length === 1 ? '' : 's'}`];
-    for (const e of errors) lines.push(`  ${e.path || '(springBones)'}: ${e.message}`);
+    for (const e of errors) lines.push(`  ${e.path || '(springBones)'}: ${withoutPath(e)}`);
     out.write(lines.join('\n') + '\n');
   }
   return errors.length === 0 ? 0 : 1;
@@ -278,7 +280,7 @@ async function loadWearable(sb, glbPath, glb, values) {
   let springBones = null;
   let entity;
   if (values.metadata !== undefined) {
-    const text = (await readInput(values.metadata)).toString('utf8');
+    const text = utf8Text(values.metadata, await readInput(values.metadata, kMaxJsonFileBytes));
     let json;
     try {
       json = JSON.parse(text);
@@ -329,12 +331,76 @@ export function splitMetadata(json) {
   return { springBones: json, entity: undefined };
 }
 
-async function readInput(path) {
+// The bounds of what the commands read: a GLB holds its buffers (meshes, textures), a metadata or
+// entity file is JSON text, which the library takes up to its limit of springBones text.
+const kMaxModelFileBytes = 1 << 30;
+const kMaxJsonFileBytes = 16 << 20;
+
+// A file's bytes: a regular file (not a device, a pipe or a folder, which could be read without
+// end) of at most `maxBytes`, checked on the opened file before anything is read.
+async function readInput(path, maxBytes = kMaxModelFileBytes) {
+  let handle;
   try {
-    return await readFile(path);
+    handle = await open(path, 'r');
   } catch (error) {
     throw new LoadError(`cannot read ${path}: ${error.code ?? error.message}`);
   }
+  try {
+    const stats = await handle.stat();
+    if (!stats.isFile()) throw new LoadError(`cannot read ${path}: not a regular file`);
+    if (stats.size > maxBytes) {
+      throw new LoadError(`cannot read ${path}: ${stats.size} bytes, more than the limit of ${maxBytes}`);
+    }
+    // One byte more than the size: a file that grew since stat is refused, not read without end.
+    const bytes = Buffer.alloc(stats.size + 1);
+    let length = 0;
+    for (;;) {
+      const { bytesRead } = await handle.read(bytes, length, bytes.length - length, null);
+      if (bytesRead === 0) break;
+      length += bytesRead;
+      if (length > stats.size) throw new LoadError(`cannot read ${path}: it grows while it is read`);
+    }
+    return bytes.subarray(0, length);
+  } catch (error) {
+    if (error instanceof LoadError) throw error;
+    throw new LoadError(`cannot read ${path}: ${error.code ?? error.message}`);
+  } finally {
+    await handle.close();
+  }
+}
+
+// A JSON file's text: bytes that are not UTF-8 are refused, rather than read with U+FFFD in their
+// place (a name the file does not hold).
+function utf8Text(path, bytes) {
+  try {
+    return new TextDecoder('utf-8', { fatal: true }).decode(bytes);
+  } catch {
+    throw new LoadError(`${path}: not UTF-8 (an invalid byte at offset ${firstInvalidUtf8(bytes)})`);
+  }
+}
+
+// Where UTF-8 decoding fails (RFC 3629: no overlongs, no surrogates, nothing past U+10FFFF).
+function firstInvalidUtf8(bytes) {
+  for (let i = 0; i < bytes.length;) {
+    const b = bytes[i];
+    const [length, low, high] = b < 0x80 ? [1] : b >= 0xc2 && b <= 0xdf ? [2, 0x80, 0xbf]
+      : b === 0xe0 ? [3, 0xa0, 0xbf] : b === 0xed ? [3, 0x80, 0x9f] : b >= 0xe1 && b <= 0xef ? [3, 0x80, 0xbf]
+        : b === 0xf0 ? [4, 0x90, 0xbf] : b >= 0xf1 && b <= 0xf3 ? [4, 0x80, 0xbf] : b === 0xf4 ? [4, 0x80, 0x8f] : [0];
+    if (length === 0) return i;
+    for (let k = 1; k < length; ++k) {
+      const c = bytes[i + k];
+      if (c === undefined || c < (k === 1 ? low : 0x80) || c > (k === 1 ? high : 0xbf)) return i;
+    }
+    i += length;
+  }
+  return bytes.length;
+}
+
+// A validation message without the path the line already starts with: the creator tools write
+// each message as the validator does, "springBones<path> must ...".
+function withoutPath({ path, message }) {
+  const prefix = `springBones${path} `;
+  return path && message.startsWith(prefix) ? message.slice(prefix.length) : message;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -357,6 +423,39 @@ function parseNumber(flag, text, { integer = false, min = -Infinity, max = Infin
   return value;
 }
 
+// parseArgs's complaint in our words: which option, for which command, and what it takes.
+function argumentError(name, command, args, error) {
+  const known = Object.keys(command.options).map((o) => `--${o}`);
+  const takes = `${name} takes: ${command.synopsis}`;
+  const option = args.find((a) => a.startsWith('-') && !known.includes(a.split('=')[0]));
+  if (error.code === 'ERR_PARSE_ARGS_UNKNOWN_OPTION' && option !== undefined) {
+    const flag = option.split('=')[0];
+    const near = known.find((k) => editDistance(k, flag) <= 2);
+    return `unknown option '${flag}' for ${name}${near ? ` (did you mean ${near}?)` : ''}; ${takes}`;
+  }
+  if (error.code === 'ERR_PARSE_ARGS_INVALID_OPTION_VALUE') {
+    const flag = known.find((k) => args.includes(k) && command.options[k.slice(2)].type === 'string' &&
+                            (args.indexOf(k) === args.length - 1 || args[args.indexOf(k) + 1].startsWith('--')));
+    if (flag !== undefined) return `${flag} needs a value; ${takes}`;
+    const boolean = known.find((k) => command.options[k.slice(2)].type === 'boolean' &&
+                               args.some((a) => a.startsWith(`${k}=`)));
+    if (boolean !== undefined) return `${boolean} takes no value; ${takes}`;
+  }
+  return `bad arguments for ${name}; ${takes}`;
+}
+
+function editDistance(a, b) {
+  let row = Array.from({ length: b.length + 1 }, (_, j) => j);
+  for (let i = 1; i <= a.length; ++i) {
+    const next = [i];
+    for (let j = 1; j <= b.length; ++j) {
+      next[j] = Math.min(row[j] + 1, next[j - 1] + 1, row[j - 1] + (a[i - 1] === b[j - 1] ? 0 : 1));
+    }
+    row = next;
+  }
+  return row[b.length];
+}
+
 function write(stream, text) {
   if (text.length === 0) return Promise.resolve();
   return new Promise((resolve) => (stream.write(text) ? resolve() : stream.once('drain', resolve)));
@@ -375,7 +474,7 @@ export async function main(argv, out = process.stdout, err = process.stderr) {
     try {
       parsed = parseArgs({ args: rest, options: command.options, allowPositionals: true, strict: true });
     } catch (error) {
-      throw new UsageError(error.message);
+      throw new UsageError(argumentError(name, command, rest, error));
     }
     const { values, positionals } = parsed;
     if (positionals.length !== command.positionals.length) {

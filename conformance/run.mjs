@@ -4,17 +4,17 @@
 //
 //   node conformance/run.mjs [--cases <dir>] [--module <path or package>] [case name ...]
 //
-// --cases: the folder of case files (default: cases/ beside this file); a case's "glb" is relative
-// to its own file. --module: what to import createSpringBones from (default: ../web/springbones.js
+// --cases: the folder of case files (default: cases/ and vrm/cases/ beside this file); a case's
+// "glb" is relative to its own file. --module: what to import createSpringBones from (default: ../web/springbones.js
 // in a checkout, else the installed package "springbones"). Case names filter by substring.
 import { existsSync, readFileSync, readdirSync } from 'node:fs';
-import { dirname, join, resolve } from 'node:path';
+import { dirname, join, relative, resolve } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
 
 function parseArguments(argv) {
-  const options = { cases: join(here, 'cases'), module: null, names: [] };
+  const options = { cases: null, module: null, names: [] };
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     if (a === '--cases' || a === '--module') {
@@ -145,7 +145,8 @@ function replay(sb, file) {
   nodes.forEach((n, i) => { if (!nodeIndex.has(n.name)) nodeIndex.set(n.name, i); });
 
   const misses = [];
-  const rig = sb.loadRig(glb, decodeNonFinite(c.springBones), c.load);
+  // A VRM case's spring bones are the file's own VRMC_springBone; an ADR case's come with the case.
+  const rig = c.load.vrm === true ? sb.loadVrm(glb) : sb.loadRig(glb, decodeNonFinite(c.springBones), c.load);
   try {
     // springbones' own reading, beyond the rotations: which joints it simulates and what it warns.
     const joints = rig.joints.map((j) => j.name);
@@ -209,17 +210,19 @@ async function main() {
   const options = parseArguments(process.argv.slice(2));
   const { createSpringBones } = await importSpringBones(options.module);
   const sb = await createSpringBones();
-  const files = readdirSync(options.cases).filter((f) => f.endsWith('.json')).sort()
-    .filter((f) => options.names.length === 0 || options.names.some((n) => f.includes(n)));
+  const folders = options.cases ? [options.cases] : [join(here, 'cases'), join(here, 'vrm', 'cases')];
+  const files = folders.flatMap((folder) => readdirSync(folder).filter((f) => f.endsWith('.json')).sort()
+    .map((f) => ({ folder, f, shown: options.cases ? f : relative(here, join(folder, f)) })))
+    .filter(({ shown }) => options.names.length === 0 || options.names.some((n) => shown.includes(n)));
   if (files.length === 0) {
-    console.error(`no cases in ${options.cases}${options.names.length ? ` matching ${options.names.join(', ')}` : ''}`);
+    console.error(`no cases in ${folders.join(', ')}${options.names.length ? ` matching ${options.names.join(', ')}` : ''}`);
     return 1;
   }
   let failed = 0;
-  for (const f of files) {
+  for (const { folder, f: name, shown: f } of files) {
     let misses;
     try {
-      misses = replay(sb, join(options.cases, f));
+      misses = replay(sb, join(folder, name));
     } catch (error) {
       misses = [`threw ${error?.stack ?? error}`];
     }

@@ -11,9 +11,9 @@
 //  - chunk.min.js: the helpers the API and the creator tools share (one copy, so that both throw
 //    the same SpringBonesError);
 //  - three.min.js: the three.js adapter and loader plugin (web/three/index.js; `three` stays an
-//    import of the page's);
+//    import of the page's), with the wearable layer (web/wearable/);
 //  - babylon.min.js: the Babylon.js drop-in and loader extension (web/babylon/index.js; it imports
-//    nothing of Babylon's: the page hands its objects in);
+//    nothing of Babylon's: the page hands its objects in), with its own copy of the wearable layer;
 //  - page_module.min.js: the page's module for adapters given none (web/page_module.js), which
 //    imports springbones.min.js when it starts;
 //  - inline.min.js: `springbones/inline`, the API with the runtime module inlined as base64
@@ -76,8 +76,6 @@ await build({
   ...common,
   entryPoints: {
     springbones: join(web, 'springbones.js'),
-    three: join(web, 'three', 'index.js'),
-    babylon: join(web, 'babylon', 'index.js'),
     page_module: join(web, 'page_module.js'),
   },
   splitting: true,
@@ -88,6 +86,19 @@ await build({
   // whichever adapter a page uses, and no second shared chunk (the first is "chunk", and esbuild
   // names every shared chunk so). It imports the API's own bundle when the module starts, so the
   // adapters carry none of the API until then.
+  plugins: [importsOf('./springbones.js', './springbones.min.js'), importsOf('../page_module.js', './page_module.min.js'), distRelativeUrls],
+});
+
+// The adapters, each in one file: both are built on the engine-neutral wearable layer
+// (web/wearable/), which a split build would make a second shared chunk of (see above). The layer
+// holds no state of its own, so a copy in each adapter is harmless, and a page loads one adapter.
+await build({
+  ...common,
+  entryPoints: {
+    three: join(web, 'three', 'index.js'),
+    babylon: join(web, 'babylon', 'index.js'),
+  },
+  entryNames: '[name].min',
   plugins: [importsOf('./springbones.js', './springbones.min.js'), importsOf('../page_module.js', './page_module.min.js'), distRelativeUrls],
 });
 

@@ -37,13 +37,9 @@ template <typename Body>
 int guarded(Body&& body) {
   try {
     return body();
-  } catch (const std::bad_alloc&) {
-    return fail("out-of-memory", "out of memory");
-  } catch (const std::exception& ex) {
+  } catch (const std::bad_alloc&) { return fail("out-of-memory", "out of memory"); } catch (const std::exception& ex) {
     return fail("internal-error", std::string("internal error: ") + ex.what());
-  } catch (...) {
-    return fail("internal-error", "internal error");
-  }
+  } catch (...) { return fail("internal-error", "internal error"); }
 }
 
 /// The pending error as JSON {code, message, path}, then clears it.
@@ -52,9 +48,7 @@ inline std::string takeError() {
     const std::string text = failureJson(g_error);
     g_error = ApiFailure{};
     return text;
-  } catch (...) {
-    return R"({"code":"out-of-memory","message":"out of memory","path":""})";
-  }
+  } catch (...) { return R"({"code":"out-of-memory","message":"out of memory","path":""})"; }
 }
 
 }  // namespace springbones::bindings

@@ -1,8 +1,12 @@
-// Argument checks and serialization shared by the runtime API (springbones.js), the creator tools
-// (creator_tools.js) and the module loader: everything here runs before a call crosses into
-// WebAssembly.
-
-import { SpringBonesError, withCause } from './errors.js';
+// The checks of one argument value, whatever call it comes to: its type (a TypeError) and its
+// range (a RangeError), before anything crosses into WebAssembly. Where the checks of the API live:
+//   - here, a value on its own: a number in a range, a vector, a string, bytes, an options
+//     object's keys, the wind;
+//   - json_arguments.js, a value the creator tools take as JSON text (an object or the caller's text);
+//   - rig_options.js, the option objects of loadRig and createInstance, key by key, written with
+//     the checks of this file (the one home of the rules over those options);
+//   - models_entry.js, springBones and which of its models entries applies.
+// A class checks nothing itself but its own state (disposed, a joint index within its rig).
 
 export function checkKeys(where, object, allowed) {
   for (const key of Object.keys(object)) {
@@ -18,9 +22,6 @@ export function optionsObject(where, options, allowed) {
   checkKeys(where, options, allowed);
   return options;
 }
-
-// The options that say which models entry applies (loadRig, detectSpringBones).
-export const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
 
 export function checkNonEmptyString(what, value, described = 'a string') {
   if (typeof value !== 'string') throw new TypeError(`${what} must be ${described}`);
@@ -40,7 +41,7 @@ export function checkWellFormed(what, text) {
   return text;
 }
 
-const isWellFormed = typeof String.prototype.isWellFormed === 'function'
+export const isWellFormed = typeof String.prototype.isWellFormed === 'function'
   ? (text) => text.isWellFormed()
   : (text) => !/\p{Cs}/u.test(text);
 
@@ -76,100 +77,92 @@ export function toBytes(what, value) {
   throw new TypeError(`${what} must be a Uint8Array or an ArrayBuffer`);
 }
 
-// Objects are serialised; strings are taken as JSON text (the core parses and reports errors);
-// null/undefined is "no spring bones" where allowed. `options` as stringifyArgument's.
-export function toJsonText(what, value, allowNull, options) {
-  if (typeof value === 'string') return checkWellFormed(what, value);
-  if (value === null || value === undefined) {
-    if (allowNull) return 'null';
-    throw new TypeError(`${what} must be an object or JSON text`);
-  }
-  if (typeof value !== 'object') {
-    throw new TypeError(`${what} must be an object, JSON text${allowNull ? ', null or undefined' : ''}`);
-  }
-  return stringifyArgument(what, value, options);
+export function checkRange(what, value, min, max) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!(value >= min && value <= max)) throw new RangeError(`${what} must be in [${min}, ${max}], got ${value}`);
+  return value;
 }
 
-// JSON.stringify of a caller's value, with what it would silently change refused first (checked
-// on what each toJSON returns, as JSON.stringify writes that): an array's hole, or an undefined,
-// function or symbol element (written as null), is a TypeError; so is a typed array or DataView
-// (written as an object of its indices); a string or key with a lone surrogate is a RangeError
-// (see checkWellFormed). `options.finite`: a NaN or an infinity (written as null) is a RangeError
-// too. `options.replacer` then maps each value, as JSON.stringify's replacer.
-//
-// One nested too deeply for the engine's stack (thousands of levels: V8 and JavaScriptCore throw
-// a RangeError, Firefox an InternalError) is an invalid argument, reported as the core reports
-// params nested deeper than it edits, rather than an engine error escaping the API. Cycles and
-// BigInt still throw JSON.stringify's TypeError, and an error thrown by a toJSON or a getter goes
-// through as it is.
-export function stringifyArgument(what, value, { finite = false, replacer } = {}) {
-  // Where each object or array sits (its holder and key), for messages: filled as JSON.stringify
-  // walks down; the path is spelled out only for an error.
-  const parents = new WeakMap();
-  const at = (holder, key) => `${what}${pathTo(parents, holder, key)}`;
-  const check = function (key, v) {
-    if (Array.isArray(this)) {
-      if (!Object.hasOwn(this, key)) throw new TypeError(`${at(this, key)} is a hole (a sparse array); give every element`);
-      if (v === undefined || typeof v === 'function' || typeof v === 'symbol') {
-        throw new TypeError(`${at(this, key)} is ${v === undefined ? 'undefined' : `a ${typeof v}`}, which JSON cannot hold`);
-      }
-    } else if (!isWellFormed(key)) {
-      checkWellFormed(`${at(this, key)}: its key`, key);
-    }
-    if (typeof v === 'string') {
-      if (!isWellFormed(v)) checkWellFormed(at(this, key), v);
-    } else if (typeof v === 'number') {
-      if (finite && !Number.isFinite(v)) throw new RangeError(`${at(this, key)} must be finite, got ${v}`);
-    } else if (v !== null && typeof v === 'object') {
-      if (ArrayBuffer.isView(v)) {
-        throw new TypeError(`${at(this, key)} is a ${v.constructor?.name ?? 'typed array'}: give a plain array`);
-      }
-      parents.set(v, [this, key]);
-    }
-    return replacer === undefined ? v : replacer(key, v);
-  };
-  try {
-    return JSON.stringify(value, check);
-  } catch (error) {
-    if ((error instanceof RangeError || error?.name === 'InternalError') && nestsDeeperThan(value, kMaxArgumentDepth)) {
-      throw withCause(new SpringBonesError('invalid-argument',
-        `${what} nests too deeply to serialize as JSON (more than ${kMaxArgumentDepth} levels)`), error);
-    }
-    throw error;
-  }
+export function checkFinite(what, value) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!Number.isFinite(value)) throw new RangeError(`${what} must be finite, got ${value}`);
+  return value;
 }
 
-// The path of holder[key] from the argument (`.key`, `["odd key"]`, `[index]`), as JavaScript
-// would write it; '' for the argument itself (JSON.stringify's wrapper holds it under '').
-function pathTo(parents, holder, key) {
-  const steps = [];
-  for (let h = holder, k = key; parents.has(h) || k !== ''; ) {
-    if (Array.isArray(h)) steps.push(`[${k}]`);
-    else steps.push(/^[A-Za-z_$][\w$]*$/.test(k) ? `.${k}` : `[${JSON.stringify(k)}]`);
-    if (!parents.has(h)) break;
-    [h, k] = parents.get(h);
-  }
-  return steps.reverse().join('');
+// A finite number that is finite as float32 too (|value| below 2^128 less half a float32 step).
+export function checkFloat32(what, value) {
+  checkFinite(what, value);
+  if (!Number.isFinite(Math.fround(value))) throw new RangeError(`${what} must be within float32's range (about ±3.4e38), got ${value}`);
+  return value;
 }
 
-// Far deeper than any springBones, entity or params (the core edits 64 levels), far shallower
-// than where JSON.stringify runs out of stack.
-const kMaxArgumentDepth = 1000;
+export function checkOneOf(what, value, choices) {
+  if (typeof value !== 'string') throw new TypeError(`${what} must be a string`);
+  if (!choices.includes(value)) throw new RangeError(`${what} must be one of ${choices.join(', ')}, got '${value}'`);
+  return value;
+}
 
-// Whether objects and arrays nest more than `limit` levels deep, walked without recursion over
-// own enumerable values (what JSON.stringify writes, toJSON aside). On the error path only: it
-// reads the properties a second time, and gives false if that throws.
-function nestsDeeperThan(value, limit) {
-  try {
-    const stack = [[value, 0]];
-    while (stack.length > 0) {
-      const [v, depth] = stack.pop();
-      if (v === null || typeof v !== 'object') continue;
-      if (depth >= limit) return true;
-      for (const child of Object.values(v)) stack.push([child, depth + 1]);
-    }
-  } catch {
-    // a getter or proxy that throws
+export function checkVec3(what, value) {
+  if (!(Array.isArray(value) || ArrayBuffer.isView(value)) || value.length !== 3) {
+    throw new TypeError(`${what} must be an array of 3 numbers`);
   }
-  return false;
+  if (Array.isArray(value)) checkDenseArray(what, value);  // a hole is a TypeError that says so
+  const out = Array.from(value);
+  for (const v of out) {
+    if (typeof v !== 'number') throw new TypeError(`${what} must be an array of 3 numbers`);
+    checkFinite(what, v);
+  }
+  return out;
+}
+
+// A direction (3 finite numbers, not all 0) as it crosses, as float32: one whose largest
+// component is beyond float32's normal range ([1e39, 0, 0] would be infinite there, [1e-46, 0, 0]
+// zero) is divided by that component's size first, in double precision. The core makes it unit,
+// scaled alike first, so [1e20, 0, 0] or [1e-25, 0, 0] do not overflow or underflow there either.
+// Others cross unchanged, so that native and JavaScript callers giving the same direction get
+// the same bits.
+export function scaledDirection(v) {
+  const largest = Math.max(Math.abs(v[0]), Math.abs(v[1]), Math.abs(v[2]));
+  return largest >= 2 ** -126 && largest < 2 ** 127 ? v : v.map((c) => c / largest);
+}
+
+export function checkNonNegative(what, value) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!(Number.isFinite(value) && value >= 0)) throw new RangeError(`${what} must be finite and >= 0, got ${value}`);
+  return value;
+}
+
+export function checkInteger(what, value, min, max) {
+  if (typeof value !== 'number') throw new TypeError(`${what} must be a number`);
+  if (!Number.isInteger(value) || value < min || value > max) {
+    throw new RangeError(`${what} must be an integer in [${min}, ${max}], got ${value}`);
+  }
+  return value;
+}
+
+export function checkDt(dt) {
+  if (typeof dt !== 'number') throw new TypeError('step: dt must be a number of seconds');
+  return checkFinite('step: dt', dt);
+}
+
+const kWindKeys = ['direction', 'strength', 'gustFrequency', 'seed'];
+
+// setWind's argument, checked against the core's limits: [dx, dy, dz, strength, gustFrequency,
+// seed]; null is no wind.
+export function windArguments(where, wind, limits) {
+  if (wind === null) return [1, 0, 0, 0, 0, 0];
+  if (typeof wind !== 'object' || Array.isArray(wind)) {
+    throw new TypeError(`${where}: wind must be an object {direction, strength, gustFrequency?, seed?} or null`);
+  }
+  checkKeys(`${where}: wind`, wind, kWindKeys);
+  const direction = checkVec3(`${where}: wind.direction`, wind.direction);
+  const strength = checkRange(`${where}: wind.strength`, wind.strength, 0, limits.maxWindStrength);
+  const gustFrequency = wind.gustFrequency === undefined
+    ? 0 : checkRange(`${where}: wind.gustFrequency`, wind.gustFrequency, 0, limits.maxGustFrequency);
+  const seed = wind.seed === undefined ? 0 : checkInteger(`${where}: wind.seed`, wind.seed, 0, 0xffffffff);
+  if (direction.every((v) => v === 0)) {
+    if (strength > 0) throw new RangeError(`${where}: wind.direction must not be zero`);
+    return [1, 0, 0, strength, gustFrequency, seed];
+  }
+  return [...scaledDirection(direction), strength, gustFrequency, seed];
 }

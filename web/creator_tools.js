@@ -7,7 +7,8 @@
 // beside the runtime module's. The tools hold no handles: every call is a pure function of its
 // arguments, and the same argument checks and errors as the runtime API's.
 
-import { checkNonEmptyString, checkWellFormed, kHashOptions, optionsObject, stringifyArgument, toBytes, toJsonText } from './arguments.js';
+import { checkNonEmptyString, checkWellFormed, toBytes } from './arguments.js';
+import { stringifyArgument, toJsonText } from './json_arguments.js';
 import { call, takeError } from './errors.js';
 import { instantiateModule } from './module_loader.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
@@ -18,8 +19,9 @@ const kModuleUrl = new URL('./dist/springbones_creator_tools.wasm', import.meta.
  * The creator tools over a new instance of their module.
  * @param {object} options createSpringBones's options, for the creator-tools module
  * @param {(where: string, options: object) => string} resolveHash the runtime's reading of which
- *   models key applies (contentHash, or the entity's main file for a body shape; '' for the GLB's
- *   own hash), so that both modules choose it the same way
+ *   models key applies from the caller's options object, checked there (contentHash, or the
+ *   entity's main file for a body shape; '' for the GLB's own hash), so that both modules choose
+ *   it the same way
  */
 export async function loadCreatorTools(options, resolveHash) {
   const module = await instantiateModule('creatorTools', options, {
@@ -74,9 +76,8 @@ class CreatorTools {
   detectSpringBones(glbBytes, springBones, options) {
     const bytes = toBytes('detectSpringBones: glbBytes', glbBytes);
     const metadataText = toJsonText('detectSpringBones: springBones', springBones, true);
-    const opts = optionsObject('detectSpringBones', options, kHashOptions);
     const m = this.#m;
-    const hash = this.#resolveHash('detectSpringBones', opts);
+    const hash = this.#resolveHash('detectSpringBones', options);
     const result = withBytes(m, bytes, (ptr, size) =>
       withRoomForStrings(m, [metadataText, hash], () => m.detectSpringBones(ptr, size, metadataText, hash)));
     if (result === '') throw takeError(m);

@@ -39,6 +39,11 @@ export function takeError(m) {
   return new SpringBonesError(code, message, path);
 }
 
+/** The error of a call on a rig, instance or scene after its dispose(). */
+export function disposedError(what) {
+  return new SpringBonesError('disposed', `the ${what} has been disposed`);
+}
+
 export function withCause(error, cause) {
   Object.defineProperty(error, 'cause', { value: cause, configurable: true, writable: true });
   return error;

@@ -1,10 +1,15 @@
 // Fetching, compiling and instantiating one of the WebAssembly modules (the runtime for
-// createSpringBones, the creator tools for sb.creatorTools) from the options both take: `wasm` (a
-// download the page started), `wasmBinary` (the bytes) or `wasmUrl` (where the .wasm is).
+// createSpringBones, the readers, the creator tools for sb.creatorTools) from the options they all
+// take: `wasm` (a download the page started), `wasmBinary` (the bytes) or `wasmUrl` (where the
+// .wasm is).
 //
-// In Node the .wasm is read with fs and handed to the glue as wasmBinary (the glue is built for
-// the web only, see wasm/CMakeLists.txt); in browsers the glue fetches it with streaming
-// compilation, unless the page started that fetch itself and hands over the Response.
+// The .wasm is always compiled here and handed to the Emscripten glue compiled (its
+// instantiateWasm hook), never fetched or compiled by the glue: a 404 or an HTML page where the
+// module should be is then reported with the URL, the HTTP status and the content type, and none
+// of the glue's own warnings ("wasm streaming compile failed", "falling back to ArrayBuffer
+// instantiation") or abort texts ("Aborted(...)") reach the page. In Node a file: URL is read with
+// fs (the glue is built for the web only, see wasm/CMakeLists.txt); elsewhere it is fetched and
+// compiled while it streams when the server sends application/wasm.
 
 import { checkKeys } from './arguments.js';
 import { SpringBonesError, withCause } from './errors.js';
@@ -70,32 +75,40 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
     source: wasm !== undefined ? 'the wasm option'
       : wasmBinary !== undefined ? (options[kBinarySource] ?? 'the wasmBinary option') : url.href,
   };
-  const moduleOptions = {};
   try {
+    const compiled = await compiledModule({ wasm, wasmBinary, url }, loading);
     // The glue waits for the instance forever if instantiateWasm fails: the race reports it.
-    let instantiationFailed = new Promise(() => {});
-    if (wasm !== undefined) {
-      const compiled = await compileGiven(wasm, loading);
-      instantiationFailed = new Promise((_, reject) => {
-        moduleOptions.instantiateWasm = (imports, receiveInstance) => {
-          WebAssembly.instantiate(compiled, imports).then((instance) => receiveInstance(instance, compiled)).catch(reject);
-          return {};
-        };
-      });
-    } else if (wasmBinary !== undefined) {
-      moduleOptions.wasmBinary = wasmBinary;
-    } else if (kIsNode && url.protocol === 'file:') {
-      const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ 'node:fs/promises');
-      moduleOptions.wasmBinary = await readFile(url);
-    } else {
-      moduleOptions.locateFile = () => url.href;
-    }
-    const module = await Promise.race([factory(moduleOptions), instantiationFailed]);
+    let receive;
+    const instantiationFailed = new Promise((_, reject) => {
+      receive = (imports, receiveInstance) => {
+        WebAssembly.instantiate(compiled, imports).then((instance) => receiveInstance(instance, compiled)).catch(reject);
+        return {};
+      };
+    });
+    const module = await Promise.race([factory({ instantiateWasm: receive }), instantiationFailed]);
     sources.set(module, loading.source);
     return module;
   } catch (cause) {
     throw loadFailed(loading.source, cause);
   }
+}
+
+// The module compiled from whichever option gave it (`url` when none did).
+async function compiledModule({ wasm, wasmBinary, url }, loading) {
+  if (wasm !== undefined) return compileGiven(wasm, loading);
+  if (wasmBinary !== undefined) return compileBytes(wasmBinary);
+  if (kIsNode && url.protocol === 'file:') {
+    // A specifier built at run time: bundlers for the browser (Vite) then neither resolve nor warn about it.
+    const { readFile } = await import(/* webpackIgnore: true */ /* @vite-ignore */ ['node:fs', 'promises'].join('/'));
+    return compileBytes(await readFile(url));
+  }
+  let response;
+  try {
+    response = await fetch(url.href);
+  } catch (cause) {
+    throw withCause(new Error(`fetching it failed (${cause?.message ?? cause}), before any answer came`), cause);
+  }
+  return compileResponse(response, loading);
 }
 
 /** The 'module-load-failed' error for a module from `source` (a URL or the option's name). */
@@ -108,8 +121,7 @@ const isResponse = (x) => typeof Response === 'function' && x instanceof Respons
 
 /**
  * The `wasm` option as a compiled module: a Response (or its promise, e.g. a fetch the page started
- * before importing this library) compiles while it streams; a server that does not send
- * application/wasm gets the bytes compiled instead.
+ * before importing this library) compiles as compileResponse does.
  */
 async function compileGiven(wasm, loading) {
   const given = await wasm;
@@ -121,8 +133,54 @@ async function compileGiven(wasm, loading) {
   }
   if (!isResponse(given)) throw new TypeError('the wasm option resolved to neither a Response nor a WebAssembly.Module');
   loading.source = given.url || 'a Response';
-  if (!given.ok) throw new Error(`HTTP ${given.status} ${given.statusText}`.trim());
-  const streams = typeof WebAssembly.compileStreaming === 'function' &&
-      (given.headers.get('Content-Type') ?? '').split(';')[0].trim() === 'application/wasm';
-  return streams ? WebAssembly.compileStreaming(given) : WebAssembly.compile(await given.arrayBuffer());
+  return compileResponse(given, loading);
+}
+
+/**
+ * What a server answered, compiled: while it streams when it is application/wasm, else from its
+ * bytes once they are checked to be WebAssembly. An answer that is not the module is an error that
+ * says what came back: the HTTP status, the content type when it is not application/wasm, and for
+ * a page served in the module's place (a 200 with an SPA's index.html) how its bytes begin.
+ */
+async function compileResponse(response, loading) {
+  if (response.url) loading.source = response.url;
+  const type = (response.headers.get('Content-Type') ?? '').split(';')[0].trim().toLowerCase();
+  const answer = `the server answered HTTP ${`${response.status} ${response.statusText}`.trim()}` +
+      (type === 'application/wasm' ? '' : ` (${type === '' ? 'no content type' : type}, not application/wasm)`);
+  if (!response.ok) throw new Error(`${answer}; serve the .wasm at that URL, or give its URL as wasmUrl`);
+  if (type === 'application/wasm' && typeof WebAssembly.compileStreaming === 'function') {
+    try {
+      return await WebAssembly.compileStreaming(response);
+    } catch (cause) {
+      throw withCause(new Error(`${answer} with application/wasm, and it does not compile (${cause?.message ?? cause})`), cause);
+    }
+  }
+  return compileBytes(new Uint8Array(await response.arrayBuffer()), `${answer}, and `);
+}
+
+const kWasmMagic = [0x00, 0x61, 0x73, 0x6d];  // '\0asm', the first 4 bytes of every WebAssembly binary
+
+/**
+ * Bytes compiled once they are checked to begin as WebAssembly (the compiler's own message for a
+ * page would be "expected magic word 00 61 73 6d, found 3c 21 64 6f"); `said` begins the error.
+ */
+async function compileBytes(bytes, said = '') {
+  const view = bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes);
+  if (!kWasmMagic.every((b, i) => view[i] === b)) {
+    throw new Error(`${said}it is not WebAssembly (${firstBytes(view)})`);
+  }
+  return WebAssembly.compile(view);
+}
+
+// How some bytes begin, as a person would recognise them: quoted text when they read as text (an
+// HTML page, a JSON error), else hexadecimal.
+function firstBytes(view) {
+  if (view.length === 0) return 'it is empty';
+  const head = view.subarray(0, 40);
+  const printable = head.every((b) => b === 0x09 || b === 0x0a || b === 0x0d || (b >= 0x20 && b < 0x7f));
+  if (printable) {
+    const text = String.fromCharCode(...head).replace(/\s+/g, ' ').trim();
+    return `it begins "${text}${view.length > head.length ? '...' : ''}"`;
+  }
+  return `it begins with the bytes ${Array.from(view.subarray(0, 8), (b) => b.toString(16).padStart(2, '0')).join(' ')}`;
 }

@@ -49,7 +49,9 @@ export interface CreateOptions {
    * dist/springbones_wasm.wasm (the package's `springbones/wasm` export). A failed download or
    * compile rejects with SpringBonesError 'module-load-failed', whose message names what was read
    * (the wasm option or the Response's URL, the wasmBinary option, the inline module, or the URL
-   * fetched). At most one of wasm, wasmBinary and wasmUrl.
+   * fetched) and what came back: the HTTP status, the content type when it is not
+   * application/wasm, how bytes that are not WebAssembly begin (an HTML page served in its
+   * place). At most one of wasm, wasmBinary and wasmUrl.
    */
   wasm?: Response | WebAssembly.Module | PromiseLike<Response | WebAssembly.Module>;
   /** The .wasm bytes, when the caller has them (bundlers, service workers, tests). */
@@ -477,6 +479,7 @@ export interface Instance {
   /**
    * Advances by a frame of dt seconds: fixed steps of 1/stepHz, at most maxSubsteps per frame.
    * dt <= 0 does nothing. The only call per frame that crosses into WebAssembly; allocates nothing.
+   * A dt over 1 s (milliseconds given for seconds: step(16)) prints one console warning per module.
    * @throws TypeError if dt is not a number, RangeError if it is NaN or infinite
    */
   step(dt: number): void;
@@ -532,8 +535,9 @@ export interface Instance {
    * Holds rig.joints[joint]'s tail toward a world point from the next step on: the joints from its
    * chain root down to it turn toward the point as far as the chain reaches, colliders still
    * holding; the joints below swing. Call it every frame with a moving point (a drag).
-   * @throws RangeError for a disposed instance, a joint out of range or a non-finite point;
-   *   TypeError for a non-number joint or a point that is not 3 numbers
+   * @throws RangeError for a disposed instance, a joint out of range or a point not finite in
+   *   float32 (it crosses as float32: [1e39, 0, 0] is refused, naming point[0]); TypeError for a
+   *   non-number joint or a point that is not 3 numbers
    */
   grab(joint: number, point: readonly number[] | Float32Array | Float64Array): void;
   /**

@@ -1,44 +1,7 @@
-// Bytes and text copied into a module's WebAssembly memory for the duration of one call.
+// A module's WebAssembly memory from JavaScript: bytes and text copied in for the duration of one
+// call, and when a view on it has to be made again.
 
 import { SpringBonesError, call } from './errors.js';
-
-const kTextEncoder = new TextEncoder();
-
-// JSON text as UTF-8 bytes for the core. A lone surrogate (possible in a string, never in UTF-8)
-// is written as its 3-byte WTF-8 form instead of TextEncoder's U+FFFD, so the core still sees
-// text that is not UTF-8 and reports metadata-bad-json rather than reading a replaced name.
-function utf8Bytes(text) {
-  if (isWellFormed(text)) return kTextEncoder.encode(text);
-  const out = [];
-  for (const ch of text) {  // by code point: pairs stay together, lone surrogates come alone
-    const cp = ch.codePointAt(0);
-    if (cp >= 0xd800 && cp <= 0xdfff) {
-      out.push(0xe0 | (cp >> 12), 0x80 | ((cp >> 6) & 0x3f), 0x80 | (cp & 0x3f));
-    } else {
-      out.push(...kTextEncoder.encode(ch));
-    }
-  }
-  return Uint8Array.from(out);
-}
-
-// String.prototype.isWellFormed is recent (2023); the regex is the fallback for older engines.
-function isWellFormed(text) {
-  return typeof text.isWellFormed === 'function' ? text.isWellFormed() : !/\p{Cs}/u.test(text);
-}
-
-// Text as UTF-8 bytes in WASM memory for the duration of fn(ptr, size): encoded straight into
-// the heap when it is well formed (no intermediate array), else through utf8Bytes.
-export function withUtf8(m, text, fn) {
-  if (!isWellFormed(text)) return withBytes(m, utf8Bytes(text), fn);
-  const capacity = Math.max(1, 3 * text.length);  // UTF-8 takes at most 3 bytes per UTF-16 unit
-  const ptr = allocate(m, capacity);
-  try {
-    const { written } = kTextEncoder.encodeInto(text, m.HEAPU8.subarray(ptr, ptr + capacity));
-    return call(() => fn(ptr, written));
-  } finally {
-    m._free(ptr);
-  }
-}
 
 // malloc, with a full heap as an out-of-memory error rather than a null pointer.
 function allocate(m, size) {
@@ -92,4 +55,14 @@ function utf8Length(text) {
     else if (c >= 0x80) size += 1;
   }
   return size;
+}
+
+/**
+ * Whether a view of `length` elements on the module's memory has to be made again: memory growth
+ * replaces the ArrayBuffer and detaches every view on the old one, which drops its length to 0.
+ * Comparing lengths is what the per-frame getters can afford (TypedArray.prototype.buffer is a
+ * runtime call in V8, ~35 ns); only an empty view needs the buffer compared.
+ */
+export function isStale(m, view, length) {
+  return view.length !== length || (length === 0 && view.buffer !== m.HEAPU8.buffer);
 }

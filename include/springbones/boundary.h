@@ -26,10 +26,11 @@ ApiFailure toFailure(const Error& error);
 /// {code, message, path}.
 std::string failureJson(const ApiFailure& failure);
 
-/// The rig options loadRig's JS side writes, as typed input, after checking every field:
-/// {colliders: [{node, offset: [x,y,z], radius?, tail?: [x,y,z], normal?: [x,y,z], inside?: bool}],
-/// preset?: "dcl-body", hitRadius?} (a collider with a normal is a plane, else one with a tail a
-/// capsule, else a sphere); no bytes for none. An "invalid-argument" failure for any other shape.
+/// The rig options loadRig's JS side writes, as typed input: {colliders?: [{node, shape?, offset?,
+/// radius?, tail?, normal?, inside?}], preset?: "dcl-body", hitRadius?, limits?}; no bytes for none.
+/// Checked by the rules web/rig_options.js checks the caller's options by (docs/semantics.md,
+/// "Rig options"): a value it refuses is an "invalid-argument" failure whose path (a JSON pointer
+/// into the options, "/colliders/0/radius") names what the JavaScript's error names.
 ApiFailure readRigOptions(TypedBytes options, RigOptions& out);
 
 /// The rig as JSON text: {contentHash, format, nodeCount, joints, chains, drivers, colliders,

@@ -1,5 +1,6 @@
 #include "loading/entity.h"
 
+#include <algorithm>
 #include <unordered_map>
 
 namespace springbones {
@@ -24,6 +25,51 @@ bool bodyShapeMatches(const std::string& listed, const std::string& wanted) {
   if (listed == wanted) return true;
   const std::size_t colon = listed.rfind(':');
   return colon != std::string::npos && listed.compare(colon + 1, std::string::npos, wanted) == 0;
+}
+
+// The last segment of a body shape URN ("BaseMale" of "urn:decentraland:off-chain:base-avatars:BaseMale").
+std::string lastSegment(const std::string& shape) {
+  const std::size_t colon = shape.rfind(':');
+  return colon == std::string::npos ? shape : shape.substr(colon + 1);
+}
+
+bool equalsIgnoringAsciiCase(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; };
+    if (lower(a[i]) != lower(b[i])) return false;
+  }
+  return true;
+}
+
+// No representation lists `wanted`: the message lists the body shapes the entity has (at most
+// kListed, a name quoted at most kQuoted bytes), and the one `wanted` differs from only by case
+// (matching is case-sensitive, as the catalyst writes the URNs).
+std::string noRepresentationMessage(const std::vector<Representation>& representations, const std::string& wanted) {
+  constexpr std::size_t kListed = 8;
+  constexpr std::size_t kQuoted = 100;
+  const auto quoted = [&](const std::string& s) {
+    return "'" + (s.size() > kQuoted ? s.substr(0, kQuoted) + "..." : s) + "'";
+  };
+  std::vector<std::string> shapes;
+  for (const Representation& r : representations) {
+    for (const std::string& shape : r.body_shapes) {
+      if (std::find(shapes.begin(), shapes.end(), shape) == shapes.end()) shapes.push_back(shape);
+    }
+  }
+  std::string message = "the entity has no representation for body shape " + quoted(wanted);
+  if (shapes.empty()) return message + ": its representations list no body shapes";
+  message += "; its body shapes are ";
+  for (std::size_t i = 0; i < shapes.size() && i < kListed; ++i) message += (i > 0 ? ", " : "") + quoted(shapes[i]);
+  if (shapes.size() > kListed) message += " and " + std::to_string(shapes.size() - kListed) + " more";
+  message += " (give one, or its last segment, with the same case)";
+  for (const std::string& shape : shapes) {
+    if (equalsIgnoringAsciiCase(lastSegment(shape), wanted) || equalsIgnoringAsciiCase(shape, wanted)) {
+      return message + "; did you mean " + quoted(equalsIgnoringAsciiCase(shape, wanted) ? shape : lastSegment(shape)) +
+             "?";
+    }
+  }
+  return message;
 }
 
 }  // namespace
@@ -95,7 +141,7 @@ Error mainFileHashFor(const TypedValue& entity, const std::string& body_shape, s
       return {};
     }
   }
-  return invalid("the entity has no representation for body shape " + body_shape, "/metadata/data/representations");
+  return invalid(noRepresentationMessage(representations, body_shape), "/metadata/data/representations");
 }
 
 }  // namespace springbones

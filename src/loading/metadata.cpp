@@ -144,6 +144,28 @@ class EntryReader {
   std::vector<Warning>& warnings_;
 };
 
+// When `value` (given as springBones) is a whole wearable instead, the warning that says so and
+// where its springBones is: a catalyst entity keeps it at metadata.data.springBones, a Builder item
+// at data.springBones (the shapes entity.cpp reads). Empty for anything else.
+std::string entityMessage(const TypedValue& value) {
+  const auto member = [](const TypedValue& object, const char* key) {
+    auto it = object.find(key);
+    return it == object.end() ? TypedValue() : *it;
+  };
+  const TypedValue metadata_data = member(member(value, "metadata"), "data");
+  const TypedValue item_data = member(value, "data");
+  const bool catalyst = metadata_data.is_object();
+  if (!catalyst && !(item_data.is_object() && item_data.find("representations") != item_data.end())) return "";
+  const TypedValue& data = catalyst ? metadata_data : item_data;
+  const std::string where = catalyst ? "metadata.data.springBones" : "data.springBones";
+  const std::string what =
+      catalyst ? "a wearable entity (it has metadata.data)" : "a Builder item (it has data.representations)";
+  const bool has = data.find("springBones") != data.end();
+  return "springBones is " + what + ", not its springBones: pass " + (catalyst ? "entity." : "item.") + where +
+         " as springBones (" + (has ? "it has one" : "this one has none") +
+         ") and the entity as the entity option; spring bones are disabled for this wearable";
+}
+
 }  // namespace
 
 Error parseSpringBones(const TypedValue& springBones, const std::string& hash, ModelEntry& out,
@@ -156,6 +178,10 @@ Error parseSpringBones(const TypedValue& springBones, const std::string& hash, M
   EntryReader reader(warnings);
   auto version = springBones.find("version");
   if (version == springBones.end() || !version->is_number() || version->get<double>() != 1.0) {
+    if (std::string entity = entityMessage(springBones); !entity.empty()) {
+      reader.warn("unsupported-version", entity, "/version");
+      return {};
+    }
     reader.warn("unsupported-version",
                 "springBones.version is " +
                     (version == springBones.end() ? std::string("missing") : describe(*version)) +

@@ -375,6 +375,12 @@ class RigBuilder {
       } else {
         auto [e, added] = external.emplace(spec.node, static_cast<int>(rig_->drivers.size()));
         if (added) rig_->drivers.push_back(Driver{-1, spec.node});
+        // The caller's (after the preset's): a name that is no node here and no Decentraland avatar
+        // bone (Avatar_*, which a wearable's GLB may lack) is more often a typo ('Head' for
+        // 'Avatar_Head') than a bone the page will supply.
+        const bool from_caller =
+            static_cast<std::size_t>(&spec - specs->data()) >= specs->size() - options_.colliders.size();
+        if (added && from_caller && spec.node.rfind("Avatar_", 0) != 0) warnColliderNodeNotFound(spec.node);
         driver = e->second;
       }
       Collider collider;
@@ -390,6 +396,31 @@ class RigBuilder {
       joint.hit_radius = hit_radius;
       for (std::size_t c = 0; c < rig_->colliders.size(); ++c) joint.colliders.push_back(static_cast<int>(c));
     }
+  }
+
+  // A collider on a name the GLB has no node of, and no avatar bone's: it follows a driver the
+  // page supplies by that name, so the warning lists the nodes a collider can be on here (not
+  // spring bones), at most kListed of them.
+  void warnColliderNodeNotFound(const std::string& name) {
+    constexpr std::size_t kListed = 10;
+    constexpr std::size_t kQuoted = 64;
+    const auto quoted = [&](const std::string& s) {
+      return "'" + (s.size() > kQuoted ? s.substr(0, kQuoted) + "..." : s) + "'";
+    };
+    std::string listed;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < nodes().size(); ++i) {
+      if (is_candidate_[i] || chain_of_node_[i] >= 0) continue;
+      if (count < kListed) listed += (count > 0 ? ", " : "") + quoted(nodes()[i].name);
+      ++count;
+    }
+    if (count > kListed) listed += " and " + std::to_string(count - kListed) + " more";
+    const std::string where = count == 0 ? std::string("the GLB has no node a collider can be on")
+                                         : "the GLB's nodes a collider can be on are " + listed;
+    warn("collider-node-not-found", "collider node " + quoted(name) +
+                                        " is neither a node of this GLB nor a Decentraland avatar bone (Avatar_...), "
+                                        "so it follows a driver the page must supply by that name; " +
+                                        where);
   }
 
   // The hitRadius option as used: in [0, kMaxHitRadius], with a warning when it was not (a

@@ -1,11 +1,12 @@
 // Reading angle limits (see vrm_limits.h; the rules: docs/semantics.md, "Angle limits").
 #include "loading/vrm_limits.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 
-#include "common/glm_interop.h"
 
 namespace springbones {
 namespace {
@@ -85,7 +86,11 @@ bool readLimitShape(const json& limit, JointLimit& out, std::string& why) {
       why = std::string("the limit's ") + kKinds[k] + " is not an object";
       return false;
     }
-    if (found++ > 0) continue;
+    if (found++ > 0) {
+      // UniVRM's import rule (its issue #2828): a limit with two shapes is ignored, not guessed at.
+      why = "the limit has more than one of cone, hinge and spherical";
+      return false;
+    }
     shape = *it;
     out.kind = k == 0 ? JointLimit::Kind::kCone : k == 1 ? JointLimit::Kind::kHinge : JointLimit::Kind::kSpherical;
   }
@@ -93,7 +98,6 @@ bool readLimitShape(const json& limit, JointLimit& out, std::string& why) {
     why = "the limit has none of cone, hinge and spherical";
     return false;
   }
-  if (found > 1) why = "the limit has more than one of cone, hinge and spherical; the first is used";
   if (out.kind == JointLimit::Kind::kSpherical) {
     // The draft renamed phi and theta to pitch and yaw; files written before still say phi/theta.
     out.pitch = shape->find("pitch") != shape->end() ? readAngle(*shape, "pitch") : readAngle(*shape, "phi");
@@ -116,20 +120,35 @@ bool sanitizeJointLimit(JointLimit& limit, const std::string& label, const std::
       limit.yaw = clampAngle(limit.yaw, kHalfPi, "yaw", label, path, warnings);
       break;
   }
-  const glm::vec4 q(limit.rotation.x, limit.rotation.y, limit.rotation.z, limit.rotation.w);
-  const float length = glm::length(q);
-  if (!(length > 0.0f) || !std::isfinite(length)) {
+  // Made unit in double after dividing by the largest component, as plane normals and the wind are:
+  // squared in float, [1e20, 0, 0, 1e20] would overflow and [1e-25, 0, 0, 1e-25] underflow to 0.
+  double q[4] = {limit.rotation.x, limit.rotation.y, limit.rotation.z, limit.rotation.w};
+  const double largest = std::max({std::fabs(q[0]), std::fabs(q[1]), std::fabs(q[2]), std::fabs(q[3])});
+  if (!(largest > 0.0) || !std::isfinite(largest)) {  // NaN fails the first test
     warn(warnings, "limit-rotation-invalid",
-         label + ": limit rotation is not 4 finite numbers of a non-zero quaternion; using the identity", path);
+         label +
+             ": limit rotation is not 4 numbers, finite and within float's range, of a non-zero quaternion; using "
+             "the identity",
+         path);
     limit.rotation = Quat{};
   } else {
+    double scaled_length = 0.0;
+    for (double& c : q) {
+      c /= largest;
+      scaled_length += c * c;
+    }
+    scaled_length = std::sqrt(scaled_length);
+    const double length = largest * scaled_length;
     // The draft requires a unit quaternion; one off by rounding is made unit quietly, one that is not
     // is named, since its author may have meant something else.
-    if (std::fabs(length - 1.0f) > 1e-3f) {
+    if (std::fabs(length - 1.0) > 1e-3) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.6g", length);
       warn(warnings, "limit-rotation-invalid",
-           label + ": limit rotation has length " + std::to_string(length) + ", not 1; it is made unit", path);
+           label + ": limit rotation has length " + text + ", not 1; it is made unit", path);
     }
-    limit.rotation = Quat{q.x / length, q.y / length, q.z / length, q.w / length};
+    limit.rotation = Quat{static_cast<float>(q[0] / scaled_length), static_cast<float>(q[1] / scaled_length),
+                          static_cast<float>(q[2] / scaled_length), static_cast<float>(q[3] / scaled_length)};
   }
   return true;
 }
@@ -174,7 +193,6 @@ void readVrmJointLimit(const json& joint, const std::string& joint_path, const s
     warn(warnings, "limit-invalid", label + ": " + why + "; no limit", path + "/limit");
     return;
   }
-  if (!why.empty()) warn(warnings, "limit-invalid", label + ": " + why, path + "/limit");
   sanitizeJointLimit(out, label, path + "/limit", warnings);
 }
 

@@ -17,14 +17,14 @@ namespace springbones {
 /// `{spherical: {pitch, yaw, rotation?}}` (the older draft's `phi` and `theta` for pitch and yaw),
 /// into `out` as given (not clamped: sanitizeJointLimit does that). A missing or non-numeric angle
 /// is left NaN, for sanitizeJointLimit to warn about. Returns false, with `why`, when the value
-/// holds no limit shape at all; two shapes take the first of cone, hinge, spherical and set `why`.
+/// holds no limit shape, or more than one (UniVRM's rule: such a limit is ignored, not guessed at).
 bool readLimitShape(const TypedValue& limit, JointLimit& out, std::string& why);
 
 /// Puts a limit's values into the draft's ranges: cone and hinge angle and spherical pitch in
 /// [0, pi], yaw in [0, pi / 2] (NaN, a missing value: the maximum, which leaves that angle free); a
-/// rotation that is not 4 finite numbers or has zero length becomes the identity, any other is made
-/// unit. Each change leaves a warning (`limit-clamped`, `limit-rotation-invalid`) naming `label`
-/// at `path`. Returns false (and sets kind kNone) for kind kNone.
+/// rotation that is not 4 finite numbers (within float's range) or has zero length becomes the identity,
+/// any other is made unit in double precision, whatever its finite size. Each change leaves a warning (`limit-clamped`,
+/// `limit-rotation-invalid`) naming `label` at `path`. Returns false (and sets kind kNone) for kind kNone.
 bool sanitizeJointLimit(JointLimit& limit, const std::string& label, const std::string& path,
                         std::vector<Warning>& warnings);
 

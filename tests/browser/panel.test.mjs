@@ -8,6 +8,7 @@ import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import { maxAbsDiff, root, rotationsAfter, skip, useDemoPage } from './demoPage.mjs';
+import { diagnostic } from '../../web/wearable/diagnostics.js';
 
 const sampleHash = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8')).files['hair_wearable.glb'].contentHash;
 
@@ -97,6 +98,13 @@ test('isRoot starts and ends a chain', { skip }, async () => {
   await page.locator('#param-isRoot').uncheck();
   let s = await state();
   assert.equal(s.joints, 13, 'the right earring\'s two joints stop');
+  // An entry without isRoot and no root above it is no "member": the panel says what the adapters
+  // say (the unrooted-bones diagnostic), word for word.
+  const unrooted = diagnostic('unrooted-bones', { names: ['springbone_earring_r'] });
+  assert.equal(await page.locator('#editor-source').textContent(), `${unrooted.message}. Fix: ${unrooted.fix}.`);
+  await select('SpringBone_ponytail_3');  // isRoot: false below the ponytail's root: a member
+  assert.match(await page.locator('#editor-source').textContent(), /^Member with its own entry/);
+  await select('springbone_earring_r');
   assert.equal(await page.locator('#tree .badge.root:not([hidden])').count(), 4);
   assert.equal(await joint('springbone_earring_r'), null);
   await page.locator('#param-isRoot').check();

@@ -23,15 +23,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "creator_tools/tool_json.h"
-#include "springbones/boundary.h"
 #include "creator_tools/builder_edits.h"
+#include "creator_tools/tool_json.h"
 #include "loading/entity.h"
 #include "readers/json_values.h"
-#include "springbones/readers.h"
-#include "springbones/typed_input.h"
+#include "springbones/boundary.h"
 #include "springbones/content_hash.h"
+#include "springbones/readers.h"
 #include "springbones/springbones.h"
+#include "springbones/typed_input.h"
 #if __has_include("simulation/xpbd_solver.h")
 #include "simulation/xpbd_solver.h"
 #define SPRINGBONES_FUZZ_HAS_XPBD 1
@@ -81,8 +81,7 @@ inline std::string checkRotations(const Instance& instance, const char* when) {
     }
     const double len = std::sqrt(double(x) * x + double(y) * y + double(z) * z + double(w) * w);
     if (std::fabs(len - 1.0) > 1e-3) {
-      return std::string("rotation of joint ") + std::to_string(j) + " has length " +
-             std::to_string(len) + " " + when;
+      return std::string("rotation of joint ") + std::to_string(j) + " has length " + std::to_string(len) + " " + when;
     }
   }
   return {};
@@ -143,10 +142,12 @@ inline std::string checkDescription(const Rig& rig, const std::string& hash, con
   const std::string text = describeRig(rig, hash, format);
   const json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (value.is_discarded()) return "rig description is not JSON";
-  for (const char* key : {"contentHash", "format", "nodeCount", "joints", "chains", "drivers", "colliders", "warnings"}) {
+  for (const char* key :
+       {"contentHash", "format", "nodeCount", "joints", "chains", "drivers", "colliders", "warnings"}) {
     if (!value.contains(key)) return std::string("rig description lacks ") + key;
   }
-  if (!value["joints"].is_array() || value["joints"].size() != rig.joints.size()) return "rig description joints differ";
+  if (!value["joints"].is_array() || value["joints"].size() != rig.joints.size())
+    return "rig description joints differ";
   if (!allNumbersFinite(value)) return "rig description holds a non-finite number";
   return {};
 }
@@ -170,9 +171,7 @@ inline std::string firstModelKey(const json& value) {
   return models->begin().key();
 }
 
-inline json parseOrDiscard(const std::string& text) {
-  return json::parse(text, nullptr, /*allow_exceptions=*/false);
-}
+inline json parseOrDiscard(const std::string& text) { return json::parse(text, nullptr, /*allow_exceptions=*/false); }
 
 // ---------------------------------------------------------------------------------------------
 // (a) GLB + metadata: load, parse, build, a few steps at rest.
@@ -365,9 +364,25 @@ class ByteReader {
   // beyond it, kAny adds NaN and the infinities.
   enum Edges { kFloat, kDouble, kAny };
   double number(double range, Edges edges) {
-    static const double kEdges[] = {0.0, -0.0, 1.0, -1.0, 0.5, 1e-7, -1e-7, 1e-30, 1e30, -1e30,
-                                    3.4e38, -3.4e38, 1.2e-38, 1e-45, 4.0, 10.0,
-                                    1e39, 1e300, -1e300,
+    static const double kEdges[] = {0.0,
+                                    -0.0,
+                                    1.0,
+                                    -1.0,
+                                    0.5,
+                                    1e-7,
+                                    -1e-7,
+                                    1e-30,
+                                    1e30,
+                                    -1e30,
+                                    3.4e38,
+                                    -3.4e38,
+                                    1.2e-38,
+                                    1e-45,
+                                    4.0,
+                                    10.0,
+                                    1e39,
+                                    1e300,
+                                    -1e300,
                                     std::numeric_limits<double>::infinity(),
                                     -std::numeric_limits<double>::infinity(),
                                     std::numeric_limits<double>::quiet_NaN()};
@@ -416,9 +431,9 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     if (parent >= 0) children[parent].push_back(i);
     switch (in.byte() % 8) {
       case 0: {  // the armature bones the 'dcl-body' preset measures, or a bone it does not know
-        static const char* const kBodyBones[] = {"Avatar_Spine1", "Avatar_Spine2", "Avatar_Neck", "Avatar_Head",
-                                                 "Avatar_LeftShoulder", "Avatar_LeftArm", "Avatar_LeftForeArm",
-                                                 "Avatar_RightShoulder", "Avatar_RightArm", "Avatar_RightForeArm"};
+        static const char* const kBodyBones[] = {
+            "Avatar_Spine1",  "Avatar_Spine2",      "Avatar_Neck",          "Avatar_Head",     "Avatar_LeftShoulder",
+            "Avatar_LeftArm", "Avatar_LeftForeArm", "Avatar_RightShoulder", "Avatar_RightArm", "Avatar_RightForeArm"};
         names[i] = i % 2 == 0 ? std::string(kBodyBones[(i / 2) % 10]) : "Avatar_Hips_" + std::to_string(i);
         break;
       }
@@ -499,8 +514,9 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     spec.node = in.byte() % 4 == 0 ? std::string("Avatar_External") : names[in.byte() % node_count];
     // Sphere, capsule, plane, inside sphere, inside capsule; a plane with any inside and radius.
     const int shape = in.byte() % 5;
-    spec.shape = shape == 2 ? Collider::Shape::kPlane
-                 : shape % 2 == 1 ? Collider::Shape::kCapsule : Collider::Shape::kSphere;
+    spec.shape = shape == 2       ? Collider::Shape::kPlane
+                 : shape % 2 == 1 ? Collider::Shape::kCapsule
+                                  : Collider::Shape::kSphere;
     spec.inside = shape >= 3 || (shape == 2 && in.byte() % 2 == 0);
     spec.offset = vec3(0.2);
     spec.tail = vec3(0.2);
@@ -510,12 +526,19 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   }
   rig_options.hit_radius = toFloat(in.number(0.05, ByteReader::kAny));
   if (in.byte() % 4 == 0) rig_options.preset = ColliderPreset::kDclBody;
-  const std::shared_ptr<const Rig> rig =
-      buildRig(std::move(skeleton), model, std::move(warnings), rig_options);
+  const std::shared_ptr<const Rig> rig = buildRig(std::move(skeleton), model, std::move(warnings), rig_options);
   if (std::string f = checkRig(*rig); !f.empty()) return f;
 
   InstanceOptions options;
-  static const double kStepHz[] = {60, 30, 144, 1, 1000, 0, -1, 1e9, 1e-9,
+  static const double kStepHz[] = {60,
+                                   30,
+                                   144,
+                                   1,
+                                   1000,
+                                   0,
+                                   -1,
+                                   1e9,
+                                   1e-9,
                                    std::numeric_limits<double>::quiet_NaN(),
                                    std::numeric_limits<double>::infinity()};
   options.step_hz = kStepHz[in.byte() % (sizeof(kStepHz) / sizeof(kStepHz[0]))];
@@ -540,7 +563,15 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
   float* drivers = instance.driverMatrices();
   const std::size_t driver_count = instance.driverCount();
   std::vector<float> rest(drivers, drivers + 16 * driver_count);
-  static const double kFrames[] = {1.0 / 60, 1.0 / 30, 1.0 / 144, 0.1, 0.25, 1e9, -1, 0, 1e-300,
+  static const double kFrames[] = {1.0 / 60,
+                                   1.0 / 30,
+                                   1.0 / 144,
+                                   0.1,
+                                   0.25,
+                                   1e9,
+                                   -1,
+                                   0,
+                                   1e-300,
                                    std::numeric_limits<double>::quiet_NaN(),
                                    std::numeric_limits<double>::infinity()};
   for (int frame = 0; frame < 100; ++frame) {
@@ -549,13 +580,17 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
       const std::uint8_t mode = in.byte();
       switch (mode % 8) {
         case 0: break;  // unchanged
-        case 1: {  // rest pose moved and turned: the ordinary animated case
+        case 1: {       // rest pose moved and turned: the ordinary animated case
           std::memcpy(m, rest.data() + 16 * d, sizeof(float) * 16);
           const float angle = toFloat(in.number(3.2, ByteReader::kFloat));
           const float c = std::cos(angle), s = std::sin(angle);
           const float x0 = m[0], x1 = m[1], x2 = m[2], z0 = m[8], z1 = m[9], z2 = m[10];
-          m[0] = c * x0 + s * z0; m[1] = c * x1 + s * z1; m[2] = c * x2 + s * z2;
-          m[8] = c * z0 - s * x0; m[9] = c * z1 - s * x1; m[10] = c * z2 - s * x2;
+          m[0] = c * x0 + s * z0;
+          m[1] = c * x1 + s * z1;
+          m[2] = c * x2 + s * z2;
+          m[8] = c * z0 - s * x0;
+          m[9] = c * z1 - s * x1;
+          m[10] = c * z2 - s * x2;
           m[12] += toFloat(in.number(1, ByteReader::kFloat));
           m[13] += toFloat(in.number(1, ByteReader::kFloat));
           break;
@@ -573,9 +608,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
         case 5:  // uniform scale
           for (int k = 0; k < 12; ++k) m[k] *= toFloat(in.number(4, ByteReader::kFloat));
           break;
-        default:
-          std::memcpy(m, rest.data() + 16 * d, sizeof(float) * 16);
-          break;
+        default: std::memcpy(m, rest.data() + 16 * d, sizeof(float) * 16); break;
       }
     }
     const std::uint8_t time = in.byte();
@@ -583,8 +616,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     const double dt = time < 128 ? 1.0 / 60 : kFrames[time % (sizeof(kFrames) / sizeof(kFrames[0]))];
     if (time % 8 == 7) {  // through a Scene, with a budget and a viewer from the bytes
       scene.positions()[0] = toFloat(in.number(10, ByteReader::kAny));
-      scene.setBudget(static_cast<int>(in.byte() % 4) - 1,
-                      Vec3{toFloat(in.number(10, ByteReader::kAny)), 0.0f, 0.0f});
+      scene.setBudget(static_cast<int>(in.byte() % 4) - 1, Vec3{toFloat(in.number(10, ByteReader::kAny)), 0.0f, 0.0f});
       scene.step(dt);
     } else {
       instance.step(dt);
@@ -617,16 +649,18 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
       colliders[c].start = glm::vec3(m * glm::vec4(toGlm(collider.offset), 1.0f));
       colliders[c].end = collider.shape == Collider::Shape::kPlane
                              ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * toGlm(collider.normal))
-                         : collider.shape == Collider::Shape::kCapsule ? glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f))
-                                                                       : colliders[c].start;
-      colliders[c].radius = collider.shape == Collider::Shape::kPlane ? 0.0f : collider.radius * glm::length(glm::vec3(m[0]));
+                         : collider.shape == Collider::Shape::kCapsule
+                             ? glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f))
+                             : colliders[c].start;
+      colliders[c].radius =
+          collider.shape == Collider::Shape::kPlane ? 0.0f : collider.radius * glm::length(glm::vec3(m[0]));
     }
   };
   auto checkXpbd = [&](const char* when) -> std::string {
     for (std::size_t j = 0; j < rig->joints.size(); ++j) {
       const float* q = xpbd_rotations.data() + 4 * j;
-      const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] +
-                                   double(q[3]) * q[3]);
+      const double len =
+          std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
       if (!std::isfinite(len) || std::fabs(len - 1.0) > 1e-3) {
         return "XPBD rotation of joint " + std::to_string(j) + " is not a finite unit quaternion " + when;
       }
@@ -642,8 +676,7 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     if (driver_count > 0 && in.byte() % 2 == 0) m[12 + in.byte() % 3] += toFloat(in.number(0.2, ByteReader::kFloat));
     readDriverWorld();
     const float h = kSubsteps[in.byte() % (sizeof(kSubsteps) / sizeof(kSubsteps[0]))];
-    xpbd.step(driver_world.data(), colliders.data(), colliders.size(), h, xpbd_rotations.data(),
-              joint_world.data());
+    xpbd.step(driver_world.data(), colliders.data(), colliders.size(), h, xpbd_rotations.data(), joint_world.data());
     if (std::string f = checkXpbd("after an XPBD substep"); !f.empty()) return f;
   }
 #endif

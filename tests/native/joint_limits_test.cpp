@@ -209,6 +209,24 @@ TEST(JointLimitReading, BadValuesAreClampedOrDroppedWithWarnings) {
   EXPECT_FLOAT_EQ(shapeless->joints[1].limit.angle, kPi);
 }
 
+// UniVRM's import rule (its issue #2828): a limit with two shapes is ignored with a warning rather
+// than read as one of them; a limit with one shape beside it still applies.
+TEST(JointLimitReading, ALimitWithTwoShapesIsIgnored) {
+  const std::string base = "/extensions/VRMC_springBone/springs/0/joints/";
+  const auto rig = loadVrmDoc(chainNodes({0, -0.1f, 0}),
+                              json::array({limitedJoint(1, {{"cone", {{"angle", 0.5}}}, {"hinge", {{"angle", 0.3}}}}),
+                                           limitedJoint(2, {{"hinge", {{"angle", 0.3}}}}),
+                                           {{"node", 3}},
+                                           {{"node", 4}}}));
+  ASSERT_EQ(rig->joints.size(), 3u);
+  EXPECT_EQ(rig->joints[0].limit.kind, JointLimit::Kind::kNone);
+  const Warning* w =
+      test::findWarning(rig->warnings, "limit-invalid", base + "0/extensions/VRMC_springBone_limit/limit");
+  ASSERT_NE(w, nullptr);
+  EXPECT_NE(w->message.find("more than one"), std::string::npos) << w->message;
+  EXPECT_EQ(rig->joints[1].limit.kind, JointLimit::Kind::kHinge);
+}
+
 // Hostile values: numbers beyond float's range, strings, arrays of the wrong size load with
 // warnings, never a NaN in the rig.
 TEST(JointLimitReading, HostileValuesLoadAsFiniteLimitsWithWarnings) {
@@ -233,6 +251,40 @@ TEST(JointLimitReading, HostileValuesLoadAsFiniteLimitsWithWarnings) {
   EXPECT_EQ(test::countWarnings(rig->warnings, "limit-clamped"), 3) << test::describeWarnings(rig->warnings);
   EXPECT_EQ(test::countWarnings(rig->warnings, "limit-rotation-invalid"), 2);
   EXPECT_EQ(test::countWarnings(rig->warnings, "limit-invalid"), 1);
+}
+
+// A rotation of any finite size within float's range is a direction: [1e20, 0, 0, 1e20] squares past
+// float's range and [1e-25, 0, 0, 1e-25] to zero, yet both are half a turn about X made unit, in a
+// file and through the option alike; the warning names the length, not a non-finite number.
+TEST(JointLimitReading, RotationsOfExtremeFiniteSizeAreMadeUnitInBothPaths) {
+  const float h = std::sqrt(0.5f);
+  const glm::quat expected(h, h, 0, 0);  // glm: w first
+  const json list = json::array({limitedJoint(1, {{"cone", {{"angle", 0.5}, {"rotation", {1e20, 0, 0, 1e20}}}}}),
+                                 limitedJoint(2, {{"cone", {{"angle", 0.5}, {"rotation", {1e-25, 0, 0, 1e-25}}}}}),
+                                 {{"node", 3}},
+                                 {{"node", 4}}});
+  const auto rig = loadVrmDoc(chainNodes({0, -0.1f, 0}), list);
+  ASSERT_EQ(rig->joints.size(), 3u);
+  for (int j = 0; j < 2; ++j) { EXPECT_TRUE(test::quatNear(rig->joints[j].limit.rotation, expected)) << "joint " << j; }
+  EXPECT_EQ(test::countWarnings(rig->warnings, "limit-rotation-invalid"), 2);
+  EXPECT_TRUE(test::hasWarning(rig->warnings, "limit-rotation-invalid", "length 1.41421e+20"))
+      << test::describeWarnings(rig->warnings);
+  EXPECT_TRUE(test::hasWarning(rig->warnings, "limit-rotation-invalid", "length 1.41421e-25"));
+  EXPECT_FALSE(test::hasWarning(rig->warnings, "limit-rotation-invalid", "finite"));
+
+  const json nodes = json::array({test::node("Avatar_Head", {1}), test::node("hair_springbone_1", {2}, {0, -0.1, 0}),
+                                  test::node("hair_springbone_2", {3}, {0, -0.1, 0}),
+                                  test::node("hair_springbone_end", {}, {0, -0.1, 0})});
+  RigOptions options;
+  options.limits["hair_springbone_1"] = cone(0.5f, Quat{1e20f, 0, 0, 1e20f});
+  options.limits["hair_springbone_2"] = cone(0.5f, Quat{1e-25f, 0, 0, 1e-25f});
+  const auto from_options = test::rigFromJson(nodes, {{"hair_springbone_1", {{"isRoot", true}}}}, options);
+  ASSERT_EQ(from_options->joints.size(), 2u);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_TRUE(test::quatNear(from_options->joints[j].limit.rotation, expected)) << "joint " << j;
+  }
+  EXPECT_EQ(test::countWarnings(from_options->warnings, "limit-rotation-invalid"), 2);
+  EXPECT_FALSE(test::hasWarning(from_options->warnings, "limit-rotation-invalid", "finite"));
 }
 
 TEST(JointLimitReading, RigOptionsPutLimitsOnJointsByNameAndWarnAboutOthers) {

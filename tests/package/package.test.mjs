@@ -47,6 +47,38 @@ function run(command, args, cwd, env = {}) {
   return result.stdout;
 }
 
+// The READMEs whose ```js snippets a TypeScript user may paste, and what their relative imports
+// (the repository's paths) are as the package exports them.
+const kReadmes = ['README.md', 'web/three/README.md', 'web/babylon/README.md'];
+const kPackageImports = [
+  [/'\.\/web\/springbones\.js'/g, "'springbones'"],
+  [/'\.\/web\/three\/[A-Za-z]+\.js'/g, "'springbones/three'"],
+  [/'\.\/web\/babylon\/[A-Za-z]+\.js'/g, "'springbones/babylon'"],
+];
+
+/**
+ * Every ```js block of the READMEs as a TypeScript module of its own in `dir` (its imports as the
+ * package exports them; `export {}` so that its declarations are its own). A block is Babylon's
+ * when it is in web/babylon/README.md or imports springbones/babylon, else three.js's: each kind
+ * is checked against the page objects of globals_<kind>.d.ts. Returns the files by kind.
+ */
+function writeReadmeSnippets(dir) {
+  const written = { three: [], babylon: [] };
+  for (const readme of kReadmes) {
+    const text = readFileSync(join(root, readme), 'utf8');
+    let n = 0;
+    for (const [, block] of text.matchAll(/```js\n([\s\S]*?)```/g)) {
+      let code = block;
+      for (const [from, to] of kPackageImports) code = code.replace(from, to);
+      const kind = readme.startsWith('web/babylon/') || code.includes("'springbones/babylon'") ? 'babylon' : 'three';
+      const file = `${readme.replace(/[/.]/g, '_')}_${++n}.ts`;
+      writeFileSync(join(dir, file), `${code}\nexport {};\n`);
+      written[kind].push(file);
+    }
+  }
+  return written;
+}
+
 /** A throwaway project (in the system's temp folder, away from the repository's node_modules). */
 function makeProject(name, dependencies, devDependencies = {}) {
   const dir = mkdtempSync(join(tmpdir(), `springbones-${name}-`));
@@ -290,8 +322,21 @@ describe(`a project with three ${kThreeHighest}, vite, esbuild and TypeScript`, 
     run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', 'ts/tsconfig.node.json'], project);
   });
 
+  test('TypeScript: every js snippet of the READMEs passes tsc --noEmit --strict, as the package resolves it', () => {
+    const written = writeReadmeSnippets(join(project, 'ts', 'readme'));
+    assert.ok(written.three.length >= 5 && written.babylon.length >= 3, JSON.stringify(written));
+    for (const [which, files] of Object.entries(written)) {
+      writeFileSync(join(project, 'ts', 'readme', `tsconfig.${which}.json`), JSON.stringify({
+        extends: '../tsconfig.json', files: [`globals_${which}.d.ts`, ...files],
+      }, null, 2));
+      run(bin(project, 'tsc'), ['--noEmit', '--strict', '-p', `ts/readme/tsconfig.${which}.json`], project);
+    }
+  });
+
   test('Vite: vite build, served from dist/, in Chromium: the wasm loads from the bundle and the bones move', async () => {
-    run(bin(project, 'vite'), ['build', '--logLevel', 'warn'], join(project, 'web'));
+    const built = spawnSync(bin(project, 'vite'), ['build', '--logLevel', 'warn'], { cwd: join(project, 'web'), encoding: 'utf8' });
+    assert.equal(built.status, 0, `vite build failed:\n${built.stdout}\n${built.stderr}`);
+    assert.doesNotMatch(built.stdout + built.stderr, /node:fs/, 'no warning about the module loader\'s Node-only import');
     const dist = join(project, 'web', 'dist');
     assert.ok(readdirSync(join(dist, 'assets')).some((f) => f.endsWith('.wasm')), 'vite copied the .wasm');
     const page = await openBundle(dist);

@@ -342,9 +342,9 @@ for (const which of kBabylonVersions) {
           for (let f = 0; f < 3; f++) scene.render();
         });
         assert.equal(warnings.length, 3, warnings.join('\n'));
-        for (const w of warnings) assert.match(w, /module-load-failed.*404 springbones_wasm\.wasm.*Fix:/);
+        for (const w of warnings) assert.match(w, /\[module-failed\].*404 springbones_wasm\.wasm.*Fix:/);
         assert.deepEqual(simulation.warnings.map((w) => [w.code, w.itemId]),
-          [['module-load-failed', 'urn:a'], ['module-load-failed', 'urn:b'], ['module-load-failed', 'urn:c']]);
+          [['module-failed', 'urn:a'], ['module-failed', 'urn:b'], ['module-failed', 'urn:c']]);
         simulation.dispose(scene);
       });
 
@@ -356,7 +356,7 @@ for (const which of kBabylonVersions) {
           await assert.rejects(simulation.ready, TypeError);
         });
         assert.equal(warnings.length, 1, warnings.join('\n'));
-        assert.match(warnings[0], /module-load-failed.*expected the springbones module/);
+        assert.match(warnings[0], /\[module-failed\].*expected the springbones module/);
         simulation.dispose(scene);
       });
 
@@ -372,9 +372,9 @@ for (const which of kBabylonVersions) {
           for (let i = 0; i < 3; i++) simulation.updateParams(urn, noRoots);  // the Builder's pushes: no more warnings
         });
         assert.equal(warnings.length, 1, warnings.join('\n'));
-        assert.match(warnings[0], /no-root.*no isRoot: add "isRoot": true to .*"SpringBone_ponytail"/);
+        assert.match(warnings[0], /\[no-chain-root\].*Fix: add "isRoot": true to .*"SpringBone_ponytail"/);
         assert.doesNotMatch(warnings[0], /SpringBone_ponytail_3/, 'a tip-side member needs no root of its own once the chain has one');
-        assert.deepEqual(simulation.warnings.map((w) => w.code), ['no-root']);
+        assert.deepEqual(simulation.warnings.map((w) => w.code), ['no-chain-root']);
         // isRoot where the message says: the warning goes, the hair moves.
         simulation.updateParams(urn, entry);
         assert.deepEqual(simulation.warnings, []);
@@ -390,8 +390,8 @@ for (const which of kBabylonVersions) {
           await previewScene({ simulation, scene, itemId: 'other-file', params: { Other_springbone: { isRoot: true } } });
         });
         assert.equal(warnings.length, 2, warnings.join('\n'));
-        assert.match(warnings[0], /model-not-found \(wrong-hash\).*Fix:/);
-        assert.match(warnings[1], /entry-not-matched \(other-file\).*"Other_springbone".*Fix:/);
+        assert.match(warnings[0], /\[model-not-found\] wearable wrong-hash: .*Fix:/);
+        assert.match(warnings[1], /\[entry-not-matched\] wearable other-file: .*"Other_springbone".*Fix:/);
         assert.deepEqual(simulation.warnings.map((w) => w.code), ['model-not-found', 'entry-not-matched']);
         simulation.dispose(scene);
       });
@@ -404,8 +404,8 @@ for (const which of kBabylonVersions) {
           await previewScene({ simulation, scene, params: { springBones: metadata, contentHash: hash, colliders } });
         });
         assert.equal(warnings.length, 1, warnings.join('\n'));
-        assert.match(warnings[0], /driver-not-found.*"Avatar_NotInThisScene".*Fix:/);
-        assert.deepEqual(simulation.warnings.map((w) => w.code), ['driver-not-found']);
+        assert.match(warnings[0], /\[bone-not-matched\].*"Avatar_NotInThisScene".*colliders.*Fix:/);
+        assert.deepEqual(simulation.warnings.map((w) => w.code), ['bone-not-matched']);
         simulation.dispose(scene);
       });
 
@@ -416,7 +416,7 @@ for (const which of kBabylonVersions) {
           await previewScene({ simulation, scene, params: { version: 1, models: 3 } });
         });
         assert.equal(warnings.length, 1);
-        assert.match(warnings[0], /metadata-invalid/);
+        assert.match(warnings[0], /\[rig-failed\].*metadata-invalid/);
         assert.equal(simulation.rigOf(urn), null);
         simulation.dispose(scene);
       });

@@ -237,7 +237,7 @@ for (const which of kBabylonVersions) {
         console.warn = warn;
       }
       assert.equal(simulation.rigOf('x'), null);
-      assert.deepEqual(simulation.warnings.map((w) => [w.code, w.itemId]), [['metadata-invalid', 'x'], ['unknown-item', 'never-registered']]);
+      assert.deepEqual(simulation.warnings.map((w) => [w.code, w.itemId]), [['rig-failed', 'x'], ['unknown-item', 'never-registered']]);
       assert.equal(warned.length, 2);
       simulation.registerWearable(scene, container, 'x', entry);
       assert.throws(() => simulation.updateParams('x', null), TypeError);

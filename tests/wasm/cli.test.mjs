@@ -1,7 +1,7 @@
 // bin/springbones-cli.mjs (the package's `springbones` bin): output of inspect and simulate, metadata file shapes, exit codes.
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { copyFileSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { copyFileSync, mkdtempSync, rmSync, truncateSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -257,7 +257,9 @@ describe('validate', () => {
     const { code, stdout } = run('validate', path);
     assert.equal(code, 1);
     assert.match(stdout, /: 2 errors\n/);
-    assert.ok(stdout.includes(`  /models/${hash}/SpringBone_hair_left/drag: springBones/models/${hash}/SpringBone_hair_left/drag must be <= 1\n`), stdout);
+    // Each path once: the line starts with it, and the message after it does not repeat it.
+    assert.ok(stdout.includes(`  /models/${hash}/SpringBone_hair_left/drag: must be <= 1\n`), stdout);
+    assert.equal(stdout.split(`/models/${hash}/SpringBone_hair_left/drag`).length, 2, stdout);
     assert.ok(stdout.includes(`/models/${hash}/SpringBone_hair_left/stiffness: `));
     const stale = structuredClone(springBones);
     stale.models.QmStale = { Hair_001: springBones.models[hash].SpringBone_hair_left };
@@ -303,11 +305,28 @@ describe('exit codes', () => {
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--frames', '2.5');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', '0');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', 'fast');
+    usage('simulate', hairGlb, '--metadata', hairMetadata, '--fps', '5e-324');  // 1/F is Infinity
+    assert.match(run('simulate', hairGlb, '--metadata', hairMetadata, '--fps', '5e-324').stderr,
+                 /springbones: --fps 5e-324 gives a frame time of Infinity s\n/);
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--drive', 'spin');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--step-hz', '5000');
     usage('simulate', hairGlb, '--metadata', hairMetadata, '--max-substeps', '0');
     usage('inspect', hairGlb, '--hash', 'h', '--body-shape', 'BaseMale');
     usage('inspect', hairGlb, '--metadata', hairMetadata, '--body-shape', 'BaseMale');
+  });
+
+  test('a typo gets our words: the option, the nearest known one and the command\'s synopsis', () => {
+    const typo = run('validate', 'a.json', '--jsn');
+    assert.equal(typo.code, 2);
+    assert.match(typo.stderr, /^springbones: unknown option '--jsn' for validate \(did you mean --json\?\); validate takes: validate <entity\.json> \[--json\]\n/);
+    assert.match(typo.stderr, /usage: springbones <command>/);
+    assert.doesNotMatch(typo.stderr, /To specify a positional argument/);  // parseArgs' own advice
+    const missing = run('simulate', hairGlb, '--metadata');
+    assert.equal(missing.code, 2);
+    assert.match(missing.stderr, /^springbones: --metadata needs a value; simulate takes: simulate <glb>/);
+    const flagValue = run('inspect', hairGlb, '--json=yes');
+    assert.equal(flagValue.code, 2);
+    assert.match(flagValue.stderr, /^springbones: --json takes no value; inspect takes: inspect <glb>/);
   });
 
   test('0 and the usage on stdout for help', () => {
@@ -338,6 +357,45 @@ describe('exit codes', () => {
       const { code, stderr } = run(...args);
       assert.equal(code, 1, `${args.join(' ')}: ${stderr}`);
       assert.match(stderr, message);
+    }
+  });
+});
+
+describe('input files are bounded and must be what they say', () => {
+  test('a device or a folder is refused before it is read, by every command and --metadata', () => {
+    for (const args of [['hash', '/dev/zero'], ['inspect', '/dev/zero'], ['validate', '/dev/zero'],
+      ['simulate', '/dev/zero', '--metadata', hairMetadata], ['inspect', hairGlb, '--metadata', '/dev/zero'],
+      ['hash', scratch]]) {
+      const { code, stderr } = run(...args);
+      assert.equal(code, 1, `${args.join(' ')}: ${stderr}`);
+      assert.match(stderr, /cannot read \S+: not a regular file\n/, args.join(' '));
+    }
+  });
+
+  test('a JSON file past 16 MiB is refused by its size, before it is read', () => {
+    const big = join(scratch, 'big.json');
+    writeFileSync(big, '');
+    truncateSync(big, (16 << 20) + 1);  // sparse: no 16 MiB written
+    const { code, stderr } = run('validate', big);
+    assert.equal(code, 1);
+    assert.match(stderr, /16777217 bytes, more than the limit of 16777216/);
+  });
+
+  test('a JSON file that is not UTF-8 is refused, naming the offset, not read with U+FFFD', () => {
+    const springBones = fixture('avatar_hair.metadata.json');
+    const at = springBones.indexOf('SpringBone_hair_left');
+    const bad = Buffer.concat([springBones.subarray(0, at), Buffer.from([0xff]), springBones.subarray(at)]);
+    const path = join(scratch, 'latin1.json');
+    writeFileSync(path, bad);
+    for (const args of [['inspect', hairGlb, '--metadata', path], ['validate', path]]) {
+      const { code, stderr } = run(...args);
+      assert.equal(code, 1, args.join(' '));
+      assert.match(stderr, new RegExp(`latin1\\.json: not UTF-8 \\(an invalid byte at offset ${at}\\)`));
+    }
+    // An overlong encoding and a surrogate are not UTF-8 either.
+    for (const bytes of [[0xc0, 0xaf], [0xed, 0xa0, 0x80]]) {
+      writeFileSync(path, Buffer.from([0x7b, 0x22, ...bytes, 0x22, 0x3a, 0x31, 0x7d]));
+      assert.match(run('validate', path).stderr, /not UTF-8 \(an invalid byte at offset 2\)/);
     }
   });
 });

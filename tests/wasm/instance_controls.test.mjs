@@ -176,6 +176,25 @@ describe('grab', () => {
     assert.throws(() => inst.grab(0, [0, 0, 0]), RangeError);
     assert.throws(() => inst.release(), RangeError);
   });
+
+  test('a point finite in double but beyond float32 is a RangeError naming the coordinate, and the grab is kept', () => {
+    // It crosses as float32, where 1e39 is infinite: the core would ignore it, silently.
+    const inst = sample.rig.createInstance();
+    const joint = sample.rig.joints.length - 1;
+    inst.grab(joint, [0, 1.5, 0]);
+    const beyond = 2 ** 128;  // the first double that Math.fround makes infinite is a little below it
+    assert.equal(Math.fround(beyond), Infinity);
+    for (const [point, named] of [[[1e39, 0, 0], 'point[0]'], [[0, -beyond, 0], 'point[1]'], [[0, 0, -1e300], 'point[2]']]) {
+      assert.throws(() => inst.grab(0, point), (e) => e instanceof RangeError && e.message.includes(`grab: ${named}`) &&
+                    /float32/.test(e.message));
+    }
+    assert.equal(inst.grabbedJoint, joint, 'the refused calls left the earlier grab as it was');
+    // The largest float32 itself crosses.
+    const largest = (2 - 2 ** -23) * 2 ** 127;
+    inst.grab(0, [largest, 0, 0]);
+    assert.equal(inst.grabbedJoint, 0);
+    inst.dispose();
+  });
 });
 
 describe('inertia', () => {
@@ -271,6 +290,7 @@ describe('adapters', () => {
     const joints = simulation.rigOf(hash).joints;
     simulation.grab(hash, joints.length - 1, { x: 0.3, y: 1.6, z: 0.3 });
     assert.throws(() => simulation.grab(hash, joints.length, [0, 0, 0]), RangeError);
+    assert.throws(() => simulation.grab(hash, joints.length - 1, { x: 1e39, y: 1.6, z: 0.3 }), /float32/);
     simulation.release();
     simulation.dispose(scene);
   });

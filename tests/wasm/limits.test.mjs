@@ -243,7 +243,8 @@ test('hostile limit values in a VRM file load as finite limits with warnings, an
   j2.extensions.VRMC_springBone_limit.limit = { hinge: [] };
   j3.extensions.VRMC_springBone_limit = { specVersion: '1.0-draft', limit: { cone: { angle: 0.2 }, hinge: { angle: 0.1 } } };
   const rig = sb.loadVrm(bytesOf(json));
-  assert.deepEqual(rig.joints.map((j) => j.limit && Object.keys(j.limit)[0]), ['cone', 'spherical', null, 'cone']);
+  // Two shapes: ignored, as UniVRM's import rules have it (docs/semantics.md, "Angle limits").
+  assert.deepEqual(rig.joints.map((j) => j.limit && Object.keys(j.limit)[0]), ['cone', 'spherical', null, null]);
   for (const { limit } of rig.joints.filter((j) => j.limit)) {
     const [shape] = Object.values(limit);
     for (const v of [...Object.values(shape).filter((x) => !Array.isArray(x)), ...shape.rotation]) {
@@ -309,6 +310,28 @@ describe("loadRig's limits option", () => {
     assert.deepEqual(rig.warnings.map((w) => w.code).sort(), ['limit-clamped', 'limit-clamped', 'limit-joint-not-found', 'limit-on-end-joint']);
     assert.deepEqual(rig.joints[0].limit.spherical.pitch, 0);
     assert.ok(Math.abs(rig.joints[0].limit.spherical.yaw - Math.PI / 2) < 1e-6);
+    rig.dispose();
+  });
+
+  test('a rotation of extreme finite size is made unit, with a warning naming its length', () => {
+    // Squared in float32, [1e20, 0, 0, 1e20] overflows and [1e-25, 0, 0, 1e-25] underflows; both are
+    // half a turn about X.
+    const rig = sb.loadRig(glb, springBones, {
+      contentHash: hash,
+      limits: {
+        SpringBone_0_0: { cone: { angle: 0.3, rotation: [1e20, 0, 0, 1e20] } },
+        SpringBone_0_1: { hinge: { angle: 0.3, rotation: [1e-25, 0, 0, 1e-25] } },
+      },
+    });
+    const h = Math.SQRT1_2;
+    for (const [j, kind] of [[0, 'cone'], [1, 'hinge']]) {
+      const q = rig.joints[j].limit[kind].rotation;
+      assert.ok(Math.hypot(q[0] - h, q[1], q[2], q[3] - h) < 1e-6, `joint ${j}: ${q}`);
+    }
+    const messages = rig.warnings.filter((w) => w.code === 'limit-rotation-invalid').map((w) => w.message);
+    assert.equal(messages.length, 2, rig.warnings.map((w) => w.message).join('; '));
+    assert.ok(messages.some((m) => m.includes('1.41421e+20')) && messages.some((m) => m.includes('1.41421e-25')), messages.join('; '));
+    assert.ok(messages.every((m) => !m.includes('finite')), messages.join('; '));
     rig.dispose();
   });
 

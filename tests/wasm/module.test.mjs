@@ -19,7 +19,7 @@ const dist = join(root, 'web', 'dist');
 const kBudgets = [
   { module: 'runtime', files: ['springbones_wasm.wasm', 'springbones_wasm.min.js'], measured: 131212 },
   { module: 'readers', files: ['springbones_readers.wasm', 'springbones_readers.min.js'], measured: 46177 },
-  { module: 'creator tools', files: ['springbones_creator_tools.wasm', 'springbones_creator_tools.min.js'], measured: 89118 },
+  { module: 'creator tools', files: ['springbones_creator_tools.wasm', 'springbones_creator_tools.min.js'], measured: 90704 },
 ];
 for (const { module, files, measured } of kBudgets) {
   const budget = Math.round(measured * 1.02);

@@ -9,7 +9,7 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from './sample_wearable.mjs';
 import { SpringBonesError } from '../../web/springbones.js';
-import { SpringBonesLoaderPlugin, SpringBonesWearable } from '../../web/three/index.js';
+import { SpringBonesLoaderPlugin, SpringBonesWearable, springBonesOf } from '../../web/three/index.js';
 
 const assets = new URL('../../web/demo/assets/', import.meta.url);
 const entity = JSON.parse(readFileSync(new URL('hair_wearable.entity.json', assets), 'utf8'));
@@ -64,6 +64,16 @@ describe('SpringBonesLoaderPlugin', () => {
     wearable.dispose();
   });
 
+  test('springBonesOf(gltf) is gltf.userData.springBones, or null for a file loaded without the plugin', async () => {
+    const gltf = await loadWithPlugin({ springBones: metadata, contentHash: 'bafkreianothermodel' });
+    assert.ok(springBonesOf(gltf) instanceof SpringBonesWearable);
+    assert.equal(springBonesOf(gltf), gltf.userData.springBones);
+    const plain = await new GLTFLoader().parseAsync(new Uint8Array(readFileSync(new URL('../../web/demo/assets/hair_wearable.glb', import.meta.url))).buffer, '');
+    assert.equal(springBonesOf(plain), null);
+    assert.equal(springBonesOf({ userData: { springBones: { wear: () => null } } }), null, 'only the plugin\'s wearable');
+    gltf.userData.springBones.dispose();
+  });
+
   test('another GLB\'s hash loads no chains, with the rig\'s model-not-found warning', async () => {
     const gltf = await loadWithPlugin({ springBones: metadata, contentHash: 'bafkreianothermodel' });
     const wearable = gltf.userData.springBones;
@@ -76,7 +86,7 @@ describe('SpringBonesLoaderPlugin', () => {
     await assert.rejects(loadWithPlugin({ springBones: metadata }), (error) =>
       error instanceof TypeError && /contentHash, entity \+ bodyShape, or glb/.test(error.message));
     await assert.rejects(loadWithPlugin({ springBones: metadata, glb: wearableBytes, stepHz: 30 }),
-        (error) => error instanceof TypeError && /unknown option stepHz/.test(error.message));
+        (error) => error instanceof TypeError && /unknown option 'stepHz'/.test(error.message));
     await assert.rejects(loadWithPlugin({ sb: 42, springBones: metadata, glb: wearableBytes }), /options.sb must be the springbones module/);
   });
 

@@ -2,6 +2,9 @@
 // parameters are described by the few members the class uses, which Babylon 4.2's `babylonjs`
 // and the current `@babylonjs/core` both have, so a consumer of either type-checks.
 import type { ColliderOptions, ColliderPreset, Instance, Rig, SpringBoneEntry, SpringBones, SpringBonesData, WindOptions } from '../springbones.js';
+import type { Diagnostic, DiagnosticCode } from '../wearable/diagnostics.js';
+
+export type { Diagnostic, DiagnosticCode };
 
 /** A Babylon Scene, as the simulation uses it. */
 export interface BabylonSceneLike {
@@ -46,24 +49,15 @@ export interface SpringBoneSimulationOptions {
   gravityDirSpace?: GravityDirSpace;
 }
 
-/** Why a registered wearable's hair (or part of it) stays still, or a call named no wearable. */
-export type SpringBoneSimulationWarningCode =
-  | 'module-load-failed'     // the springbones module did not load: every wearable stays at rest
-  | 'no-root'                // springbone entries without isRoot: true (the preview's class moves them)
-  | 'model-not-found'        // the springBones has no entry for the item's hash
-  | 'springbones-ambiguous'  // the whole springBones with several models, none under the item id
-  | 'entry-not-matched'      // none of the entry's names is a node of the wearable
-  | 'driver-not-found'       // a bone the chains hang from or collide with is in neither the container nor the scene
-  | 'unknown-item'           // updateParams / reset / jump named an id not registered (or after dispose)
-  | 'metadata-invalid'       // metadata the core rejects (a SpringBonesError's code); the wearable stays at rest
-  | (string & {});
+/**
+ * Why a registered wearable's hair (or part of it) stays still, or a call named no wearable: the
+ * codes of docs/diagnostics.md, the same as the three.js adapter's.
+ */
+export type SpringBoneSimulationWarningCode = DiagnosticCode;
 
-export interface SpringBoneSimulationWarning {
-  readonly code: SpringBoneSimulationWarningCode;
+export interface SpringBoneSimulationWarning extends Diagnostic {
   /** The item id the warning is about (registerWearable's, or the one a call named). */
   readonly itemId: string;
-  /** What happened and the fix. */
-  readonly message: string;
 }
 
 /**
@@ -84,7 +78,7 @@ export class SpringBoneSimulation {
   constructor(sb?: SpringBones | PromiseLike<SpringBones> | null, options?: SpringBoneSimulationOptions);
   /**
    * Resolves once the module is there and every wearable registered so far has its rig; rejects
-   * when the module fails to load (each wearable also warns `module-load-failed`). Without a
+   * when the module fails to load (each wearable also warns `module-failed`). Without a
    * module given, it waits for the first registerWearable, which starts the module.
    */
   readonly ready: Promise<void>;
@@ -123,7 +117,9 @@ export class SpringBoneSimulation {
   start(scene: BabylonSceneLike): void;
   /**
    * Stops, puts the joints back at rest, frees every rig and instance. The simulation can be
-   * registered and started again afterwards.
+   * registered and started again afterwards. The frame hook comes off the scene start() was
+   * given, whichever scene is passed.
+   * @throws TypeError for a value that is not a Babylon scene (before anything changes)
    */
   dispose(scene?: BabylonSceneLike): void;
   /** Forgets the motion of every wearable (or itemId's): the next frame starts at rest. */
@@ -138,8 +134,9 @@ export class SpringBoneSimulation {
   /**
    * Holds joint `joint` (an index into rigOf(itemId).joints) toward a point of Babylon's world,
    * as far as its chain reaches, colliders still holding (instance.grab): call it every frame of
-   * a drag. Nothing before the module is there.
-   * @throws Error for an unregistered itemId; RangeError for a joint out of range or a non-finite point
+   * a drag. Nothing before the module is there; an itemId not registered warns `unknown-item`.
+   * @throws TypeError for a point that is not three numbers (checked before it is mirrored);
+   *   RangeError for a joint out of range or a non-finite point
    */
   grab(itemId: string, joint: number, point: { x: number; y: number; z: number } | readonly number[]): void;
   /** Lets go (every wearable, or itemId's): the hair swings back from where it is. */

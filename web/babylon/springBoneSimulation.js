@@ -27,9 +27,12 @@
 import { pageModule } from '../page_module.js';
 import { nodesToRecompute } from './currentWorldMatrices.js';
 import { copyWorldMatrix, isMirroredScene } from './handedness.js';
-import { entryAsSpringBones, resolveMetadata, rigOptions } from './wearableMetadata.js';
+import { resolveMetadata } from './wearableMetadata.js';
 import { springBonesOf } from './springBonesLoaderExtension.js';
 import { readWearableSkeleton } from './wearableSkeleton.js';
+import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
+import { modelsEntry } from '../wearable/models_entry.js';
+import { carryMotion, liveEdit, loadWearableRig } from '../wearable/rig_life.js';
 
 const kNoView = new Float32Array(0);
 
@@ -42,36 +45,7 @@ export function carryAcrossJump(instance) {
   instance.jump();
 }
 
-const kMaxNamesListed = 6;
-const listNames = (names) => {
-  const shown = names.slice(0, kMaxNamesListed).map((n) => JSON.stringify(n)).join(', ');
-  return names.length > kMaxNamesListed ? `${shown} and ${names.length - kMaxNamesListed} more` : shown;
-};
-const isSpringBoneName = (name) => /springbone/i.test(name);
 const isObject = (value) => value !== null && typeof value === 'object' && !Array.isArray(value);
-
-/**
- * The models entry `params` merged over `previous`, as the preview's live tuning merges: every
- * name of `params`, its fields over the previous entry's; a non-finite number keeps the previous
- * value (the core would otherwise put the default in its place).
- */
-function mergeEntry(previous, params) {
-  const merged = {};
-  for (const [name, entry] of Object.entries(params)) {
-    const before = isObject(previous?.[name]) ? previous[name] : null;
-    if (!isObject(entry) || before === null) {
-      merged[name] = entry;
-      continue;
-    }
-    const out = { ...before };
-    for (const [field, value] of Object.entries(entry)) {
-      if (typeof value === 'number' && !Number.isFinite(value) && before[field] !== undefined) continue;
-      out[field] = value;
-    }
-    merged[name] = out;
-  }
-  return merged;
-}
 
 /** springBones with every entry's gravityDir read in a left-handed scene's space (x mirrored). */
 function mirroredGravity(springBones) {
@@ -108,16 +82,13 @@ class RegisteredWearable {
     this.restRotations = new Map();  // joint node -> [x, y, z, w] as registered
     this.error = null;
     this.problems = new Map();  // code -> warning: what leaves this wearable's hair still, now
-    this.warned = new Set();    // codes already on the console for this registration
+    this._console = consoleReporter(() => `wearable ${itemId}`);  // once per code per registration
   }
 
-  /** Records a problem (code, message with its fix): in `warnings`, and once on the console. */
-  report(code, message) {
-    const warning = Object.freeze({ code, itemId: this.itemId, message });
-    this.problems.set(code, warning);
-    if (this.warned.has(code)) return;
-    this.warned.add(code);
-    console.warn(`[springbones] ${code} (${this.itemId}): ${message}`);
+  /** Records a diagnostic (web/wearable/diagnostics.js): in `warnings`, and once on the console. */
+  report(found) {
+    this.problems.set(found.code, Object.freeze({ ...found, itemId: this.itemId }));
+    this._console(found);
   }
 
   /** The Babylon node of each rig driver: by glTF index, or by name for a node outside the GLB. */
@@ -135,9 +106,7 @@ class RegisteredWearable {
 
   /** The models entry the rig read (node name -> parameters), or null. */
   entry() {
-    const models = this.metadata.springBones?.models;
-    const key = this.rig?.contentHash ?? this.metadata.key;
-    return isObject(models) && key !== null && isObject(models[key]) ? models[key] : null;
+    return modelsEntry(this.metadata.springBones, this.rig?.contentHash ?? this.metadata.key);
   }
 
   /**
@@ -148,10 +117,10 @@ class RegisteredWearable {
    * rotation. Throws what loadRig throws, before changing anything.
    */
   build(sb, { carry = false } = {}) {
-    const rig = sb.loadRig(this.gltf, this.springBonesForCore(), rigOptions(sb, this.metadata.options));
+    const rig = loadWearableRig(sb, this.gltf, this.springBonesForCore(), this.metadata.options);
     let instance;
     try {
-      instance = rig.createInstance();
+      instance = rig.createInstance(this.metadata.instance);
     } catch (error) {
       rig.dispose();
       throw error;
@@ -171,10 +140,7 @@ class RegisteredWearable {
       const q = node.rotationQuaternion;
       this.restRotations.set(node, [q.x, q.y, q.z, q.w]);
     }
-    if (carry && previousInstance && !previousInstance.disposed) {
-      this.writeDrivers();
-      instance.carryFrom(previousInstance);
-    }
+    if (carry) carryMotion(instance, previousInstance, () => this.writeDrivers());
     previousInstance?.dispose();
     previousRig?.dispose();
     const current = new Set(this.jointNodes);
@@ -196,46 +162,22 @@ class RegisteredWearable {
   }
 
   /**
-   * Finds what leaves hair still although the page meant it to move, after a build: the ADR's
-   * rules read the entry differently from the preview's class, or the entry is not this GLB's.
+   * Finds what leaves hair still although the page meant it to move, after a build: the shared
+   * diagnostics over the rig and the wearable's nodes, and the drivers no node of the scene is.
    */
   diagnose() {
-    for (const code of ['model-not-found', 'entry-not-matched', 'no-root', 'driver-not-found']) this.problems.delete(code);
+    for (const code of kRigCodes) this.problems.delete(code);
     const rig = this.rig;
-    const notFound = rig.warnings.find((w) => w.code === 'model-not-found' || w.code === 'models-missing');
-    if (notFound && !this.problems.has('springbones-ambiguous')) {
-      this.report('model-not-found', `${notFound.message}: nothing moves. Fix: pass the entry, springBones.models[hash] with hash the last segment of the main file's URL (as Decentraland's preview does), or { springBones, contentHash }.`);
-    }
-    const entry = this.entry();
-    if (entry !== null) {
-      const names = Object.keys(entry);
-      const byName = new Map();
-      for (const node of this.nodes) if (node && !byName.has(node.name)) byName.set(node.name, node);
-      if (names.length > 0 && names.every((name) => !byName.has(name))) {
-        this.report('entry-not-matched', `none of the entry's ${names.length} names (${listNames(names)}) is a node of this wearable, so nothing moves: the entry is another file's. Fix: pass springBones.models[hash] with hash the content hash of this wearable's GLB (the last segment of its URL).`);
-      }
-      const joints = new Set(rig.joints.map((j) => j.name));
-      const own = new Set(this.nodes);
-      const unrooted = names.filter((name) => {
-        const node = byName.get(name);
-        if (!node || !isSpringBoneName(name) || joints.has(name) || entry[name]?.isRoot === true) return false;
-        return node.getChildren(undefined, true).some((child) => own.has(child));  // a bone, not a tip
-      });
-      // A member below another unrooted name joins that chain once it has its root.
-      const unrootedNodes = new Set(unrooted.map((name) => byName.get(name)));
-      const below = (node) => {
-        for (let up = node.parent; up; up = up.parent) if (unrootedNodes.has(up)) return true;
-        return false;
-      };
-      unrooted.splice(0, unrooted.length, ...unrooted.filter((name) => !below(byName.get(name))));
-      if (unrooted.length > 0) {
-        this.report('no-root', `no isRoot: add "isRoot": true to ${listNames(unrooted)} in the models entry. springbones starts a chain only at an entry with isRoot: true (the standard), where Decentraland's preview class starts one at every springbone entry; these bones stay still.`);
-      }
-    }
-    const missing = rig.drivers.filter((d, i) => this.driverNodes[i] === null).map((d) => d.name);
-    if (missing.length > 0) {
-      this.report('driver-not-found', `the avatar bones ${listNames(missing)} are neither in this wearable's container nor nodes of the scene (by name), so what hangs from or collides with them does not follow the avatar. Fix: add the avatar's container to the scene before registerWearable, or name colliders after bones the wearable's GLB has.`);
-    }
+    if (this.problems.has('springbones-ambiguous')) return;  // said already, with its own fix
+    const springBones = this.metadata.springBones;
+    const found = rigDiagnostics({ rig, springBones, entry: springBones ? this.entry() : null, nodes: this.gltf.nodes });
+    const missing = new Set();
+    rig.drivers.forEach((d, i) => {
+      if (this.driverNodes[i] === null) missing.add(i);
+    });
+    const unmatched = boneNotMatched(rig, missing, [...missing].map((i) => rig.drivers[i].name));
+    if (unmatched) found.push(unmatched);
+    for (const warning of found) this.report(warning);
   }
 
   restoreRest(node) {
@@ -314,6 +256,17 @@ class FrameCopies {
     for (const instance of this.instances) carryAcrossJump(instance);
   }
 }
+
+/** The codes a build finds again (diagnose), cleared before each build. */
+const kRigCodes = ['rig-failed', 'springbones-missing', 'models-missing', 'model-not-found', 'entry-not-matched', 'no-chain-root',
+  'unrooted-bones', 'no-chains', 'bone-not-matched'];
+
+/** A value as an error message shows it: short, and never the engine's own object dump. */
+const describeValue = (value) => {
+  if (Array.isArray(value)) return `an array of ${value.length}`;
+  if (value === null || typeof value !== 'object') return typeof value === 'string' ? JSON.stringify(value.slice(0, 40)) : String(value);
+  return 'an object of another kind';
+};
 
 const isThenable = (value) => value !== null && (typeof value === 'object' || typeof value === 'function') && typeof value.then === 'function';
 
@@ -406,9 +359,7 @@ export class SpringBoneSimulation {
   }
 
   _reportModuleError(wearable) {
-    const error = this._moduleError;
-    const reason = error?.message ?? String(error);
-    wearable.report('module-load-failed', `the springbones module did not load (${reason}), so this wearable stays at rest. Fix: let the page fetch springbones_wasm.wasm beside the package's JavaScript (the springbones/wasm export), or start the module yourself, createSpringBones({ wasm | wasmBinary | wasmUrl }), and pass it to the constructor.`);
+    wearable.report(failureDiagnostic(this._moduleError, true));
   }
 
   /** Builds a wearable's rig; what the core rejects becomes a warning, the wearable stays at rest. */
@@ -419,7 +370,8 @@ export class SpringBoneSimulation {
       return true;
     } catch (error) {
       wearable.error = error;
-      wearable.report(error?.code ?? 'rig-load-failed', `${error?.message ?? error}; this wearable stays at rest.`);
+      for (const code of kRigCodes) wearable.problems.delete(code);
+      wearable.report(failureDiagnostic(error, false));
       return false;
     }
   }
@@ -454,9 +406,9 @@ export class SpringBoneSimulation {
       this._membersChanged();
     }
     const skeleton = loaded ? { nodes: loaded.nodes, gltf: loaded.gltf } : readWearableSkeleton(container);
-    for (const [key, warning] of this._stray) if (warning.itemId === itemId) this._stray.delete(key);
+    this._stray.delete(itemId);
     const wearable = new RegisteredWearable(this, scene, container, itemId, skeleton, metadata);
-    if (metadata.problem) wearable.report(metadata.problem.code, metadata.problem.message);
+    if (metadata.problem) wearable.report(diagnostic(metadata.problem.code, metadata.problem.facts));
     if (this._sb) {
       this._build(wearable);
     } else if (this._moduleError) {
@@ -482,18 +434,13 @@ export class SpringBoneSimulation {
     }
     const wearable = this._wearables.get(itemId);
     if (!wearable) {
-      this._reportStray(itemId, 'unknown-item', `updateParams: no wearable is registered as ${JSON.stringify(itemId)}, so nothing changed. Fix: registerWearable(scene, container, ${JSON.stringify(itemId)}, entry) first (and again after dispose), with the same id.`);
+      this._reportStray(itemId, 'updateParams');
       return;
     }
     const key = wearable.metadata.key ?? String(itemId);
-    const previousEntry = wearable.entry() ?? (isObject(wearable.metadata.springBones?.models?.[key]) ? wearable.metadata.springBones.models[key] : null);
-    const springBones = entryAsSpringBones(key, mergeEntry(previousEntry, params));
-    const options = { ...wearable.metadata.options, contentHash: key };
-    delete options.entity;
-    delete options.bodyShape;
-    delete options.glb;
+    const { springBones, options } = liveEdit(wearable.metadata.springBones, key, wearable.metadata.options, params);
     const before = wearable.metadata;
-    wearable.metadata = { springBones, options, key };
+    wearable.metadata = { ...before, springBones, options, key };
     wearable.problems.delete('springbones-ambiguous');  // the entry is named now
     if (this._sb && !this._build(wearable, { carry: true })) {
       wearable.metadata = before;  // the previous rig keeps running
@@ -502,11 +449,13 @@ export class SpringBoneSimulation {
     this._membersChanged();
   }
 
-  _reportStray(itemId, code, message) {
-    const key = `${code}\n${itemId}`;
+  /** unknown-item for a call that named no registered wearable: once per id. */
+  _reportStray(itemId, call) {
+    const key = String(itemId);
     if (this._stray.has(key)) return;
-    this._stray.set(key, Object.freeze({ code, itemId: String(itemId), message }));
-    console.warn(`[springbones] ${code} (${itemId}): ${message}`);
+    const found = diagnostic('unknown-item', { call, itemId: key });
+    this._stray.set(key, Object.freeze({ ...found, itemId: key }));
+    consoleReporter(() => `wearable ${key}`)(found);
   }
 
   /** Steps every registered wearable once per frame, before each render of `scene`. Idempotent. */
@@ -536,7 +485,7 @@ export class SpringBoneSimulation {
    * @throws RangeError for seconds out of range
    */
   settle(itemId, seconds) {
-    const settling = this._selected(itemId).filter((wearable) => wearable.instance);
+    const settling = this._selected(itemId, 'settle').filter((wearable) => wearable.instance);
     if (settling.length === 0) return 0;
     this._copies.readDrivers(this._mirrored);
     let most = 0;
@@ -549,20 +498,24 @@ export class SpringBoneSimulation {
    * Holds joint `joint` (an index into rigOf(itemId).joints) of a wearable toward `point`, a point
    * of Babylon's world ({x, y, z} or [x, y, z]), as far as its chain reaches (instance.grab): call
    * it every frame of a drag, then release(itemId). Nothing before the module is there.
-   * @throws Error for an itemId never registered; RangeError for a joint out of range or a
-   *   non-finite point
+   * An itemId not registered does nothing and warns once (`unknown-item`).
+   * @throws TypeError for a point that is not three numbers (checked before it is mirrored into
+   *   the glTF's space); RangeError for a joint out of range or a non-finite point
    */
   grab(itemId, joint, point) {
     if (typeof itemId !== 'string') throw new TypeError('grab: itemId must be a string');
-    const [wearable] = this._selected(itemId);
-    if (!wearable.instance) return;
     const p = Array.isArray(point) ? point : [point?.x, point?.y, point?.z];
+    if (p.length !== 3 || !p.every((v) => typeof v === 'number')) {
+      throw new TypeError(`grab: point must be [x, y, z] or {x, y, z}, three numbers in Babylon's world, got ${describeValue(point)}`);
+    }
+    const [wearable] = this._selected(itemId, 'grab');
+    if (!wearable?.instance) return;
     wearable.instance.grab(joint, [this._mirrored ? -p[0] : p[0], p[1], p[2]]);
   }
 
   /** Lets go of what grab() holds, on every wearable (or itemId's): the hair swings back. */
   release(itemId) {
-    for (const wearable of this._selected(itemId)) wearable.instance?.release();
+    for (const wearable of this._selected(itemId, 'release')) wearable.instance?.release();
   }
 
   /**
@@ -606,10 +559,16 @@ export class SpringBoneSimulation {
   /**
    * Stops stepping, puts the joints back at rest and frees every rig and instance. The simulation
    * can be registered and started again afterwards (the preview disposes on every wearable swap).
+   * `scene`, as the preview passes it, is optional: the frame hook comes off the scene start() was
+   * given, whichever Babylon scene is named.
+   * @throws TypeError for a scene argument that is not a Babylon Scene (before anything changes)
    */
   dispose(scene) {
-    const hooked = scene ?? this._scene;
-    if (this._observer && hooked) hooked.onBeforeRenderObservable.remove(this._observer);
+    if (scene !== undefined && scene !== null && typeof scene?.onBeforeRenderObservable?.remove !== 'function') {
+      throw new TypeError(`dispose: scene must be a Babylon Scene or left out, got ${describeValue(scene)}`);
+    }
+    // The hook is on the scene start() was given, whichever scene the page names here.
+    if (this._observer) this._scene.onBeforeRenderObservable.remove(this._observer);
     this._observer = null;
     this._scene = null;
     for (const group of this._watchedGroups) group.onAnimationGroupPlayObservable.removeCallback(this._onGroupPlay);
@@ -629,7 +588,7 @@ export class SpringBoneSimulation {
     if (itemId === undefined) return [...this._wearables.values()];
     const wearable = this._wearables.get(itemId);
     if (wearable) return [wearable];
-    this._reportStray(itemId, 'unknown-item', `${where}: no wearable is registered as ${JSON.stringify(itemId)}, so nothing changed. Fix: pass the id given to registerWearable (register again after dispose).`);
+    this._reportStray(itemId, where);
     return [];
   }
 

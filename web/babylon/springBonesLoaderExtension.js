@@ -17,7 +17,7 @@
 //
 // Babylon is not imported: the GLTFLoader class is passed in, so this serves Babylon 4.2's UMD
 // build (BABYLON.GLTF2.GLTFLoader) and @babylonjs/loaders alike.
-import { rigOptions } from './wearableMetadata.js';
+import { loadWearableRig } from '../wearable/rig_life.js';
 
 export const kSpringBonesExtensionName = 'springbones';
 
@@ -84,7 +84,7 @@ export class SpringBonesLoaderExtension {
       wearable.metadata = { springBones, options: hashOptions };
       try {
         if (typeof sb?.loadRig !== 'function') throw new TypeError('springbones loader extension: options.sb must be the springbones module');
-        wearable.rig = sb.loadRig(document, springBones, rigOptions(sb, hashOptions));
+        wearable.rig = loadWearableRig(sb, document, springBones, hashOptions);
       } catch (error) {
         wearable.error = error;
       }

@@ -1,10 +1,13 @@
 // Types of the GLTFLoader plugin (springBonesLoaderPlugin.js). `three` is a peer dependency.
 import type { Object3D } from 'three';
 import type { GLTF, GLTFLoaderPlugin, GLTFParser } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import type { LoadOptions, Rig, SpringBones, Warning } from '../springbones.js';
+import type { InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, SpringBonesData, Warning } from '../springbones.js';
 import type { AttachOptions, SpringBonesAttachment, StaticHairWarning } from './springBonesThree.js';
 
-/** sb.loadRig's options (which models entry, colliders, hitRadius) and these. */
+/**
+ * sb.loadRig's options (which models entry, colliders, limits, hitRadius, ...), handed to loadRig
+ * as they are, and these.
+ */
 export type SpringBonesLoaderPluginOptions = LoadOptions & {
   /**
    * The module from createSpringBones(), or the promise of it, not awaited: the GLB then loads
@@ -14,8 +17,11 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
    * plugin and Babylon simulation given none.
    */
   sb?: SpringBones | PromiseLike<SpringBones>;
-  /** The wearable's data.springBones, as an object or JSON text; null or left out: no spring bones. */
-  springBones?: object | string | null;
+  /**
+   * The wearable's data.springBones ({ version, models }: parameters are numbers), or its JSON
+   * text; null or left out: no spring bones.
+   */
+  springBones?: SpringBonesData | string | null;
   /**
    * The bytes GLTFLoader parses, when the caller has neither contentHash nor the entity: the
    * models entry is then the one under these bytes' content hash. With contentHash or
@@ -27,6 +33,8 @@ export type SpringBonesLoaderPluginOptions = LoadOptions & {
    * Default: console.warn once per code for the wearable, however many avatars wear it.
    */
   onWarning?: (warning: StaticHairWarning) => void;
+  /** rig.createInstance's options for every wear() (its own `instance` option overrides them). */
+  instance?: InstanceOptions;
 };
 
 /**
@@ -51,6 +59,15 @@ export class SpringBonesLoaderPlugin implements GLTFLoaderPlugin {
    */
   afterRoot(gltf: GLTF): Promise<void>;
 }
+
+/**
+ * gltf.userData.springBones, typed: the SpringBonesWearable the plugin put on this GLTFLoader
+ * result, or null (loaded without the plugin). three's GLTF type declares `userData` as
+ * `Record<string, any>`, and TypeScript lets a declaration merge add members to an interface but
+ * not narrow one it has, so `gltf.userData.springBones` itself stays `any` (as three-vrm's
+ * `userData.vrm` does): read it through this to have its type checked.
+ */
+export function springBonesOf(gltf: GLTF): SpringBonesWearable | null;
 
 /** What SpringBonesLoaderPlugin puts on gltf.userData.springBones. */
 export class SpringBonesWearable {
@@ -85,6 +102,14 @@ export class SpringBonesWearable {
    * clone is worn at rest and simulates from the first update after the rig arrives.
    */
   wear(avatarRoot: Object3D, options?: Omit<AttachOptions, 'nodes'>): SpringBonesAttachment;
+  /**
+   * The Builder's live tuning, as the Babylon drop-in's updateParams: `params` (node name ->
+   * parameters, the whole models entry) merged over the current entry, the rig loaded again, and
+   * every attachment switched to it keeping its motion.
+   * @throws TypeError for params that are not an object; Error before the rig is loaded or after
+   *   dispose; loadRig's errors for the edited entry (nothing changes then)
+   */
+  updateParams(params: { readonly [nodeName: string]: SpringBoneEntry }): void;
   /** Disposes of the attachments (taking them off their avatars) and the rig; not the geometries or materials. */
   dispose(): void;
 }

@@ -23,21 +23,25 @@
 
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { pageModule } from '../page_module.js';
-import { attachWearable, isThenable, wearableNodes } from './springBonesThree.js';
-import { consoleReporter, failureWarning, kWearableContext, rigWarnings, springNodeNamesOf } from './staticHair.js';
+import { attachWearable, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
+import { consoleReporter, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
+import { modelsEntry } from '../wearable/models_entry.js';
+import { checkOptionKeys, liveEdit, loadRigOptionsOf, loadWearableRig } from '../wearable/rig_life.js';
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
-const kRigOptions = [...kHashOptions, 'colliders', 'hitRadius'];
-const kOptions = ['sb', 'springBones', 'glb', 'onWarning', ...kRigOptions];
 
 export class SpringBonesLoaderPlugin {
   /**
    * parser: GLTFLoader's parser (the argument of loader.register's callback).
-   * options: { sb?, springBones?, glb? | contentHash? | entity + bodyShape?, colliders?, hitRadius? }:
+   * options: { sb?, springBones?, glb?, onWarning?, instance?, ...loadRig's options }:
    * sb is the module from createSpringBones() or the promise of it (the load then does not wait
    * for the module: the rig follows, see SpringBonesWearable.ready), or left out: the page's
    * module, started at the first wear(); springBones the wearable's data.springBones
-   * (object or JSON text; null or left out: no spring bones); the rest as for sb.loadRig.
+   * (object or JSON text; null or left out: no spring bones); glb the bytes being parsed (they
+   * name the models entry by their hash); instance the default createInstance options of wear().
+   * Every other key goes to sb.loadRig as it is (contentHash, entity + bodyShape, colliders,
+   * limits, hitRadius, ...), which checks it: a key it does not know fails the load with its
+   * TypeError.
    */
   constructor(parser, options) {
     if (typeof parser?.json !== 'object' || parser.json === null) {
@@ -45,9 +49,6 @@ export class SpringBonesLoaderPlugin {
     }
     if (options === null || typeof options !== 'object') {
       throw new TypeError('SpringBonesLoaderPlugin: options must be an object ({ springBones, entity, bodyShape, ... })');
-    }
-    for (const key of Object.keys(options)) {
-      if (!kOptions.includes(key)) throw new TypeError(`SpringBonesLoaderPlugin: unknown option ${key} (expected ${kOptions.join(', ')})`);
     }
     if (options.onWarning !== undefined && typeof options.onWarning !== 'function') {
       throw new TypeError('SpringBonesLoaderPlugin: options.onWarning must be a function (it receives each warning)');
@@ -67,31 +68,31 @@ export class SpringBonesLoaderPlugin {
 
   /** GLTFLoader's hook once the scene is built: loads the rig into gltf.userData.springBones. */
   async afterRoot(gltf) {
-    const { springBones, glb } = this.options;
+    const { springBones } = this.options;
     const page = this.options.sb === undefined ? pageModule() : null;
     const sb = page?.promise ?? this.options.sb;
-    const rigOptions = {};
-    for (const key of kRigOptions) if (this.options[key] !== undefined) rigOptions[key] = this.options[key];
+    const rigOptions = loadRigOptionsOf(this.options);
     // The rig needs only the nodes, which the JSON GLTFLoader parsed has: it goes to loadRig as it
     // is (no second parse). The bytes, when given, only name the models key by their hash.
     const json = this.parser.json;
+    let loadedWith = null;  // the module, once the rig is loaded: live updates load with it
     const load = (module) => {
       if (typeof module?.loadRig !== 'function') {
         throw new TypeError('SpringBonesLoaderPlugin: options.sb resolved to something other than the springbones module');
       }
-      if (glb !== undefined && rigOptions.contentHash === undefined && rigOptions.entity === undefined) {
-        rigOptions.contentHash = module.contentHash(glb);
-      }
-      return module.loadRig(json, springBones, rigOptions);
+      const rig = loadWearableRig(module, json, springBones, rigOptions);
+      loadedWith = module;
+      return rig;
     };
     // The module itself: the rig now (its errors reject the load). Its promise: the load goes on,
     // and a module that fails is told apart from a rig that fails (their fixes differ).
     const rig = isThenable(sb)
       ? Promise.resolve(sb).then(load, (error) => Promise.reject(new ModuleFailure(error)))
       : load(sb);
-    const { entity, contentHash, onWarning } = this.options;
+    const { entity, contentHash, onWarning, instance } = this.options;
     gltf.userData.springBones = new SpringBonesWearable(gltf, rig, {
-      springBones, onWarning, label: entity?.metadata?.id ?? entity?.id ?? contentHash ?? null, startModule: page?.start,
+      springBones, rigOptions, instance, onWarning, label: entity?.metadata?.id ?? entity?.id ?? contentHash ?? null,
+      startModule: page?.start, module: () => loadedWith,
     });
   }
 }
@@ -103,18 +104,13 @@ class ModuleFailure {
   }
 }
 
-/** springBones.models[hash] of the caller's springBones (an object or JSON text), or null. */
-function modelsEntry(springBones, hash) {
-  let value = springBones;
-  if (typeof value === 'string') {
-    try {
-      value = JSON.parse(value);
-    } catch {
-      return null;  // loadRig refused it already
-    }
-  }
-  const entry = value?.models?.[hash];
-  return entry !== null && typeof entry === 'object' && !Array.isArray(entry) ? entry : null;
+/**
+ * gltf.userData.springBones, typed (see the .d.ts: three's GLTF['userData'] is
+ * Record<string, any> and cannot be narrowed): the SpringBonesWearable the plugin put there, or null.
+ */
+export function springBonesOf(gltf) {
+  const wearable = gltf?.userData?.springBones;
+  return wearable instanceof SpringBonesWearable ? wearable : null;
 }
 
 /**
@@ -124,15 +120,17 @@ function modelsEntry(springBones, hash) {
  */
 export class SpringBonesWearable {
   /** @private made by SpringBonesLoaderPlugin */
-  constructor(gltf, rig, { springBones = null, label = null, onWarning = undefined, startModule = null } = {}) {
+  constructor(gltf, rig, { springBones = null, rigOptions = {}, instance = undefined, label = null, onWarning = undefined, startModule = null, module = () => null } = {}) {
     this.gltf = gltf;
+    this._rigOptions = rigOptions;  // loadRig's, for live updates
+    this._instanceOptions = instance;  // wear()'s default createInstance options
+    this._module = module;
     this._startModule = startModule;  // the page's module, when the plugin was given none
-    // Why the spring bones would stay at rest (staticHair.js), said once per wearable however
+    // Why the spring bones would stay at rest (docs/diagnostics.md), said once per wearable however
     // many avatars wear it: the attachments wear() makes share this reporter.
     this._staticHair = [];
     this._failure = null;
     this._springBones = springBones;
-    this._springNodeNames = springNodeNamesOf(gltf.parser?.json?.nodes);
     this._report = onWarning ?? consoleReporter(() => `wearable ${label ?? this.rig?.contentHash ?? '(loading)'}`);
     /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. Null
      *  while the module given as a promise has not resolved. */
@@ -149,7 +147,7 @@ export class SpringBonesWearable {
         return arrived;
       }, (failure) => {
         const error = failure instanceof ModuleFailure ? failure.error : failure;
-        this._failed(failureWarning(error, failure instanceof ModuleFailure ? 'module-failed' : null));
+        this._failed(failureDiagnostic(error, failure instanceof ModuleFailure));
         throw error;
       });
       /** Resolves to this wearable once its rig is loaded; rejects with the module's or loadRig's error. */
@@ -170,9 +168,16 @@ export class SpringBonesWearable {
 
   _arrived(rig) {
     this.rig = rig;
-    const found = rigWarnings(rig, { entry: this._entryOf(rig), springNodeNames: this._springNodeNames });
+    const found = this._diagnose(rig);
     for (const warning of found) this._report(warning);
     this._staticHair = found.filter((w) => !rig.warnings.some((own) => own.code === w.code));  // the core's are listed already
+  }
+
+  /** What leaves this rig's hair at rest, from the metadata the plugin was given (diagnostics.js). */
+  _diagnose(rig) {
+    const springBones = this._springBones;
+    const entry = springBones === null ? null : modelsEntry(springBones, rig.contentHash);
+    return rigDiagnostics({ rig, springBones, entry, nodes: this.gltf.parser?.json?.nodes ?? [] });
   }
 
   _failed(warning) {
@@ -181,14 +186,10 @@ export class SpringBonesWearable {
     this._report(warning);
   }
 
-  _entryOf(rig) {
-    return rig.format === 'dcl' ? modelsEntry(this._springBones, rig.contentHash) : null;
-  }
-
   /**
    * The rig's warnings (clamped parameters, a models entry not found, ...), then the reasons the
    * spring bones stay at rest that the rig does not list itself (no chain root, a module or rig
-   * that failed: web/three/staticHair.js, each with a `fix`). Empty before the rig loads.
+   * that failed: docs/diagnostics.md, each with a `fix`). Empty before the rig loads.
    */
   get warnings() {
     return [...(this.rig?.warnings ?? []), ...this._staticHair];
@@ -201,22 +202,50 @@ export class SpringBonesWearable {
    */
   wear(avatarRoot, options = {}) {
     if (options === null || typeof options !== 'object') throw new TypeError('wear: options must be an object');
+    checkOptionKeys('wear', options, ['instance', 'mixer', 'onWarning']);
     this._startModule?.();
     const copy = cloneWithSkeletons(this.gltf.scene);
     // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
     const rig = this.rig ?? this._rigPromise;
     const attachment = attachWearable(avatarRoot, copy, rig, {
+      instance: this._instanceOptions,
       ...options,
       nodes: wearableNodes(this.gltf, copy),
       [kWearableContext]: {
         report: this._report,
-        springNodeNames: this._springNodeNames,
-        entryOf: (r) => this._entryOf(r),
+        diagnose: (r) => this._diagnose(r),
         failure: () => this._failure,  // the wearable's own reading of the failure (module or rig)
       },
     });
     this.attachments.push(attachment);
     return attachment;
+  }
+
+  /**
+   * The Builder's live tuning, as the Babylon drop-in's updateParams: `params` (node name ->
+   * parameters, the whole models entry) is merged over the current entry (a non-finite number
+   * keeps the previous value; names left out are dropped), the rig is loaded again with the same
+   * options, and every attachment switches to it keeping its motion (attachment.setRig carries
+   * it: the chains neither pop nor restart). The previous rig is disposed of.
+   * @throws TypeError for params that are not an object; Error before the rig is there (await
+   *   `ready`); what loadRig throws for the edited entry, with nothing changed
+   */
+  updateParams(params) {
+    if (params === null || typeof params !== 'object' || Array.isArray(params)) {
+      throw new TypeError('updateParams: params must be an object of node name -> parameters');
+    }
+    const module = this._module();
+    if (this.rig === null || module === null || this._disposed) {
+      throw new Error(`updateParams: ${this._disposed ? 'the wearable is disposed of' : 'the rig is not loaded yet (await wearable.ready)'}`);
+    }
+    const { springBones, options } = liveEdit(this._springBones, this.rig.contentHash, this._rigOptions, params);
+    const rig = loadWearableRig(module, this.gltf.parser.json, springBones, options);  // throws before anything changes
+    const previous = this.rig;
+    this._springBones = springBones;
+    this._rigOptions = options;
+    for (const attachment of this.attachments) if (!attachment._disposed) attachment.setRig(rig);
+    this._arrived(rig);
+    previous.dispose();
   }
 
   /**

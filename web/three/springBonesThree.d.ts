@@ -2,6 +2,9 @@
 import type { AnimationMixer, LineSegments, Object3D, SkinnedMesh } from 'three';
 import type { GLTF } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import type { Instance, InstanceOptions, Rig, Scene, SpringBones } from '../springbones.js';
+import type { Diagnostic, DiagnosticCode } from '../wearable/diagnostics.js';
+
+export type { Diagnostic, DiagnosticCode };
 
 /**
  * The avatar's armature by glTF node name: every bone of its skinned meshes and their ancestors
@@ -35,32 +38,14 @@ export interface AttachOptions {
 }
 
 /**
- * Why a worn wearable's spring bones stay at rest: each is written to the console once (see
+ * Why a worn wearable's spring bones stay at rest (docs/diagnostics.md: every code, its message
+ * and fix, the same in the Babylon drop-in): each is written to the console once (see
  * AttachOptions.onWarning) and listed in the attachment's and the loaded wearable's `warnings`.
- * - `module-failed`: the springbones module did not load (given as a promise that rejected);
- * - `rig-failed`: loadRig refused the metadata or options (e.g. `entity` without `bodyShape`);
- * - `models-missing`, `model-not-found`: the rig's own warnings: no `models`, or no entry for
- *   this GLB's hash;
- * - `no-chain-root`: the models entry names spring bones, none with `isRoot: true`;
- * - `no-chains`: the rig simulates nothing although the GLB has spring-bone nodes (the adapter
- *   alone does not see the models entry to say more);
- * - `bone-not-matched`: a bone the chains hang from (e.g. `Avatar_Head`) has no bone of that name
- *   in the avatar, so they follow its parent or the avatar root instead.
  */
-export interface StaticHairWarning {
-  readonly code: 'module-failed' | 'rig-failed' | 'models-missing' | 'model-not-found' | 'no-chain-root' | 'no-chains' | 'bone-not-matched';
-  readonly message: string;
-  /** What to change so that the spring bones move. */
-  readonly fix: string;
-  /** JSON pointer into springBones when the reason is in the metadata, else ''. */
-  readonly path: string;
-}
+export type StaticHairWarning = Diagnostic;
 
 /** A joint or driver of the rig without a three.js object: skipped, the others simulate. */
-export interface NodeNotFoundWarning {
-  readonly code: 'node-not-found';
-  readonly message: string;
-}
+export type NodeNotFoundWarning = Diagnostic & { readonly code: 'node-not-found' };
 
 export type AttachWarning = NodeNotFoundWarning | StaticHairWarning;
 
@@ -155,11 +140,13 @@ export class SpringBonesAttachment {
    */
   watchAnimations(mixer: AnimationMixer | null): void;
   /**
-   * Switches to another rig of the same GLB (edited metadata): new instance, joints the new rig
-   * does not simulate go back to their rest rotation. The rig stays the caller's to dispose of.
+   * Switches to another rig of the same GLB (edited metadata): a new instance takes the current
+   * one's motion over (instance.carryFrom: joints both rigs simulate keep swinging; `carry:
+   * false` starts from rest instead), joints the new rig does not simulate go back to their rest
+   * rotation. The rig stays the caller's to dispose of.
    * @throws TypeError for a non-rig, or rig.createInstance's errors; nothing changes then
    */
-  setRig(rig: Rig): void;
+  setRig(rig: Rig, options?: { carry?: boolean }): void;
   /**
    * Disposes of the instance (update() then throws SpringBonesError 'disposed'); with detach
    * (default true) also takes the wearable's objects off the avatar, restores the joints' rest

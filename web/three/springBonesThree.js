@@ -23,7 +23,12 @@
 // / step / rotations / reset / dispose), never the WebAssembly glue.
 import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments, Object3D, Skeleton } from 'three';
 import { AnimationStartWatch } from './animationStarts.js';
-import { consoleReporter, failureWarning, kWearableContext, rigWarnings, unmatchedWarning } from './staticHair.js';
+import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
+import { carryMotion, checkOptionKeys } from '../wearable/rig_life.js';
+import { isSpringBoneName } from '../wearable/spring_bone_name.js';
+
+/** Symbol of the option with which SpringBonesWearable.wear() hands its context to attachWearable. */
+export const kWearableContext = Symbol('springbones.wearableContext');
 
 /** Whether `value` is a promise (or any thenable) rather than the thing itself. */
 export const isThenable = (value) => typeof value?.then === 'function';
@@ -181,15 +186,15 @@ export class SpringBonesAttachment {
     this.nodes = nodeObjects;
     /** The wearable's skinned meshes, now bound to the avatar's bones. */
     this.meshes = meshes;
-    /** Problems found while attaching ({ code, message, fix?, path? }): nodes without an
-     *  object, and every reason the spring bones stay at rest (web/three/staticHair.js). */
+    /** Problems found while attaching ({ code, message, fix, path }): nodes without an object,
+     *  and every reason the spring bones stay at rest (docs/diagnostics.md). */
     this.warnings = [];  // rebuilt by setRig
     // Static-hair warnings go to the console once per code: per wearable when wear() made this
     // attachment (the wearable's reporter), else per attachment; options.onWarning replaces it.
     const context = options[kWearableContext] ?? null;
     this._context = context;
     this._report = typeof options.onWarning === 'function' ? options.onWarning
-      : context?.report ?? consoleReporter(() => `wearable ${this.rig?.contentHash ?? (gltfName(wearableRoot) || '(unnamed)')}`);
+      : context?.report ?? consoleReporter(() => `wearable ${this.rig?.contentHash || (gltfName(wearableRoot) || '(unnamed)')}`);
     this._armatureObjects = armatureObjects;  // the avatar's bones, for bone-not-matched
     this._unmatchedBones = unmatchedBones;  // the wearable's bones no avatar bone matched
     this._moved = moved;  // [object, previous parent], for detach
@@ -218,7 +223,7 @@ export class SpringBonesAttachment {
         return this;
       }).catch((error) => {
         this.error = error;
-        const warning = this._context?.failure() ?? failureWarning(error);
+        const warning = this._context?.failure() ?? failureDiagnostic(error, ['module-load-failed', 'module-not-found'].includes(error?.code));
         this.warnings.push(warning);
         this._report(warning);
         throw error;
@@ -233,27 +238,37 @@ export class SpringBonesAttachment {
   }
 
   /**
-   * The reasons this rig leaves the spring bones at rest (staticHair.js): no models entry, no
-   * chain root, and drivers that no bone of the avatar matched (they hang from the avatar root).
+   * The reasons this rig leaves the spring bones at rest (web/wearable/diagnostics.js): what the
+   * wearable's metadata says (from wear(), which knows it; else only what the rig and the nodes
+   * show), and drivers that no bone of the avatar matched (they hang from the avatar root).
    */
-  _staticHairWarnings(rig) {
-    const springNodeNames = this._context?.springNodeNames
-      ?? this.nodes.map((o) => (o ? gltfName(o) : '')).filter((name) => /springbone/i.test(name));
-    const found = rigWarnings(rig, { entry: this._context?.entryOf(rig) ?? null, springNodeNames });
+  _diagnose(rig) {
+    const found = this._context?.diagnose(rig)
+      ?? rigDiagnostics({ rig, entry: undefined, nodes: this.nodes.map((o) => ({ name: o ? gltfName(o) : '' })) });
     // A driver follows the avatar when the way up from it reaches an avatar bone through the
     // wearable's own helper nodes only: a bone of the wearable's armature on that way had no avatar
     // bone of its name (it follows its parent, not the avatar's bone), and reaching the avatar root
     // means nothing of the avatar moves it.
-    const unmatched = new Set();
+    const bones = new Set();
+    const drivers = new Set();
     this.driverObjects.forEach((object, index) => {
-      if (!object || rig.joints.length === 0) return;
+      if (!object) return;
       let o = object;
+      let missed = false;
       for (; o && o !== this.avatarRoot && !this._armatureObjects.has(o); o = o.parent) {
-        if (this._unmatchedBones.has(o)) unmatched.add(gltfName(o));
+        if (this._unmatchedBones.has(o)) {
+          bones.add(gltfName(o));
+          missed = true;
+        }
       }
-      if (!o || o === this.avatarRoot) unmatched.add(rig.drivers[index].name);
+      if (!o || o === this.avatarRoot) {
+        bones.add(rig.drivers[index].name);
+        missed = true;
+      }
+      if (missed) drivers.add(index);
     });
-    if (unmatched.size > 0) found.push(unmatchedWarning([...unmatched]));
+    const unmatched = boneNotMatched(rig, drivers, [...bones]);
+    if (unmatched) found.push(unmatched);
     for (const warning of found) {
       this.warnings.push(warning);
       this._report(warning);
@@ -266,11 +281,14 @@ export class SpringBonesAttachment {
   }
 
   /**
-   * Switches to another rig of the same GLB (e.g. the same file loaded with edited metadata):
-   * disposes of the current instance, restores the rest rotation of joints the new rig does not
-   * simulate, and creates a new instance. The rig is not owned: the caller disposes of it.
+   * Switches to another rig of the same GLB (e.g. the same file loaded with edited metadata): a
+   * new instance takes the current one's motion over (instance.carryFrom, as the Babylon
+   * drop-in's updateParams does: joints both rigs simulate keep swinging, new ones start from
+   * where they are drawn; `carry: false` starts every chain at rest instead), joints the new rig
+   * does not simulate go back to their rest rotation, and the old instance is disposed of. The rig
+   * is not owned: the caller disposes of it.
    */
-  setRig(rig) {
+  setRig(rig, { carry = true } = {}) {
     if (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers)) {
       throw new TypeError('setRig: expected a springbones rig (with joints and drivers)');
     }
@@ -284,19 +302,19 @@ export class SpringBonesAttachment {
       }
     }
     const previous = this.jointObjects;
-    if (this.instance) this.instance.dispose();  // also takes it out of the group's scene
+    const previousInstance = this.instance;
     this.instance = instance;
     this.rig = rig;
     this.warnings = [];
     const find = (index, what, name) => {
       const object = this.nodes[index];
-      if (!object) this.warnings.push({ code: 'node-not-found', message: `${what} ${name} (glTF node ${index}) has no three.js object` });
+      if (!object) this.warnings.push(diagnostic('node-not-found', { what, name, index }));
       return object ?? null;
     };
     this.jointObjects = rig.joints.map((j) => find(j.node, 'joint', j.name));
     this.tailObjects = rig.joints.map((j) => this.nodes[j.tailNode] ?? null);
     this.driverObjects = rig.drivers.map((d) => find(d.node, 'driver', d.name));
-    this._staticHairWarnings(rig);
+    this._diagnose(rig);
     for (const object of this.jointObjects) {
       if (object && !this._restQuaternions.has(object)) {
         const q = object.quaternion;
@@ -316,9 +334,16 @@ export class SpringBonesAttachment {
     // each frame cost 3x more (cache misses).
     this._quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Object3D().quaternion));
     this._driverElements = this.driverObjects.map((o) => (o ? o.matrixWorld.elements : null));
+    if (carry) {
+      carryMotion(instance, previousInstance, (next) => {
+        const m = next.driverMatrices;
+        this._driverElements.forEach((e, d) => e && m.set(e, 16 * d));
+      });
+    }
+    previousInstance?.dispose();  // also takes it out of the group's scene
     this._copies.setMembers([this]);
     if (this._group) this._group._moveToEnd(this);  // the new instance took the scene's last slot
-    // Start from the rest pose (the rig's rotations before the first step).
+    // Start from the rest pose (the rig's rotations before the first step), or the carried one.
     this.writeRotations();
   }
 
@@ -578,6 +603,8 @@ export class SpringBonesGroup {
  */
 export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   if (!avatarRoot?.isObject3D) throw new TypeError('attachWearable: avatarRoot must be an Object3D');
+  if (options === null || typeof options !== 'object') throw new TypeError('attachWearable: options must be an object');
+  checkOptionKeys('attachWearable', options, ['nodes', 'instance', 'mixer', 'onWarning']);
   if (!isThenable(rig) && (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers))) {
     throw new TypeError('attachWearable: rig must be a springbones rig (with joints and drivers) or a promise of one');
   }
@@ -608,7 +635,7 @@ export function attachWearable(avatarRoot, wearable, rig, options = {}) {
   for (const mesh of skinned) {
     for (const bone of mesh.skeleton.bones) {
       for (let o = bone; o && o !== wearableRoot; o = o.parent) {
-        if (!counterpart(o) && !/springbone/i.test(gltfName(o) ?? '')) unmatchedBones.add(o);
+        if (!counterpart(o) && !isSpringBoneName(gltfName(o))) unmatchedBones.add(o);
       }
     }
   }

@@ -9,6 +9,8 @@ import { Group } from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
 import { wearableNodes } from '../../three/springBonesThree.js';
+import { diagnostic } from '../../wearable/diagnostics.js';
+import { isSpringBoneName } from '../../wearable/spring_bone_name.js';
 import { classifyJson, entityWearing, representationsOf, springBonesOf } from './entity.js';
 
 const $ = (id) => document.getElementById(id);
@@ -557,7 +559,7 @@ export class Creator {
     const from = this.entryFrom(this.selected);
     $('editor-title').textContent = name;
     $('editor-source').textContent = entry
-      ? (entry.isRoot === true ? 'Chain root: its entry applies to the chain below it.' : 'Member with its own entry (overrides what it inherits).')
+      ? (entry.isRoot === true ? 'Chain root: its entry applies to the chain below it.' : this.memberText(name))
       : (from ? `No entry: inherits from ${from}. Moving a control creates an override.` : 'No entry: not part of a chain. Tick isRoot to start one.');
     $('param-override').checked = Boolean(entry);
     $('param-isRoot').checked = entry?.isRoot === true;
@@ -577,6 +579,18 @@ export class Creator {
     if (current && !this.tree.otherNodes.includes(current)) options.push(element('option', { value: current }, `${current} (not a non-spring node)`));
     center.replaceChildren(...options);
     center.value = current;
+  }
+
+  /**
+   * What an entry without isRoot is: a member of the chain a rooted ancestor starts, or, with no
+   * such ancestor, a bone that stays at rest (the adapters' unrooted-bones diagnostic, word for word).
+   */
+  memberText(name) {
+    for (let s = this.tree.candidates[this.selected].parent; s >= 0; s = this.tree.candidates[s].parent) {
+      if (this.entries[this.tree.candidates[s].name]?.isRoot === true) return 'Member with its own entry (overrides what it inherits).';
+    }
+    const found = diagnostic('unrooted-bones', { names: [name] });
+    return `${found.message}. Fix: ${found.fix}.`;
   }
 
   /**
@@ -620,7 +634,7 @@ export class Creator {
     models[this.hash] = this.entries;
     const draft = { version: 1, models };
     // Re-setting one entry (or removing a node that has none) makes the API drop the stale keys.
-    const name = Object.keys(this.entries).find((n) => /springbone/i.test(n)) ?? 'springbone';
+    const name = Object.keys(this.entries).find(isSpringBoneName) ?? 'springbone';
     let data;
     try {
       data = this.tools.setSpringBoneParams(draft, this.entityFor(draft), this.bodyShape ?? 'BaseMale', name, this.entries[name] ?? null);

@@ -1,4 +1,4 @@
-// A TypeScript consumer of the entries' .d.ts, checked with tsc --noEmit --strict. The four
+// A TypeScript consumer of the entries' .d.ts, checked with tsc --noEmit --strict. The
 // expected errors below fail the check if the types ever let those mistakes through (or are
 // missing: an `any` accepts everything).
 import { AnimationMixer, Object3D, Quaternion } from 'three';
@@ -6,7 +6,7 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { createSpringBones, SpringBonesError, type CreatorTools, type Rig, type SpringBones, type ValidationError } from 'springbones';
 import { createSpringBones as createInlined } from 'springbones/inline';
 import {
-  SpringBonesGroup, SpringBonesLoaderPlugin, type SpringBonesAttachment, type SpringBonesWearable, type StaticHairWarning,
+  SpringBonesGroup, SpringBonesLoaderPlugin, springBonesOf, type SpringBonesAttachment, type SpringBonesWearable, type StaticHairWarning,
 } from 'springbones/three';
 
 export async function preview(avatar: Object3D, url: string, entity: object): Promise<() => void> {
@@ -17,7 +17,9 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
   loader.register((parser) => new SpringBonesLoaderPlugin(parser,
     { sb, springBones: null, entity, bodyShape: 'BaseMale', onWarning: (w) => reasons.push(w) }));
   const gltf = await loader.loadAsync(url);
-  const wearable = gltf.userData.springBones as SpringBonesWearable;
+  const found: SpringBonesWearable | null = springBonesOf(gltf);  // gltf.userData.springBones, typed
+  if (found === null) throw new Error('loaded without the plugin');
+  const wearable = found;
   const rig: Rig = wearable.rig;
   const worn: SpringBonesAttachment = wearable.wear(avatar, { instance: { integrator: 'xpbd' } });
   const group = new SpringBonesGroup(sb);
@@ -32,6 +34,13 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
 
   // Without sb the plugin starts the page's module at the first wear(); an sb that is not the module is an error.
   new SpringBonesLoaderPlugin(loader as never, { springBones: null });
+  // @ts-expect-error a misspelt method of the attachment (springBonesOf's type, not userData's any)
+  worn.updat(1 / 60);
+  // @ts-expect-error parameters are numbers, not the text of one
+  new SpringBonesLoaderPlugin(loader as never, { springBones: { version: 1, models: { h: { SpringBone_a: { stiffness: '1.2' } } } }, contentHash: 'h' });
+  // @ts-expect-error the live edit's parameters are numbers too
+  wearable.updateParams({ SpringBone_a: { stiffness: '1.2', isRoot: true } });
+  wearable.updateParams({ SpringBone_a: { stiffness: 1.2, isRoot: true } });
   // @ts-expect-error sb is the springbones module or a promise of it
   new SpringBonesLoaderPlugin(loader as never, { sb: 42, springBones: null });
   // @ts-expect-error rotations are read-only typed arrays of numbers, not strings
