@@ -37,6 +37,18 @@ void poseOf(const DriverPoses& poses, std::size_t d, glm::vec3& position, glm::q
   rotation = toGlm(t.rotation);
 }
 
+// Whether driver d moved beyond `limits` between the two frames. DriverPoses::read computes the
+// same expressions, in the same order, for the drivers that are similarities in both frames.
+bool driverJumped(const DriverPoses& from, const DriverPoses& to, std::size_t d, const JumpLimits& limits) {
+  glm::vec3 pa, pb;
+  glm::quat ra, rb;
+  poseOf(from, d, pa, ra);
+  poseOf(to, d, pb, rb);
+  const glm::vec3 moved = pb - pa;
+  return (limits.check_distance && glm::dot(moved, moved) > limits.moved_limit_squared) ||
+         (limits.check_angle && std::abs(glm::dot(ra, rb)) < limits.min_dot);
+}
+
 }  // namespace
 
 void DriverPoses::resize(std::size_t drivers) {
@@ -63,7 +75,21 @@ Transform DriverPoses::transform(std::size_t d) const {
   return decomposeTransform(matrix(d));
 }
 
-void DriverPoses::read(const float* input, const DriverPoses& previous) {
+JumpLimits jumpLimits(int steps, float distance, float angle) {
+  const float per = static_cast<float>(std::max(1, steps));
+  const float moved_limit = distance * per;
+  const float half_angle = 0.5f * angle * per;
+  JumpLimits limits;
+  limits.check_distance = moved_limit > 0.0f;
+  limits.check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
+  limits.moved_limit_squared = moved_limit * moved_limit;
+  // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is below
+  // the cosine of half of it.
+  limits.min_dot = limits.check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
+  return limits;
+}
+
+bool DriverPoses::read(const float* input, const DriverPoses& previous, const JumpLimits& limits) {
   // The matrices taken apart, one array per entry, for the vector loop.
   float* entries[16];
   for (std::size_t k = 0; k < 16; ++k) entries[k] = column(kEntry0 + k);
@@ -85,6 +111,20 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
   std::int32_t* __restrict similar = flags_.data();
   std::int32_t* __restrict finite = flags_.data() + padded_;
   std::int32_t any_non_finite = 0;
+  // Jump detection on the drivers that are similarities in both frames, from the poses just
+  // computed and the previous frame's columns; the others (rare: sheared, projective or
+  // non-finite matrices) are left to driverJumped after the loop.
+  const float* __restrict ppx = previous.column(kPx);
+  const float* __restrict ppy = previous.column(kPy);
+  const float* __restrict ppz = previous.column(kPz);
+  const float* __restrict pqx = previous.column(kQx);
+  const float* __restrict pqy = previous.column(kQy);
+  const float* __restrict pqz = previous.column(kQz);
+  const float* __restrict pqw = previous.column(kQw);
+  const std::int32_t* __restrict previous_similar = previous.flags_.data();
+  const bool check_distance = limits.check_distance, check_angle = limits.check_angle;
+  const float moved_limit_squared = limits.moved_limit_squared, min_dot = limits.min_dot;
+  std::int32_t any_jumped = 0, any_left = 0;
 #if defined(__clang__)
 #pragma clang loop vectorize(assume_safety) vectorize_width(4) interleave_count(1)
 #endif
@@ -129,17 +169,30 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
     const float inverse = 1.0f / std::sqrt(w * w + x * x + y * y + z * z);
     // A driver that is no similarity gets the identity here: the lane path never reads it, and
     // nothing non-finite is left behind.
-    px[d] = ok ? e[12][d] : 0.0f;
-    py[d] = ok ? e[13][d] : 0.0f;
-    pz[d] = ok ? e[14][d] : 0.0f;
-    qx[d] = ok ? x * inverse : 0.0f;
-    qy[d] = ok ? y * inverse : 0.0f;
-    qz[d] = ok ? z * inverse : 0.0f;
-    qw[d] = ok ? w * inverse : 1.0f;
+    const float npx = ok ? e[12][d] : 0.0f, npy = ok ? e[13][d] : 0.0f, npz = ok ? e[14][d] : 0.0f;
+    const float nqx = ok ? x * inverse : 0.0f, nqy = ok ? y * inverse : 0.0f, nqz = ok ? z * inverse : 0.0f;
+    const float nqw = ok ? w * inverse : 1.0f;
+    px[d] = npx;
+    py[d] = npy;
+    pz[d] = npz;
+    qx[d] = nqx;
+    qy[d] = nqy;
+    qz[d] = nqz;
+    qw[d] = nqw;
     sc[d] = ok ? s : 1.0f;
     similar[d] = ok ? 1 : 0;
     finite[d] = is_finite ? 1 : 0;
     any_non_finite |= is_finite ? 0 : 1;
+    // driverJumped's expressions in glm's order: (x x + y y) + z z for the move, (w w + x x) +
+    // (y y + z z) for the rotations' dot product, so the answer is the same bit for bit.
+    const float mx = npx - ppx[d], my = npy - ppy[d], mz = npz - ppz[d];
+    const float moved_squared = (mx * mx + my * my) + mz * mz;
+    const float dot = (pqw[d] * nqw + pqx[d] * nqx) + (pqy[d] * nqy + pqz[d] * nqz);
+    const bool both_similar = ok & (previous_similar[d] != 0);
+    const bool jumped =
+        (check_distance & (moved_squared > moved_limit_squared)) | (check_angle & (std::fabs(dot) < min_dot));
+    any_jumped |= both_similar & jumped ? 1 : 0;
+    any_left |= both_similar ? 0 : 1;
   }
   // A matrix with a non-finite entry, or one beyond kMaxDriverEntry, is ignored: the driver keeps
   // its last good pose.
@@ -152,6 +205,15 @@ void DriverPoses::read(const float* input, const DriverPoses& previous) {
   }
   all_similar_ = true;
   for (std::size_t d = 0; d < count_; ++d) all_similar_ = all_similar_ && similar[d] != 0;
+  if (any_jumped || !any_left || !(check_distance || check_angle)) return any_jumped != 0;
+  // The drivers the loop left: no similarity in one of the two frames, or a matrix that kept its
+  // last good pose. The rule driver by driver, on the poses as they are now (nothing to test when
+  // both thresholds are off).
+  for (std::size_t d = 0; d < count_; ++d) {
+    if (finite[d] && similar[d] && previous.flags_[d]) continue;  // tested in the loop
+    if (driverJumped(previous, *this, d, limits)) return true;
+  }
+  return false;
 }
 
 void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t, DriverTable& table, std::size_t first,
@@ -182,22 +244,9 @@ void DriverPoses::blend(const DriverPoses& from, const DriverPoses& to, float t,
   }
 }
 
-bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle) {
-  const float per = static_cast<float>(std::max(1, steps));
-  const float moved_limit = distance * per;
-  const float half_angle = 0.5f * angle * per;
-  const bool check_distance = moved_limit > 0.0f, check_angle = half_angle > 0.0f && half_angle < 1.5707963f;
-  // The turn between two unit rotations is 2 acos|a.b|: beyond the threshold when |a.b| is below
-  // the cosine of half of it.
-  const float min_dot = check_angle ? static_cast<float>(cosine(half_angle)) : -1.0f;
+bool driversJumped(const DriverPoses& from, const DriverPoses& to, const JumpLimits& limits) {
   for (std::size_t d = 0; d < to.size(); ++d) {
-    glm::vec3 pa, pb;
-    glm::quat ra, rb;
-    poseOf(from, d, pa, ra);
-    poseOf(to, d, pb, rb);
-    const glm::vec3 moved = pb - pa;
-    if (check_distance && glm::dot(moved, moved) > moved_limit * moved_limit) return true;
-    if (check_angle && std::abs(glm::dot(ra, rb)) < min_dot) return true;
+    if (driverJumped(from, to, d, limits)) return true;
   }
   return false;
 }

@@ -41,6 +41,19 @@ inline void nlerpRotation(float ax, float ay, float az, float aw, float bx, floa
   ow = usable ? mw / length : bw;
 }
 
+/// Jump detection's thresholds for one frame (Instance's): a driver jumped when it moved farther
+/// than its limit, or turned farther, between the frame's previous poses and its new ones.
+struct JumpLimits {
+  bool check_distance = false;  // a distance threshold of 0 is not tested
+  bool check_angle = false;     // nor an angle of 0, nor one whose half reaches a right angle
+  float moved_limit_squared = 0.0f;
+  float min_dot = -1.0f;  // |a.b| of two unit rotations below this: turned farther than the limit
+};
+
+/// The limits of a frame of `steps` fixed steps (at least one is assumed) for thresholds of
+/// `distance` and `angle` radians per step.
+JumpLimits jumpLimits(int steps, float distance, float angle);
+
 class DriverPoses {
  public:
   void resize(std::size_t drivers);
@@ -48,8 +61,10 @@ class DriverPoses {
 
   /// Reads `input` (column-major 4x4, 16 floats per driver). A matrix with an entry that is not
   /// a number within ±kMaxDriverEntry is replaced by `previous`'s pose of that driver (its last
-  /// good one).
-  void read(const float* input, const DriverPoses& previous);
+  /// good one). Returns whether a driver jumped from `previous` beyond `limits` (none by default):
+  /// the same answer as driversJumped(previous, *this, ...), tested in the same pass as the
+  /// reading, while each driver's columns are in registers.
+  bool read(const float* input, const DriverPoses& previous, const JumpLimits& limits = {});
 
   /// Whether every driver is a similarity (a positive uniform scale, orthogonal axes, no
   /// projective part, not mirrored).
@@ -86,9 +101,9 @@ class DriverPoses {
   std::vector<std::int32_t> flags_;
 };
 
-/// Whether a driver moved, between two frames' poses, farther than `distance` or turned by more
-/// than `angle` radians per step of a frame of `steps` fixed steps (at least one is assumed).
-/// A threshold of 0 is not tested. Runs every frame (Instance's jump detection).
-bool driversJumped(const DriverPoses& from, const DriverPoses& to, int steps, float distance, float angle);
+/// Whether a driver moved, between two frames' poses, beyond `limits`: the rule of jump detection,
+/// for every driver. DriverPoses::read applies it to the drivers that are similarities in both
+/// frames in its own pass, and this to the others.
+bool driversJumped(const DriverPoses& from, const DriverPoses& to, const JumpLimits& limits);
 
 }  // namespace springbones

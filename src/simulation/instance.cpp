@@ -111,13 +111,6 @@ struct Instance::State {
   bool beginFrame(double dt) {
     frame_steps = 0;
     if (!(dt > 0.0) || !std::isfinite(dt)) return false;
-    const bool was_seeded = seeded;
-    if (!seeded) {
-      seedHeld(/*with_controls=*/true);
-      seeded = true;
-    } else {
-      currentPoses().read(driver_input.data(), previousPoses());
-    }
     // Steps fall where the accumulated time crosses a multiple of h. The tolerance keeps a stream
     // of frames of exactly 1/stepHz at one step each despite rounding in the sum.
     const double h = step_seconds;
@@ -129,8 +122,18 @@ struct Instance::State {
     const double crossed = std::floor((accumulator + tolerance) / h);
     frame_dropped = crossed > options.max_substeps;
     frame_steps = frame_dropped ? options.max_substeps : static_cast<int>(crossed);
-    if (was_seeded && (jump_requested || driversJumped(previousPoses(), currentPoses(), frame_steps,
-                                                       options.jump_distance, options.jump_angle))) {
+    // The drivers read, and tested for a jump in the same pass (the thresholds are per step, so
+    // the frame's steps are counted first). A first frame only seeds: there is nothing to jump from.
+    const bool was_seeded = seeded;
+    bool drivers_jumped = false;
+    if (!seeded) {
+      seedHeld(/*with_controls=*/true);
+      seeded = true;
+    } else {
+      drivers_jumped = currentPoses().read(driver_input.data(), previousPoses(),
+                                           jumpLimits(frame_steps, options.jump_distance, options.jump_angle));
+    }
+    if (was_seeded && (jump_requested || drivers_jumped)) {
       // Every chain carried with the jump of the driver it hangs from, and every driver's last
       // pose with its own, so the frame's steps interpolate only the motion: the chain keeps its
       // shape and its motion relative to that driver, and the jump adds no velocity.

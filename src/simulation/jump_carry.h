@@ -1,8 +1,8 @@
 // Jumps of an instance's drivers (Instance::jump, docs/semantics.md "Jumps"): the arithmetic that
 // carries a chain's tails across one. Kept out of the per-frame files (instance.cpp and its
 // neighbours are built at -O3 for WebAssembly): a jump is rare, and inlined there its matrix code
-// cost 7 KB of the module. Telling a jump from motion runs every frame: driversJumped, beside the
-// driver poses it reads (driver_poses.h).
+// cost 7 KB of the module. Telling a jump from motion runs every frame, in the pass that reads the
+// driver poses (DriverPoses::read, driver_poses.h).
 #pragma once
 
 #include <cstddef>
