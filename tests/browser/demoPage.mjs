@@ -112,15 +112,16 @@ export async function openPage(path, ready, { arg = null, beforeOpen = null } = 
  * The library's modules (web/ outside the demo's own folder, the glue in web/dist/ included) the
  * page loaded without a <link rel="modulepreload"> for them: each is a request the browser only
  * starts once the module importing it has arrived, a round trip more on a cold first visit. The
- * creator tools and the readers are left out: they load on first use, after the first render, by
- * design (the three.js page's creator panel reads the sample GLB's bytes).
+ * creator tools (with json_arguments.js, which only they import) and the readers are left out:
+ * they load on first use, after the first render, by design (the three.js page's creator panel
+ * reads the sample GLB's bytes).
  */
 export function libraryModulesNotPreloaded(page) {
   return page.evaluate(() => {
     const preloaded = new Set([...document.querySelectorAll('link[rel=modulepreload]')].map((l) => l.href));
     return performance.getEntriesByType('resource')
       .map((entry) => entry.name)
-      .filter((url) => /\/web\/(?!demo\/).*\.js$/.test(new URL(url).pathname) && !/creator_tools|readers/.test(url))
+      .filter((url) => /\/web\/(?!demo\/).*\.js$/.test(new URL(url).pathname) && !/creator_tools|readers|json_arguments/.test(url))
       .filter((url) => !preloaded.has(url));
   });
 }

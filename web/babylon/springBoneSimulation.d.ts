@@ -1,7 +1,7 @@
 // Types of the Babylon.js drop-in (springBoneSimulation.js). Babylon is not imported: the
 // parameters are described by the few members the class uses, which Babylon 4.2's `babylonjs`
 // and the current `@babylonjs/core` both have, so a consumer of either type-checks.
-import type { ColliderOptions, ColliderPreset, Instance, Rig, SpringBoneEntry, SpringBones, SpringBonesData, WindOptions } from '../springbones.js';
+import type { ColliderOptions, ColliderPreset, Instance, InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, SpringBonesData, WindOptions } from '../springbones.js';
 import type { Diagnostic, DiagnosticCode } from '../wearable/diagnostics.js';
 
 export type { Diagnostic, DiagnosticCode };
@@ -24,13 +24,19 @@ export interface BabylonAssetContainerLike {
 /** A models entry: node name -> parameters, as `springBones.models[hash]`. */
 export type SpringBonesModelEntry = Record<string, SpringBoneEntry>;
 
-/** The whole springBones with loadRig's choice of entry (and its colliders and jump thresholds). */
+/**
+ * The whole springBones with loadRig's options, handed to loadRig as they are (the three.js
+ * plugin's option object: colliders, limits, hitRadius, jump thresholds), and createInstance's
+ * options under `instance`.
+ */
 export type SpringBonesWithHashOptions = {
-  springBones: SpringBonesData | object | null;
+  springBones: SpringBonesData | object | string | null;
   colliders?: readonly ColliderOptions[] | ColliderPreset;
   hitRadius?: number;
+  limits?: LoadOptions['limits'];
   jumpDistance?: number;
   jumpAngle?: number;
+  instance?: InstanceOptions;
 } & (
   | { contentHash: string }
   | { entity: object | string; bodyShape: string }
