@@ -31,7 +31,7 @@ import { resolveMetadata } from './wearableMetadata.js';
 import { springBonesOf } from './springBonesLoaderExtension.js';
 import { readWearableSkeleton } from './wearableSkeleton.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
-import { modelsEntry } from '../wearable/models_entry.js';
+import { modelsEntry } from '../wearable/wearable_entry.js';
 import { carryMotion, liveEdit, loadWearableRig } from '../wearable/rig_life.js';
 import { FrameCopyLists } from '../wearable/frame_copies.js';
 

@@ -20,7 +20,7 @@
 // reads, under which updateParams later writes its entries; `problem` ({ code, facts }) is the
 // diagnostic (web/wearable/diagnostics.js) the simulation reports for a shape it could not resolve.
 
-import { entryAsSpringBones } from '../wearable/models_entry.js';
+import { entryAsSpringBones } from '../wearable/wearable_entry.js';
 
 const kWholeKeys = ['models', 'version'];
 const kOptionKeys = ['entity', 'contentHash', 'glb'];

@@ -25,7 +25,7 @@ import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUt
 import { pageModule } from '../page_module.js';
 import { attachWearable, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
 import { consoleReporter, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
-import { modelsEntry } from '../wearable/models_entry.js';
+import { modelsEntry } from '../wearable/wearable_entry.js';
 import { checkOptionKeys, liveEdit, loadRigOptionsOf, loadWearableRig } from '../wearable/rig_life.js';
 
 const kHashOptions = ['contentHash', 'entity', 'bodyShape'];

@@ -4,7 +4,7 @@
 // for a live edit of the models entry; and each rebuild's instance taking its predecessor's
 // motion over, so an edit neither pops nor restarts the chains.
 
-import { entryAsSpringBones, mergeEntry, modelsEntry } from './models_entry.js';
+import { entryAsSpringBones, mergeEntry, modelsEntry } from './wearable_entry.js';
 
 /**
  * The options an adapter takes besides loadRig's. `glb` is the bytes being parsed, which names the

@@ -1,6 +1,6 @@
 // The models entry of a springBones and the Builder's live edit of it, for both adapters: which
 // entry a rig reads (for the diagnostics), and how an edited entry is merged over the previous
-// one before the rig is rebuilt (live updates keep the motion: wearable_rig.js).
+// one before the rig is rebuilt (live updates keep the motion: rig_life.js).
 
 const isObject = (value) => value !== null && typeof value === 'object' && !Array.isArray(value);
 
