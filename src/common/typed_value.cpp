@@ -47,7 +47,7 @@ std::string pathOf(const std::vector<Open>& open, const std::uint8_t* data) {
   std::string path;
   for (const Open& o : open) {
     if (o.key == std::numeric_limits<std::uint32_t>::max()) {
-      path += "/" + std::to_string(o.count - o.remaining);
+      path += "/" + std::to_string(o.count - o.remaining - 1);
     } else {
       const std::uint32_t size = readU32(data + o.key);
       // A path quotes at most a bounded prefix of a key, as a message quotes a name.
@@ -89,6 +89,8 @@ Error TypedDocument::decode(const std::uint8_t* data, std::size_t size, std::siz
       }
     }
     if (at >= size) return malformed("a value is missing at byte " + std::to_string(at));
+    // Counted as read before it is checked, so every open container's path names its open child.
+    if (!open.empty()) --open.back().remaining;
     if (++values > kTypedMaxValues) return tooLarge("more values", kTypedMaxValues, pathOf(open, data));
     const std::uint8_t tag = data[at++];
     const auto type = static_cast<TypedValue::Type>(tag);
@@ -103,7 +105,6 @@ Error TypedDocument::decode(const std::uint8_t* data, std::size_t size, std::siz
         return tooLarge("a string of " + std::to_string(length) + " bytes", kTypedMaxStringBytes, pathOf(open, data));
       }
     }
-    if (!open.empty()) --open.back().remaining;
     if (type == TypedValue::Type::kArray || type == TypedValue::Type::kObject) {
       if (size - at < 4) return malformed("a container's count runs past the end");
       const std::uint32_t count = readU32(data + at);

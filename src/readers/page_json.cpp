@@ -403,7 +403,8 @@ Error PageParser::parse(const Rule& root_rule, json& out) {
     }
     const std::size_t max = f.rule->kind == Rule::kElements ? f.rule->max_elements : kTypedMaxContainerSize;
     if (f.count == max) {
-      const std::string where = path();
+      std::string where = path();
+      where.erase(where.rfind('/'));  // the container's own path
       return Error{ErrorCode::kLimitExceeded,
                    max == kMaxNodes && f.rule->kind == Rule::kElements
                        ? "glTF has more nodes than the limit of " + std::to_string(kMaxNodes)

@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/typed_encoding.h"
 #include "readers/glb_container.h"
 #include "springbones/readers.h"
 #include "springbones/springbones.h"
@@ -1156,10 +1157,11 @@ TEST(VrmLoaderScaling, OverlappingGroupsCountTwiceTowardTheLimitAndOnTheJoint) {
 }
 
 // Warnings named the node with its whole name: one 1 MB name in a warning per spring made the
-// warnings springs x 1 MB (here 100 GB).
+// warnings springs x 1 MB (here 100 GB). A name is now at most kTypedMaxStringBytes (a longer one
+// is limit-exceeded); one of that size, in a warning per spring, would still be 6.5 GB.
 TEST(VrmLoaderScaling, ALongNodeNameRepeatedInManyWarningsIsShortened) {
   constexpr int kSprings = 100000;
-  const std::string name = "\xc3\xa9" + std::string(1 << 20, 'x');  // a two-byte character first
+  const std::string name = "\xc3\xa9" + std::string(kTypedMaxStringBytes - 2, 'x');  // a two-byte character first
   const std::string text =
       R"({"asset":{"version":"2.0"},"nodes":[{"name":")" + name +
       R"(","children":[1]},{"translation":[0,-0.1,0]}],"extensions":{"VRMC_springBone":{"springs":[)" +
