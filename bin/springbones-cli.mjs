@@ -23,7 +23,7 @@ import { basename } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { parseArgs } from 'node:util';
 
-import { swayDrivers } from '../scripts/lib/sway.mjs';
+import { swayDrivers } from './sway.mjs';
 
 // The package by its own name (Node resolves a package's self-reference through its exports): the
 // minified library that ships, in the repository and installed alike. This process is ours, so
@@ -102,7 +102,7 @@ ${Object.values(commands).map((c) => `  ${c.synopsis}`).join('\n')}
   --frames N         simulate: frames to run (default 60)
   --fps F            simulate: frame rate; each frame steps by 1/F seconds (default 60)
   --drive rest|sway  simulate: keep the drivers at rest (default), or sway the whole avatar so the
-                     chains move (scripts/lib/sway.mjs)
+                     chains move (bin/sway.mjs)
   --step-hz H        simulate: fixed simulation rate, 1..1000 (default 60; 120 with xpbd)
   --max-substeps N   simulate: steps per frame at most, 1..64 (default 4; 8 with xpbd)
   --integrator I     simulate: vrm (default) or xpbd (default rate 120 Hz)

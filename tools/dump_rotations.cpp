@@ -9,7 +9,7 @@
 //
 // "-" for the metadata means none; "-" for the hash means the GLB's own content hash. Frame k
 // (1..frames) sets the drivers for time k / fps and steps by 1 / fps. --drive sway is the motion
-// of scripts/lib/sway.mjs, written out below with the same operations in the same order (keep the
+// of bin/sway.mjs, written out below with the same operations in the same order (keep the
 // two in step); --drive rest (the default) leaves the drivers at their rest world matrices.
 // Floats are printed with 9 significant digits, which reads back as the same float.
 // --vrm reads the file as a VRM avatar (loadVrm; the metadata and hash arguments are ignored).
@@ -38,7 +38,7 @@ using namespace springbones;
 
 constexpr double kPi = 3.141592653589793;
 
-// scripts/lib/sway.mjs sine(): Bhaskara I's approximation of sin, correctly rounded operations only.
+// bin/sway.mjs sine(): Bhaskara I's approximation of sin, correctly rounded operations only.
 double sine(double x) {
   const double two_pi = 2 * kPi;
   double r = x - two_pi * std::floor(x / two_pi);
@@ -51,7 +51,7 @@ double sine(double x) {
   return (sign * (16 * p)) / (5 * kPi * kPi - 4 * p);
 }
 
-// scripts/lib/sway.mjs swayTransform().
+// bin/sway.mjs swayTransform().
 void swayTransform(double t, double out[16]) {
   const double u = 0.2 * sine(2 * kPi * 0.7 * t);
   const double v = 0.15 * sine(2 * kPi * 1.3 * t + 1);
@@ -78,7 +78,7 @@ void swayTransform(double t, double out[16]) {
   out[15] = 1;
 }
 
-// scripts/lib/sway.mjs swayDrivers().
+// bin/sway.mjs swayDrivers().
 void swayDrivers(const std::vector<float>& rest, float* out, double t) {
   double s[16];
   swayTransform(t, s);

@@ -2,7 +2,7 @@
 //
 // Not a test: it prints numbers for the load targets. Usage:
 //   springbones_load_report [chains] [joints per chain] [runs]      (default 1000 5 9)
-// The wearable is the one scripts/bench.mjs builds (wearableGltf): node 0 "root"; per chain a
+// The wearable is the one scripts/benchmarks/bench.mjs builds (wearableGltf): node 0 "root"; per chain a
 // parent "chain_c" and joints "springbone_c_j" each 0.05 below the previous, then an end node; a
 // springBones entry for every joint (stiffness 1, gravityPower 0.5, drag 0.4, the first isRoot).
 // 1000 x 5 is 7,001 nodes and 5,000 joints; 20000 x 5 is 140,001 nodes and 100,000 joints.

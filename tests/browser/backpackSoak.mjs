@@ -2,7 +2,7 @@
 // tests/scenarios/backpack_soak.mjs in batches, and after each batch forces a garbage collection
 // (DevTools protocol) and samples WebAssembly memory, the module's heap in use, its live handles,
 // the objects left on the avatar and the JS heap. Used by tests/browser/backpack_soak.test.mjs
-// (a short run) and scripts/soak.mjs (`scripts/bench --soak`, the full run).
+// (a short run) and scripts/benchmarks/soak.mjs (`scripts/bench --soak`, the full run).
 import { openPage } from './demoPage.mjs';
 
 /**

@@ -1,4 +1,4 @@
-// One answer everywhere: 1,000 frames of a rig under the scripted sway of scripts/lib/sway.mjs,
+// One answer everywhere: 1,000 frames of a rig under the scripted sway of bin/sway.mjs,
 // hashed. tools/dump_rotations.cpp --hash computes the same hash natively; Node
 // (tests/wasm/frame_hash.test.mjs) and Chromium (tests/browser/frame_hash.test.mjs) run this
 // module on the WebAssembly build, and the tests compare the three.
@@ -6,7 +6,7 @@
 // The hash is FNV-1a 64 over the bytes (little-endian, as WebAssembly memory holds them) of every
 // frame's rotations, so any difference in any bit of any frame changes it.
 
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 
 const kOffset = 14695981039346656037n;
 const kPrime = 1099511628211n;

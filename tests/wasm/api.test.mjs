@@ -7,7 +7,7 @@ import { before, describe, test } from 'node:test';
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { gltfOf } from '../../scripts/lib/fixtures/glb.mjs';
 import { contentHashOf, fixture, loadFixtureRig, metadataKeyOf, springRig, swayFrames } from './helpers.mjs';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 
 let sb;
 before(async () => {

@@ -12,7 +12,7 @@ import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { fixture, fixturesDir, metadataKeyOf, realFixturesDir } from './helpers.mjs';
 import { glbOfJson } from '../../scripts/lib/fixtures/glb.mjs';
 import { decodeTyped } from './typed_decode.mjs';
-import { babylonKit } from './babylon_kit.mjs';
+import { babylonKit } from '../adapters/babylon_kit.mjs';
 import { registerSpringBonesLoaderExtension, springBonesOf } from '../../web/babylon/index.js';
 import { loadReaders } from '../../web/readers.js';
 import { createSpringBones } from '../../web/springbones.js';

@@ -4,7 +4,7 @@ import { existsSync, readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const fixturesDir = join(root, 'tests', 'fixtures');
@@ -77,7 +77,7 @@ export function loadFixtureRig(sb, name) {
 }
 
 /**
- * Sways an instance's drivers about the pose they hold now (scripts/lib/sway.mjs) for `frames`
+ * Sways an instance's drivers about the pose they hold now (bin/sway.mjs) for `frames`
  * frames at `fps`, stepping after each; returns that rest pose, to sway on from.
  */
 export function swayFrames(instance, frames, fps = 60) {

@@ -11,7 +11,7 @@ import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { SpringBonesGroup } from '../../web/three/springBonesThree.js';
 import { frameHash, frameHashCases } from '../scenarios/frame_hash.mjs';
 import { nativeFrameHashes } from '../scenarios/native_frame_hashes.mjs';
-import { babylonKit, readAsset } from './babylon_kit.mjs';
+import { babylonKit, readAsset } from '../adapters/babylon_kit.mjs';
 import { fixture, root, springRig } from './helpers.mjs';
 import { loadSampleWearable } from './sample_wearable.mjs';
 

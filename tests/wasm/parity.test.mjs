@@ -11,7 +11,7 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 import { glbOfDoc } from '../../scripts/lib/fixtures/glb.mjs';
 import { fixturesDir, metadataKeyOf, root, springRig } from './helpers.mjs';
 

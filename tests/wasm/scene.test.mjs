@@ -5,7 +5,7 @@ import { readFile } from 'node:fs/promises';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 import { loadFixtureRig, springRig } from './helpers.mjs';
 
 let sb;

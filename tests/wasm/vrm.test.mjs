@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 import { fixture, springRig } from './helpers.mjs';
 
 let sb;

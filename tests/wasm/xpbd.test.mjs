@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
-import { swayDrivers } from '../../scripts/lib/sway.mjs';
+import { swayDrivers } from '../../bin/sway.mjs';
 import { loadFixtureRig, springRig } from './helpers.mjs';
 
 let sb;

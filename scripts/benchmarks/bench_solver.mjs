@@ -5,10 +5,10 @@
 // build's .wasm (the glue is the same when only the core changed), and run the two in turn,
 // several processes each.
 //
-//   node scripts/bench_solver.mjs [--wasm path/to/springbones_wasm.wasm] [A C J]   (after scripts/build wasm)
+//   node scripts/benchmarks/bench_solver.mjs [--wasm path/to/springbones_wasm.wasm] [A C J]   (after scripts/build wasm)
 import { readFileSync } from 'node:fs';
 import { performance } from 'node:perf_hooks';
-import { createSpringBones } from '../web/springbones.js';
+import { createSpringBones } from '../../web/springbones.js';
 import { median, rigName, setupSolver, wearableGltf } from './lib/bench_rigs.mjs';
 
 const args = process.argv.slice(2);

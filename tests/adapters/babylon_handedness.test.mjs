@@ -10,7 +10,7 @@ import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
 import { qaxis, qmul } from '../../scripts/lib/fixtures/vec.mjs';
 import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 
 const DT = 1 / 60;
 const FRAMES = 150;

@@ -3,8 +3,8 @@
 //   - the conditions: Chromium version, cross-origin isolation, the timer step and the
 //     requestAnimationFrame interval the page observed, CPUs, load average;
 //   - per frame, rAF-paced and in a tight loop, three-vrm, our solver path and our adapter on the
-//     rigs of scripts/lib/bench_rigs.mjs (page: scripts/bench_pages/frames.html);
-//   - the cold start on the demo's sample (pages: scripts/bench_pages/cold_*.html, served without
+//     rigs of scripts/benchmarks/lib/bench_rigs.mjs (page: scripts/benchmarks/pages/frames.html);
+//   - the cold start on the demo's sample (pages: scripts/benchmarks/pages/cold_*.html, served without
 //     cross-origin isolation, as a marketplace's preview iframe is), each sample in a new browser
 //     with a new profile, on three links emulated through the DevTools protocol
 //     (Network.emulateNetworkConditions): none (LAN), 4G and slow 4G; per library and link the
@@ -25,10 +25,10 @@ import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { brotliCompressSync, constants as zlibConstants } from 'node:zlib';
 import { chromium } from 'playwright-core';
-import { startServer } from '../serve.mjs';
+import { startServer } from '../../serve.mjs';
 import { median, rigName } from './bench_rigs.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..', '..');
 const chromiumPath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium';
 const COLD_SAMPLES = Number(process.env.BENCH_COLD_SAMPLES ?? 5);
 // The links of the cold start. Download and RTT as the issue states them (9 Mbps / 85 ms, 1.6 Mbps
@@ -83,7 +83,7 @@ async function open(browser, url, ready) {
 async function perFrame(base, log) {
   const browser = await freshBrowser();
   try {
-    await open(browser, `${base}scripts/bench_pages/frames.html`, 'benchFramesReady');
+    await open(browser, `${base}scripts/benchmarks/pages/frames.html`, 'benchFramesReady');
     const { page } = browser;
     const conditions = await page.evaluate(() => window.benchFrames.conditions());
     const rigs = await page.evaluate(() => window.benchFrames.rigs);
@@ -158,7 +158,7 @@ function compressedKB(paths) {
  * the server's gzip copies.
  */
 async function coldStarts(base, log) {
-  const pageUrl = (page) => `${base}scripts/bench_pages/cold_${page}.html`;
+  const pageUrl = (page) => `${base}scripts/benchmarks/pages/cold_${page}.html`;
   for (const page of ['springbones', 'threevrm']) {
     const browser = await freshBrowser();
     try {

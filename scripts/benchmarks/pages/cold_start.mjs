@@ -14,7 +14,7 @@
 // As a preview should, the page draws before the library is ready: the first animation frame after
 // wear() sets the performance mark 'first-drawable-frame'; the first frame after the simulation is
 // ready steps it once and sets 'first-simulated-frame' (startTime: milliseconds since navigation).
-// When the library starts is the page's fetch order, the query's `fetch` (scripts/bench_fetch_order.mjs
+// When the library starts is the page's fetch order, the query's `fetch` (scripts/benchmarks/bench_fetch_order.mjs
 // compares them; the preload orders also need the link cold_springbones.html adds):
 //   after-draw       once the first drawable frame is set (the default): its bytes never share the
 //                    link with the GLBs'
@@ -28,7 +28,7 @@
 import { Group } from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
-const ASSETS = new URL('../../web/demo/assets/', import.meta.url);
+const ASSETS = new URL('../../../web/demo/assets/', import.meta.url);
 const WEARABLE = 'hair_wearable.glb';
 
 async function fetchBytes(name) {

@@ -9,8 +9,8 @@
 // the VRM extensions the same in each of their containers. Each input is built to its size from a
 // repeated unit, so N and 4N differ only in how many units they hold.
 import { performance } from 'node:perf_hooks';
-import { createSpringBones } from '../web/springbones.js';
-import { glbOfJson } from './lib/fixtures/glb.mjs';
+import { createSpringBones } from '../../web/springbones.js';
+import { glbOfJson } from '../lib/fixtures/glb.mjs';
 
 const SMALL = 256 * 1024, LARGE = 4 * SMALL, MAX_RATIO = 6, TARGET_MS = 100;
 // A run of the small input longer than this is already too slow to be linear at 1 MiB (4x would

@@ -1,5 +1,5 @@
 // The rigs and per-frame work of the springbones vs three-vrm benchmark, shared by the Node run
-// (scripts/bench.mjs) and the Chromium page (scripts/bench_pages/frames.html), so that both
+// (scripts/benchmarks/bench.mjs) and the Chromium page (scripts/benchmarks/pages/frames.html), so that both
 // measure the same thing by construction. Runs in either: `three` and
 // `@pixiv/three-vrm-springbone` are bare specifiers (node_modules in Node, an import map in the
 // page), the adapter a relative import, and springbones itself is passed in as `sb`.
@@ -9,7 +9,7 @@
 // 0.5, drag 0.4; one step per frame (dt = 1/60).
 import * as THREE from 'three';
 import { VRMSpringBoneJoint, VRMSpringBoneManager } from '@pixiv/three-vrm-springbone';
-import { SpringBonesGroup, attachWearable } from '../../web/three/springBonesThree.js';
+import { SpringBonesGroup, attachWearable } from '../../../web/three/springBonesThree.js';
 
 /** [A, C, J]; the 5,000-joint rig (100x10x5) is the one the speedups quote. */
 export const RIGS = [[1, 3, 5], [1, 10, 5], [10, 10, 5], [100, 10, 5], [100, 20, 10]];

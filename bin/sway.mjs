@@ -1,5 +1,5 @@
-// The scripted driver motion of `scripts/springbones.mjs simulate --drive sway` and of the
-// native/WebAssembly parity test. tools/dump_rotations.cpp computes the very same numbers:
+// The scripted driver motion of `springbones simulate --drive sway` (bin/springbones-cli.mjs) and
+// of the native/WebAssembly parity test. tools/dump_rotations.cpp computes the very same numbers:
 // keep the two in step.
 //
 // The whole avatar sways: every driver's world matrix is S(t) x rest, where S(t) turns the avatar

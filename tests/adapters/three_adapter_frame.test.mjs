@@ -9,7 +9,7 @@ import { fileURLToPath } from 'node:url';
 import { AnimationMixer, Euler, Quaternion, Scene } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { createSpringBones } from '../../web/springbones.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 
 const DT = 1 / 60;

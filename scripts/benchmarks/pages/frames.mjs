@@ -1,7 +1,7 @@
-// The per-frame page: for a rig of scripts/lib/bench_rigs.mjs and a library, the cost of a frame
+// The per-frame page: for a rig of scripts/benchmarks/lib/bench_rigs.mjs and a library, the cost of a frame
 // paced by requestAnimationFrame (the work inside each callback, timed in batches) and in a tight
-// loop (as the Node benchmark). Exposes window.benchFrames for scripts/lib/bench_browser.mjs.
-import { createSpringBones } from '../../web/springbones.js';
+// loop (as the Node benchmark). Exposes window.benchFrames for scripts/benchmarks/lib/bench_browser.mjs.
+import { createSpringBones } from '../../../web/springbones.js';
 import { RIGS, median, setupAdapter, setupSolver, setupThreeVrm, tightLoop, tightLoopSplit, wearableGltf } from '../lib/bench_rigs.mjs';
 import { conditions, requireIsolation } from './conditions.mjs';
 

@@ -6,7 +6,7 @@
 // error to window.benchError).
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
-const ASSETS = new URL('../../web/demo/assets/', import.meta.url);
+const ASSETS = new URL('../../../web/demo/assets/', import.meta.url);
 const WEARABLE = 'hair_wearable.glb';
 const IDLE_MS = 1000;
 

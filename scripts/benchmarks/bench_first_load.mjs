@@ -1,13 +1,13 @@
 // The first loadRig of a preview in Chromium after an idle second, with the API's idle warm-up
 // (web/warm_up.js) and without it: each sample a new browser with a new profile (no code cache),
 // the two pages interleaved, unthrottled. Prints the medians (and ranges) of loadRig,
-// createInstance and the first step. Page: scripts/bench_pages/first_load.html.
+// createInstance and the first step. Page: scripts/benchmarks/pages/first_load.html.
 //
-//   node scripts/bench_first_load.mjs [samples]      (after scripts/build wasm; default 7)
+//   node scripts/benchmarks/bench_first_load.mjs [samples]      (after scripts/build wasm; default 7)
 import { loadavg } from 'node:os';
 import { freshBrowser } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
-import { startServer } from './serve.mjs';
+import { startServer } from '../serve.mjs';
 
 const samples = Number(process.argv[2] ?? 7);
 if (!Number.isInteger(samples) || samples < 1) throw new Error(`samples must be a positive integer, got ${process.argv[2]}`);
@@ -23,7 +23,7 @@ try {
       const browser = await freshBrowser();
       try {
         version ??= browser.version;
-        await browser.page.goto(`${base}scripts/bench_pages/first_load.html?warmup=${mode}`);
+        await browser.page.goto(`${base}scripts/benchmarks/pages/first_load.html?warmup=${mode}`);
         await browser.page.waitForFunction(() => window.firstLoad !== undefined || window.benchError !== undefined);
         const { result, error } = await browser.page.evaluate(() => ({ result: window.firstLoad, error: window.benchError }));
         if (error || browser.errors.length) throw new Error(error ?? browser.errors.join('\n'));

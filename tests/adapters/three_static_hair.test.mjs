@@ -11,7 +11,7 @@ import { fileURLToPath } from 'node:url';
 import { Scene } from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { createSpringBones } from '../../web/springbones.js';
 import { SpringBonesLoaderPlugin, attachWearable, wearableNodes } from '../../web/three/index.js';
 

@@ -2,13 +2,13 @@
 // the avatar -> 30 frames -> take it off and dispose in headless Chromium
 // (tests/browser/backpackSoak.mjs), printing a sample every 100 cycles and judging them as the CI
 // test does (tests/browser/soakBounds.mjs). Exit 1 when memory, handles or the avatar are not flat.
-//   node scripts/soak.mjs [cycles]
-import { runBackpackSoak } from '../tests/browser/backpackSoak.mjs';
-import { soakProblems } from '../tests/browser/soakBounds.mjs';
+//   node scripts/benchmarks/soak.mjs [cycles]
+import { runBackpackSoak } from '../../tests/browser/backpackSoak.mjs';
+import { soakProblems } from '../../tests/browser/soakBounds.mjs';
 
 const cycles = Number(process.argv[2] ?? 2000);
 if (!Number.isInteger(cycles) || cycles < 200) {
-  console.error('usage: node scripts/soak.mjs [cycles >= 200]');
+  console.error('usage: node scripts/benchmarks/soak.mjs [cycles >= 200]');
   process.exit(2);
 }
 const started = Date.now();

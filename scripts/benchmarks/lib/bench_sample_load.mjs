@@ -11,7 +11,7 @@ import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
 import { median } from './bench_rigs.mjs';
 
-const ASSETS = new URL('../../web/demo/assets/', import.meta.url);
+const ASSETS = new URL('../../../web/demo/assets/', import.meta.url);
 const SAMPLE_PROCESSES = 7, WARM_LOADS = 200;
 
 function sample() {
@@ -24,7 +24,7 @@ function sample() {
 /** In this process: createSpringBones, the first loadRig, then WARM_LOADS more. */
 async function measureInProcess(warmLoads) {
   const { bytes, springBones, contentHash } = sample();
-  const { createSpringBones } = await import('../../web/springbones.js');
+  const { createSpringBones } = await import('../../../web/springbones.js');
   let t = performance.now();
   const sb = await createSpringBones();
   const createMs = performance.now() - t;

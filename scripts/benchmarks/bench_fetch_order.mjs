@@ -1,15 +1,15 @@
 // When should a cold preview start the module's download? Opens the cold springbones page
-// (scripts/bench_pages/cold_springbones.html) once per fetch order and the three-vrm page beside
+// (scripts/benchmarks/pages/cold_springbones.html) once per fetch order and the three-vrm page beside
 // it, each visit in a new Chromium with a new profile, on the emulated links of the benchmark
 // (slow 4G and 4G by default), interleaved, and prints per order the medians of: the first
 // drawable frame and the first simulated frame, each as the gap to three-vrm's on the same link,
 // and the longest main-thread task. The orders are cold_start.mjs's.
 //
-//   node scripts/bench_fetch_order.mjs [samples] [order...]    (scripts/bench --fetch-order)
+//   node scripts/benchmarks/bench_fetch_order.mjs [samples] [order...]    (scripts/bench --fetch-order)
 // Environment: BENCH_LINKS (comma-separated link names, default "slow 4G,4G"), CHROMIUM_PATH.
 import { coldVisit, freshBrowser, LINKS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
-import { startServer } from './serve.mjs';
+import { startServer } from '../serve.mjs';
 
 const ORDERS = ['after-draw', 'at-wear', 'after-downloads', 'with-glbs', 'with-glbs-low', 'preload', 'preload-low'];
 const samples = Number(process.argv[2] ?? 5);
@@ -27,8 +27,8 @@ const links = linkNames.map((name) => {
 
 const { server, url: base } = await startServer({ port: 0, isolated: false });
 const pages = [
-  ...orders.map((order) => ({ key: order, url: `${base}scripts/bench_pages/cold_springbones.html?fetch=${order}` })),
-  { key: 'three-vrm', url: `${base}scripts/bench_pages/cold_threevrm.html` },
+  ...orders.map((order) => ({ key: order, url: `${base}scripts/benchmarks/pages/cold_springbones.html?fetch=${order}` })),
+  { key: 'three-vrm', url: `${base}scripts/benchmarks/pages/cold_threevrm.html` },
 ];
 const results = {};  // link -> page key -> [result]
 try {

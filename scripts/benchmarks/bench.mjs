@@ -1,7 +1,7 @@
 // The benchmark: springbones against @pixiv/three-vrm-springbone on the same synthetic
-// rigs (scripts/lib/bench_rigs.mjs), in Node and then in Chromium. Run through scripts/bench
+// rigs (scripts/benchmarks/lib/bench_rigs.mjs), in Node and then in Chromium. Run through scripts/bench
 // (which sets up and builds first). Prints the Node table, writes build/bench/<timestamp>.json and
-// build/bench/latest.json, then runs the Chromium benchmark (scripts/lib/bench_browser.mjs), whose
+// build/bench/latest.json, then runs the Chromium benchmark (scripts/benchmarks/lib/bench_browser.mjs), whose
 // summary is the last line:
 //   first visit: drawable +<ms> ms; simulated slow 4G +<ms> ms, 4G +<ms> ms, LAN +<ms> ms; longest task <ms> ms; bytes +<KB> KB; second visit <ms> vs <ms> ms; 5000 joints: solver <x>x, adapter <y>x
 // `--browser` runs the Chromium part alone; `--node` the Node part alone.
@@ -14,12 +14,12 @@ import { loadavg } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
-import { createSpringBones } from '../web/springbones.js';
+import { createSpringBones } from '../../web/springbones.js';
 import { RIGS, median, rigName, setupAdapter, setupSolver, setupThreeVrm, tightLoop, tightLoopSplit, wearableGltf } from './lib/bench_rigs.mjs';
 import { runBrowserBench } from './lib/bench_browser.mjs';
 import { measureSampleLoad } from './lib/bench_sample_load.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const FRAMES = Number(process.env.BENCH_FRAMES ?? 600), RUNS = 5;
 const LOOP = { frames: FRAMES, runs: RUNS };
 const mode = process.argv[2] ?? '';

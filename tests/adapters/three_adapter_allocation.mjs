@@ -19,7 +19,7 @@
 import { getHeapSpaceStatistics } from 'node:v8';
 import { AnimationMixer, Scene } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 
 const DT = 1 / 60;

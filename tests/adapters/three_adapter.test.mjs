@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { describe, test } from 'node:test';
 import { AnimationMixer, Group, Matrix4, Quaternion, Scene, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { SpringBonesHelper, attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
 
 

@@ -7,7 +7,7 @@ import { describe, test } from 'node:test';
 import { AnimationMixer, Scene } from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 import { SpringBonesLoaderPlugin } from '../../web/three/springBonesLoaderPlugin.js';
 

@@ -3,14 +3,14 @@
 // fall into a new balance), settle(seconds) on a fresh instance each run, alone and with the
 // demo's body colliders. Prints the steps it ran and the fastest, median and 90th percentile of
 // RUNS runs after WARMUP. A benchmark, never a test (no timing in
-// tests): `node scripts/bench_settle.mjs [seconds]` after `scripts/build wasm`.
+// tests): `node scripts/benchmarks/bench_settle.mjs [seconds]` after `scripts/build wasm`.
 import { readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
-import { createSpringBones } from '../web/springbones.js';
+import { createSpringBones } from '../../web/springbones.js';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const assets = join(root, 'web', 'demo', 'assets');
 const seconds = Number(process.argv[2] ?? 2);
 const WARMUP = 20, RUNS = 200;

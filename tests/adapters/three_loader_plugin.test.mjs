@@ -7,7 +7,7 @@ import { before, describe, test } from 'node:test';
 import { Scene } from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { loadSampleWearable } from './sample_wearable.mjs';
+import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 import { SpringBonesError } from '../../web/springbones.js';
 import { SpringBonesLoaderPlugin, SpringBonesWearable, springBonesOf } from '../../web/three/index.js';
 

@@ -6,17 +6,17 @@
 // springs take over once it is there.
 import { coldStart } from './cold_start.mjs';
 
-const MODULE = new URL('../../web/dist/springbones_wasm.wasm', import.meta.url);
+const MODULE = new URL('../../../web/dist/springbones_wasm.wasm', import.meta.url);
 // The orders that start the module after the drawing import the API then too: before the drawing
 // the page needs the adapter alone (attachWearable), so the API's bytes wait with the module's.
 const ORDER = new URLSearchParams(location.search).get('fetch') ?? 'after-draw';
 const API_BEFORE_DRAWING = !['after-draw', 'after-downloads', 'at-wear'].includes(ORDER);
-const importApi = () => import('../../web/springbones.js');
+const importApi = () => import('../../../web/springbones.js');
 
 coldStart({
   name: 'springbones',
   importLibrary: async () => {
-    const [api, adapter] = await Promise.all([API_BEFORE_DRAWING ? importApi() : null, import('../../web/three/springBonesThree.js')]);
+    const [api, adapter] = await Promise.all([API_BEFORE_DRAWING ? importApi() : null, import('../../../web/three/springBonesThree.js')]);
     return { api, adapter };
   },
   start: async (lib, { priority }) => {
