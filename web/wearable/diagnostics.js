@@ -2,7 +2,7 @@
 // adapter, the Babylon drop-in and the demo's creator panel. Each case below leaves a wearable
 // drawn, with no exception, and hair that stays still: without a word the user sees a static
 // ponytail and no reason. docs/diagnostics.md is the table people read; this file is the one the
-// code reads, and tests/wasm/diagnostics.test.mjs holds the two together.
+// code reads, and tests/adapters/diagnostics.test.mjs holds the two together.
 //
 // A diagnostic is { code, message, fix, path }: `message` says what is wrong and what it does to
 // the hair, `fix` what to change. Both are written once per code, here, from the facts the engine

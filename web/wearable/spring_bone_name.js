@@ -1,7 +1,7 @@
 // The one JavaScript home of the rule that makes a glTF node a spring-bone candidate: its name
 // contains "springbone", with the 26 ASCII letters compared without case and no other character
 // folded. The core's discovery (isSpringBoneName in src/loading/rig_builder.cpp) applies the same
-// rule, and tests/wasm/spring_bone_name.test.mjs holds the two together on names where a wider
+// rule, and tests/adapters/spring_bone_name.test.mjs holds the two together on names where a wider
 // folding would differ: 'ſpringbone' (U+017F folds to "s" in Unicode), 'SPRİNGBONE' (U+0130
 // lower-cases to "i" plus a combining dot), full-width letters.
 //
