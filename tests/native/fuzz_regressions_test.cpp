@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../fuzz/fuzz_harness.h"
+#include "test_helpers.h"
 
 namespace springbones {
 namespace {
@@ -21,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using Harness = std::string (*)(const std::uint8_t*, std::size_t);
 
-const fs::path kFuzzDir = fs::path(SPRINGBONES_FIXTURES_DIR) / ".." / "fuzz";
+const fs::path kFuzzDir = fs::path(test::fixturesDir()) / ".." / "fuzz";
 
 // Runs every file of corpus/<target> and regressions/<target>; returns how many ran.
 std::size_t replay(const std::string& target, Harness harness) {

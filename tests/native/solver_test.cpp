@@ -417,7 +417,7 @@ TEST(Solver, GeneralMatrixPathAgreesWithTheSimilarityFastPath) {
 // frame. tests/fixtures/vrm_reference.json is written by scripts/make_vrm_reference.mjs.
 
 json readFixtureJson(const std::string& name) {
-  std::ifstream in(std::string(SPRINGBONES_FIXTURES_DIR) + "/" + name);
+  std::ifstream in(test::fixturePath(name));
   std::stringstream buffer;
   buffer << in.rdbuf();
   return json::parse(buffer.str());

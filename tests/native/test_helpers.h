@@ -25,7 +25,10 @@ namespace test {
 // ---------------------------------------------------------------------------------------------
 // Fixtures
 
-inline std::string fixturePath(const std::string& name) { return std::string(SPRINGBONES_FIXTURES_DIR) + "/" + name; }
+/// tests/fixtures of this checkout (fixtures_dir.cpp).
+const char* fixturesDir();
+
+inline std::string fixturePath(const std::string& name) { return std::string(fixturesDir()) + "/" + name; }
 
 /// The bytes of a fixture file; fails the current test (and returns nothing) when it is missing.
 inline std::vector<std::uint8_t> readFixture(const std::string& name) {

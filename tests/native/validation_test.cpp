@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "creator_tools/validation.h"
+#include "test_helpers.h"
 
 namespace springbones {
 namespace {
@@ -711,7 +712,7 @@ json reviveNonFinite(const json& value) {
 }
 
 json loadCases() {
-  std::ifstream file(SPRINGBONES_FIXTURES_DIR "/validation_cases.json", std::ios::binary);
+  std::ifstream file(test::fixturePath("validation_cases.json"), std::ios::binary);
   std::stringstream text;
   text << file.rdbuf();
   return json::parse(text.str(), nullptr, false);
