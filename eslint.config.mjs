@@ -31,9 +31,4 @@ export default [
       'no-restricted-syntax': ['error', ...kUnderscoreMembers.map((selector) => ({ selector, message: kPrivateMessage }))],
     },
   },
-  {
-    // The adapters predate the rule; the engine-neutral wearable layer (issue 37) rewrites them.
-    files: ['web/three/**', 'web/babylon/**'],
-    rules: { 'no-restricted-syntax': 'off' },
-  },
 ];

@@ -102,7 +102,7 @@ for (const which of kBabylonVersions) {
     for (const rightHanded of [false, true]) {
       test(`grab's point is three numbers, checked before mirroring (${rightHanded ? 'right' : 'left'}-handed scene)`, async () => {
         const { scene, simulation } = await started({ rightHanded });
-        const instance = () => simulation.rigOf(hash) && simulation._wearables.get(hash).instance;
+        const instance = () => simulation.rigOf(hash) && simulation.internalsForTests.wearable(hash).instance;
         for (const bad of [['1', 0, 0], [null, 0, 0], [true, 0, 0], [1, 2, 3, 4], [1, 2], { x: '5', y: 0, z: 0 }, { x: 1, y: 2 }, 'point', null, true]) {
           assert.throws(() => simulation.grab(hash, 0, bad), (e) => e instanceof TypeError && /^grab: point must be \[x, y, z\] or \{x, y, z\}/.test(e.message),
             JSON.stringify(bad));

@@ -47,11 +47,12 @@ async function sampleOwnAllocations(which, { warmup = 20000, frames = 4000 } = {
   // springbones' own scene.step is kept from being inlined into the adapter (with escape analysis
   // off, its WebAssembly call allocates by itself, and inlined it would count as the adapter's):
   // a wrapper V8 never optimizes stands between them (needs --allow-natives-syntax).
-  const sbScene = simulation._sbScene;
+  const internals = simulation.internalsForTests;
+  const sbScene = internals.sbScene;
   const step = sbScene.step.bind(sbScene);
   const wrapper = { step: (dt) => step(dt) };
   new Function('f', '%NeverOptimizeFunction(f)')(wrapper.step);
-  simulation._sbScene = wrapper;
+  internals.sbScene = wrapper;
   // Warm up, give V8's background compiler time to install the optimized code (a loaded machine
   // delays it), then warm up again.
   for (let i = 0; i < warmup; i++) frame();
@@ -66,7 +67,7 @@ async function sampleOwnAllocations(which, { warmup = 20000, frames = 4000 } = {
   for (let i = 0; i < frames; i++) frame();
   const { profile } = await session.post('HeapProfiler.stopSampling');
   session.disconnect();
-  simulation._sbScene = sbScene;
+  internals.sbScene = sbScene;
   simulation.dispose(scene);
   const own = {};
   let total = 0;

@@ -66,6 +66,8 @@ function mirroredGravity(springBones) {
 
 /** One registered wearable: its container's nodes, its rig and instance once the module is there. */
 class RegisteredWearable {
+  #console;
+
   constructor(simulation, scene, container, itemId, skeleton, metadata) {
     this.simulation = simulation;
     this.scene = scene;
@@ -81,13 +83,13 @@ class RegisteredWearable {
     this.restRotations = new Map();  // joint node -> [x, y, z, w] as registered
     this.error = null;
     this.problems = new Map();  // code -> warning: what leaves this wearable's hair still, now
-    this._console = consoleReporter(() => `wearable ${itemId}`);  // once per code per registration
+    this.#console = consoleReporter(() => `wearable ${itemId}`);  // once per code per registration
   }
 
   /** Records a diagnostic (web/wearable/diagnostics.js): in `warnings`, and once on the console. */
   report(found) {
     this.problems.set(found.code, Object.freeze({ ...found, itemId: this.itemId }));
-    this._console(found);
+    this.#console(found);
   }
 
   /** The Babylon node of each rig driver: by glTF index, or by name for a node outside the GLB. */
@@ -100,7 +102,7 @@ class RegisteredWearable {
   /** The springBones as the core is to read it (gravityDir in the scene's space when asked). */
   springBonesForCore() {
     const { springBones } = this.metadata;
-    return this.simulation._gravityInScene && isMirroredScene(this.scene) ? mirroredGravity(springBones) : springBones;
+    return gravityInScene(this.simulation) && isMirroredScene(this.scene) ? mirroredGravity(springBones) : springBones;
   }
 
   /** The models entry the rig read (node name -> parameters), or null. */
@@ -260,7 +262,34 @@ const kGravitySpaces = ['gltf', 'scene'];
 const kNotAModule = 'SpringBoneSimulation: expected the springbones module (createSpringBones()) or a promise of it';
 const isModule = (sb) => typeof sb?.loadRig === 'function' && typeof sb?.createScene === 'function';
 
+// Whether a simulation reads gravityDir in the scene's axes: RegisteredWearable's reach into
+// SpringBoneSimulation's privates, set by its static block.
+let gravityInScene;
+
 export class SpringBoneSimulation {
+  #gravityInScene; #wearables; #stray; #copies; #sb; #moduleError;
+  #sbScene; #scene; #observer; #mirrored; #jumpPending; #frameMs;
+  #frameSeconds; #watchedGroups; #watchedGroupCount; #onGroupPlay; #frame; #pageModule;
+  #inertia; #wind;
+
+  static {
+    gravityInScene = (simulation) => simulation.#gravityInScene;
+  }
+
+  /**
+   * For the adapter's tests only, not API (not in the .d.ts): a registered wearable's internals by
+   * item id (its springbones instance), and the springbones scene, which a test may replace with a
+   * wrapper (tests/adapters/babylon_frame_heap.mjs).
+   */
+  get internalsForTests() {
+    const simulation = this;
+    return {
+      wearable: (itemId) => simulation.#wearables.get(itemId),
+      get sbScene() { return simulation.#sbScene; },
+      set sbScene(scene) { simulation.#sbScene = scene; },
+    };
+  }
+
   /**
    * @param sb the springbones module (createSpringBones()), a promise of it, or nothing: the
    *   simulation then starts the module itself when the first wearable is registered, once per
@@ -276,47 +305,47 @@ export class SpringBoneSimulation {
     if (!kGravitySpaces.includes(space)) {
       throw new RangeError(`SpringBoneSimulation: gravityDirSpace must be one of ${kGravitySpaces.join(', ')}, got ${JSON.stringify(space)}`);
     }
-    this._gravityInScene = space === 'scene';
-    this._wearables = new Map();  // itemId -> RegisteredWearable
-    this._stray = new Map();  // code + itemId -> warning, for calls naming no registered wearable
-    this._copies = new FrameCopies();
-    this._sb = null;
-    this._moduleError = null;
-    this._sbScene = null;
-    this._scene = null;  // the Babylon scene start() hooked
-    this._observer = null;
-    this._mirrored = true;
-    this._jumpPending = false;
-    this._frameMs = null;  // the engine's last frame time and its seconds (see _step)
-    this._frameSeconds = null;
-    this._watchedGroups = new Set();
-    this._watchedGroupCount = -1;
-    this._onGroupPlay = () => {
-      this._jumpPending = true;
+    this.#gravityInScene = space === 'scene';
+    this.#wearables = new Map();  // itemId -> RegisteredWearable
+    this.#stray = new Map();  // code + itemId -> warning, for calls naming no registered wearable
+    this.#copies = new FrameCopies();
+    this.#sb = null;
+    this.#moduleError = null;
+    this.#sbScene = null;
+    this.#scene = null;  // the Babylon scene start() hooked
+    this.#observer = null;
+    this.#mirrored = true;
+    this.#jumpPending = false;
+    this.#frameMs = null;  // the engine's last frame time and its seconds (see #step)
+    this.#frameSeconds = null;
+    this.#watchedGroups = new Set();
+    this.#watchedGroupCount = -1;
+    this.#onGroupPlay = () => {
+      this.#jumpPending = true;
     };
-    this._frame = () => this._step();
+    this.#frame = () => this.#step();
     // Without a module, the page's: requested when the first wearable is registered (its GLB is
     // in by then, so the module's bytes never share the link with it; page_module.js).
-    this._pageModule = sb === undefined || sb === null ? pageModule() : null;
-    const module = sb ?? this._pageModule.promise;
+    this.#pageModule = sb === undefined || sb === null ? pageModule() : null;
+    const module = sb ?? this.#pageModule.promise;
     if (isThenable(module)) {
       /**
        * Resolves once the module is there and every wearable registered so far has its rig;
        * rejects when the module fails to load (each wearable also warns, see `warnings`).
        */
       this.ready = Promise.resolve(module).then(
-        (m) => (isModule(m) ? this._useModule(m) : this._moduleFailed(new TypeError(kNotAModule))),
-        (error) => this._moduleFailed(error));
+        (m) => (isModule(m) ? this.#useModule(m) : this.#moduleFailed(new TypeError(kNotAModule))),
+        (error) => this.#moduleFailed(error));
       this.ready.catch(() => {});  // a page that never awaits it gets no unhandled rejection
     } else {
-      this._useModule(module);
+      this.#useModule(module);
       this.ready = Promise.resolve();
     }
   }
 
   /** The springbones module once it is there, else null. */
   get springBones() {
-    return this._sb;
+    return this.#sb;
   }
 
   /**
@@ -326,33 +355,33 @@ export class SpringBoneSimulation {
    */
   get warnings() {
     const out = [];
-    for (const wearable of this._wearables.values()) out.push(...wearable.problems.values());
-    out.push(...this._stray.values());
+    for (const wearable of this.#wearables.values()) out.push(...wearable.problems.values());
+    out.push(...this.#stray.values());
     return out;
   }
 
-  _useModule(sb) {
+  #useModule(sb) {
     if (!isModule(sb)) throw new TypeError(kNotAModule);
-    this._sb = sb;
-    for (const wearable of this._wearables.values()) this._build(wearable);
-    this._membersChanged();
+    this.#sb = sb;
+    for (const wearable of this.#wearables.values()) this.#build(wearable);
+    this.#membersChanged();
   }
 
-  _moduleFailed(error) {
-    this._moduleError = error;
-    for (const wearable of this._wearables.values()) this._reportModuleError(wearable);
+  #moduleFailed(error) {
+    this.#moduleError = error;
+    for (const wearable of this.#wearables.values()) this.#reportModuleError(wearable);
     throw error;
   }
 
-  _reportModuleError(wearable) {
-    wearable.report(failureDiagnostic(this._moduleError, true));
+  #reportModuleError(wearable) {
+    wearable.report(failureDiagnostic(this.#moduleError, true));
   }
 
   /** Builds a wearable's rig; what the core rejects becomes a warning, the wearable stays at rest. */
-  _build(wearable, options) {
+  #build(wearable, options) {
     try {
-      wearable.build(this._sb, options);
-      if (this._inertia !== undefined) wearable.instance?.setInertia(this._inertia);
+      wearable.build(this.#sb, options);
+      if (this.#inertia !== undefined) wearable.instance?.setInertia(this.#inertia);
       return true;
     } catch (error) {
       wearable.error = error;
@@ -380,28 +409,28 @@ export class SpringBoneSimulation {
       throw new TypeError('registerWearable: scene must be a Babylon Scene');
     }
     if (typeof itemId !== 'string' || itemId === '') throw new TypeError('registerWearable: itemId must be a non-empty string');
-    this._pageModule?.start();
+    this.#pageModule?.start();
     const loaded = springBonesOf(container);  // the loader extension's node list, when it ran
     const metadata = springBonesParams === undefined && loaded?.metadata
       ? { springBones: loaded.metadata.springBones, options: { ...loaded.metadata.options }, key: loaded.metadata.options.contentHash ?? null }
       : resolveMetadata(itemId, springBonesParams);
-    const earlier = this._wearables.get(itemId);
+    const earlier = this.#wearables.get(itemId);
     if (earlier) {
       earlier.dispose();  // first, so its joints are back at rest when the container is read
-      this._wearables.delete(itemId);
-      this._membersChanged();
+      this.#wearables.delete(itemId);
+      this.#membersChanged();
     }
     const skeleton = loaded ? { nodes: loaded.nodes, gltf: loaded.gltf } : readWearableSkeleton(container);
-    this._stray.delete(itemId);
+    this.#stray.delete(itemId);
     const wearable = new RegisteredWearable(this, scene, container, itemId, skeleton, metadata);
     if (metadata.problem) wearable.report(diagnostic(metadata.problem.code, metadata.problem.facts));
-    if (this._sb) {
-      this._build(wearable);
-    } else if (this._moduleError) {
-      this._reportModuleError(wearable);
+    if (this.#sb) {
+      this.#build(wearable);
+    } else if (this.#moduleError) {
+      this.#reportModuleError(wearable);
     }
-    this._wearables.set(itemId, wearable);
-    this._membersChanged();
+    this.#wearables.set(itemId, wearable);
+    this.#membersChanged();
   }
 
   /**
@@ -418,9 +447,9 @@ export class SpringBoneSimulation {
     if (params === null || typeof params !== 'object' || Array.isArray(params)) {
       throw new TypeError('updateParams: params must be an object of node name -> parameters');
     }
-    const wearable = this._wearables.get(itemId);
+    const wearable = this.#wearables.get(itemId);
     if (!wearable) {
-      this._reportStray(itemId, 'updateParams');
+      this.#reportStray(itemId, 'updateParams');
       return;
     }
     const key = wearable.metadata.key ?? String(itemId);
@@ -428,31 +457,31 @@ export class SpringBoneSimulation {
     const before = wearable.metadata;
     wearable.metadata = { ...before, springBones, options, key };
     wearable.problems.delete('springbones-ambiguous');  // the entry is named now
-    if (this._sb && !this._build(wearable, { carry: true })) {
+    if (this.#sb && !this.#build(wearable, { carry: true })) {
       wearable.metadata = before;  // the previous rig keeps running
       return;
     }
-    this._membersChanged();
+    this.#membersChanged();
   }
 
   /** unknown-item for a call that named no registered wearable: once per id. */
-  _reportStray(itemId, call) {
+  #reportStray(itemId, call) {
     const key = String(itemId);
-    if (this._stray.has(key)) return;
+    if (this.#stray.has(key)) return;
     const found = diagnostic('unknown-item', { call, itemId: key });
-    this._stray.set(key, Object.freeze({ ...found, itemId: key }));
+    this.#stray.set(key, Object.freeze({ ...found, itemId: key }));
     consoleReporter(() => `wearable ${key}`)(found);
   }
 
   /** Steps every registered wearable once per frame, before each render of `scene`. Idempotent. */
   start(scene) {
-    if (this._observer) return;
+    if (this.#observer) return;
     if (scene === null || typeof scene !== 'object' || !scene.onBeforeRenderObservable) {
       throw new TypeError('start: scene must be a Babylon Scene');
     }
-    this._scene = scene;
-    this._mirrored = isMirroredScene(scene);
-    this._observer = scene.onBeforeRenderObservable.add(this._frame);
+    this.#scene = scene;
+    this.#mirrored = isMirroredScene(scene);
+    this.#observer = scene.onBeforeRenderObservable.add(this.#frame);
   }
 
   /**
@@ -460,7 +489,7 @@ export class SpringBoneSimulation {
    * current drivers. For an avatar swap.
    */
   reset(itemId) {
-    for (const wearable of this._selected(itemId, 'reset')) wearable.instance?.reset();
+    for (const wearable of this.#selected(itemId, 'reset')) wearable.instance?.reset();
   }
 
   /**
@@ -471,12 +500,12 @@ export class SpringBoneSimulation {
    * @throws RangeError for seconds out of range
    */
   settle(itemId, seconds) {
-    const settling = this._selected(itemId, 'settle').filter((wearable) => wearable.instance);
+    const settling = this.#selected(itemId, 'settle').filter((wearable) => wearable.instance);
     if (settling.length === 0) return 0;
-    this._copies.readDrivers(this._mirrored);
+    this.#copies.readDrivers(this.#mirrored);
     let most = 0;
     for (const wearable of settling) most = Math.max(most, wearable.instance.settle(seconds));
-    this._copies.writeRotations();
+    this.#copies.writeRotations();
     return most;
   }
 
@@ -494,14 +523,14 @@ export class SpringBoneSimulation {
     if (p.length !== 3 || !p.every((v) => typeof v === 'number')) {
       throw new TypeError(`grab: point must be [x, y, z] or {x, y, z}, three numbers in Babylon's world, got ${describeValue(point)}`);
     }
-    const [wearable] = this._selected(itemId, 'grab');
+    const [wearable] = this.#selected(itemId, 'grab');
     if (!wearable?.instance) return;
-    wearable.instance.grab(joint, [this._mirrored ? -p[0] : p[0], p[1], p[2]]);
+    wearable.instance.grab(joint, [this.#mirrored ? -p[0] : p[0], p[1], p[2]]);
   }
 
   /** Lets go of what grab() holds, on every wearable (or itemId's): the hair swings back. */
   release(itemId) {
-    for (const wearable of this._selected(itemId, 'release')) wearable.instance?.release();
+    for (const wearable of this.#selected(itemId, 'release')) wearable.instance?.release();
   }
 
   /**
@@ -510,7 +539,7 @@ export class SpringBoneSimulation {
    * whipping after it. An animation group starting to play does this by itself.
    */
   jump(itemId) {
-    for (const wearable of this._selected(itemId, 'jump')) if (wearable.instance) carryAcrossJump(wearable.instance);
+    for (const wearable of this.#selected(itemId, 'jump')) if (wearable.instance) carryAcrossJump(wearable.instance);
   }
 
   /**
@@ -520,8 +549,8 @@ export class SpringBoneSimulation {
    * @throws TypeError / RangeError for a bad wind once the module is there
    */
   setWind(wind) {
-    if (this._sb) this._sceneFor().setWind(wind);
-    this._wind = wind;
+    if (this.#sb) this.#sceneFor().setWind(wind);
+    this.#wind = wind;
   }
 
   /**
@@ -533,13 +562,13 @@ export class SpringBoneSimulation {
     if (!(typeof value === 'number' && value >= 0 && value <= 1)) {
       throw new RangeError(`setInertia: value must be a number in [0, 1], got ${value}`);
     }
-    for (const wearable of this._wearables.values()) wearable.instance?.setInertia(value);
-    this._inertia = value;
+    for (const wearable of this.#wearables.values()) wearable.instance?.setInertia(value);
+    this.#inertia = value;
   }
 
   /** The rig of a registered wearable (null before the module is there or on a load error). */
   rigOf(itemId) {
-    return this._wearables.get(itemId)?.rig ?? null;
+    return this.#wearables.get(itemId)?.rig ?? null;
   }
 
   /**
@@ -554,46 +583,46 @@ export class SpringBoneSimulation {
       throw new TypeError(`dispose: scene must be a Babylon Scene or left out, got ${describeValue(scene)}`);
     }
     // The hook is on the scene start() was given, whichever scene the page names here.
-    if (this._observer) this._scene.onBeforeRenderObservable.remove(this._observer);
-    this._observer = null;
-    this._scene = null;
-    for (const group of this._watchedGroups) group.onAnimationGroupPlayObservable.removeCallback(this._onGroupPlay);
-    this._watchedGroups.clear();
-    this._watchedGroupCount = -1;
-    this._jumpPending = false;
-    for (const wearable of this._wearables.values()) wearable.dispose();
-    this._wearables.clear();
-    this._stray.clear();
-    this._copies.set([]);
-    this._sbScene?.dispose();
-    this._sbScene = null;  // made again by the next registration
+    if (this.#observer) this.#scene.onBeforeRenderObservable.remove(this.#observer);
+    this.#observer = null;
+    this.#scene = null;
+    for (const group of this.#watchedGroups) group.onAnimationGroupPlayObservable.removeCallback(this.#onGroupPlay);
+    this.#watchedGroups.clear();
+    this.#watchedGroupCount = -1;
+    this.#jumpPending = false;
+    for (const wearable of this.#wearables.values()) wearable.dispose();
+    this.#wearables.clear();
+    this.#stray.clear();
+    this.#copies.set([]);
+    this.#sbScene?.dispose();
+    this.#sbScene = null;  // made again by the next registration
   }
 
   /** Every wearable, or itemId's; an id not registered warns once (`unknown-item`) and selects none. */
-  _selected(itemId, where) {
-    if (itemId === undefined) return [...this._wearables.values()];
-    const wearable = this._wearables.get(itemId);
+  #selected(itemId, where) {
+    if (itemId === undefined) return [...this.#wearables.values()];
+    const wearable = this.#wearables.get(itemId);
     if (wearable) return [wearable];
-    this._reportStray(itemId, where);
+    this.#reportStray(itemId, where);
     return [];
   }
 
   /** Rebuilds the springbones scene's members and the flat per-frame arrays. */
-  _membersChanged() {
-    if (!this._sb) return;
-    const scene = this._sceneFor();
-    const members = [...this._wearables.values()].filter((w) => w.instance);
+  #membersChanged() {
+    if (!this.#sb) return;
+    const scene = this.#sceneFor();
+    const members = [...this.#wearables.values()].filter((w) => w.instance);
     for (const w of members) scene.add(w.instance);  // disposed instances left by themselves
-    this._copies.set(members);
+    this.#copies.set(members);
   }
 
   /** The springbones scene, made when first needed (and again after dispose), with the wind set. */
-  _sceneFor() {
-    if (this._sbScene === null) {
-      this._sbScene = this._sb.createScene();
-      if (this._wind !== undefined) this._sbScene.setWind(this._wind);
+  #sceneFor() {
+    if (this.#sbScene === null) {
+      this.#sbScene = this.#sb.createScene();
+      if (this.#wind !== undefined) this.#sbScene.setWind(this.#wind);
     }
-    return this._sbScene;
+    return this.#sbScene;
   }
 
   /**
@@ -601,38 +630,38 @@ export class SpringBoneSimulation {
    * A group starting to play snaps the avatar to its first pose: the next frame carries the
    * chains across (carryAcrossJump), as the preview re-seeds its chains there.
    */
-  _watchAnimationGroups(scene) {
+  #watchAnimationGroups(scene) {
     const groups = scene.animationGroups;
-    if (groups.length === this._watchedGroupCount) return;
-    this._watchedGroupCount = groups.length;
+    if (groups.length === this.#watchedGroupCount) return;
+    this.#watchedGroupCount = groups.length;
     for (const group of groups) {
-      if (this._watchedGroups.has(group)) continue;
-      this._watchedGroups.add(group);
-      group.onAnimationGroupPlayObservable.add(this._onGroupPlay);
+      if (this.#watchedGroups.has(group)) continue;
+      this.#watchedGroups.add(group);
+      group.onAnimationGroupPlayObservable.add(this.#onGroupPlay);
       // A group made and started since the last frame started before anyone listened.
-      if (group.isPlaying) this._jumpPending = true;
+      if (group.isPlaying) this.#jumpPending = true;
     }
   }
 
-  _step() {
-    const scene = this._scene;
-    this._watchAnimationGroups(scene);
-    if (!this._sbScene || this._copies.instances.length === 0) {
-      this._jumpPending = false;
+  #step() {
+    const scene = this.#scene;
+    this.#watchAnimationGroups(scene);
+    if (!this.#sbScene || this.#copies.instances.length === 0) {
+      this.#jumpPending = false;
       return;
     }
     const ms = scene.getEngine().getDeltaTime();
-    if (ms !== this._frameMs) {
+    if (ms !== this.#frameMs) {
       // Kept for the next frame: a frame time that does not change is not divided (and boxed) again.
-      this._frameMs = ms;
-      this._frameSeconds = Number.isFinite(ms) ? ms / 1000 : 0;
+      this.#frameMs = ms;
+      this.#frameSeconds = Number.isFinite(ms) ? ms / 1000 : 0;
     }
-    this._copies.readDrivers(this._mirrored);
-    if (this._jumpPending) {
-      this._jumpPending = false;
-      this._copies.jumpAll();
+    this.#copies.readDrivers(this.#mirrored);
+    if (this.#jumpPending) {
+      this.#jumpPending = false;
+      this.#copies.jumpAll();
     }
-    this._sbScene.step(this._frameSeconds);
-    this._copies.writeRotations();
+    this.#sbScene.step(this.#frameSeconds);
+    this.#copies.writeRotations();
   }
 }

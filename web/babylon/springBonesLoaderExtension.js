@@ -51,6 +51,8 @@ export class SpringBonesLoadedWearable {
 }
 
 export class SpringBonesLoaderExtension {
+  #loader; #options;
+
   /**
    * @param loader Babylon's GLTFLoader (the instance the factory receives)
    * @param options { sb, springBones?, entity?, bodyShape?, contentHash?, glb?, colliders?, hitRadius? }
@@ -58,13 +60,13 @@ export class SpringBonesLoaderExtension {
   constructor(loader, options = {}) {
     this.name = kSpringBonesExtensionName;
     this.enabled = true;
-    this._loader = loader;
-    this._options = options;
+    this.#loader = loader;
+    this.#options = options;
   }
 
   /** The loaded file's nodes (and rig) onto its root mesh, once Babylon has made the nodes. */
   onReady() {
-    const loader = this._loader;
+    const loader = this.#loader;
     const gltf = loader.gltf;
     const root = loader.rootBabylonMesh;
     if (!gltf || !root) return;
@@ -77,7 +79,7 @@ export class SpringBonesLoaderExtension {
       nodes: gltfNodes.map((node) => Object.fromEntries(kNodeFields.filter((k) => node[k] !== undefined).map((k) => [k, node[k]]))),
     };
     const wearable = new SpringBonesLoadedWearable(nodes, document);
-    const options = { ...this._options, ...(loader.parent?.extensionOptions?.[kSpringBonesExtensionName] ?? {}) };
+    const options = { ...this.#options, ...(loader.parent?.extensionOptions?.[kSpringBonesExtensionName] ?? {}) };
     const { sb, springBones, ...hashOptions } = options;
     delete hashOptions.enabled;
     if (springBones !== undefined && springBones !== null) {
@@ -93,7 +95,7 @@ export class SpringBonesLoaderExtension {
   }
 
   dispose() {
-    this._loader = null;
+    this.#loader = null;
   }
 }
 

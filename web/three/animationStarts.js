@@ -9,15 +9,17 @@
 // per frame.
 
 export class AnimationStartWatch {
+  #seen; #weighted; #seenCount;
+
   /** @param {import('three').AnimationMixer} mixer */
   constructor(mixer) {
     if (!Array.isArray(mixer?._actions) || typeof mixer?._nActiveActions !== 'number') {
       throw new TypeError('AnimationStartWatch: expected a three.js AnimationMixer');
     }
     this.mixer = mixer;
-    this._seen = [];  // the actions active at the last look
-    this._weighted = [];  // and whether each had a weight
-    this._seenCount = 0;
+    this.#seen = [];  // the actions active at the last look
+    this.#weighted = [];  // and whether each had a weight
+    this.#seenCount = 0;
     this.started();  // what runs now is not a start
   }
 
@@ -28,14 +30,14 @@ export class AnimationStartWatch {
   started() {
     const actions = this.mixer._actions;
     const active = this.mixer._nActiveActions;
-    const seen = this._seen;
-    const weighted = this._weighted;
+    const seen = this.#seen;
+    const weighted = this.#weighted;
     let startedOne = false;
     for (let i = 0; i < active; i++) {
       const action = actions[i];
       const hasWeight = action.getEffectiveWeight() > 0;
       let before = false;  // active with a weight at the last look
-      for (let k = 0; k < this._seenCount; k++) {
+      for (let k = 0; k < this.#seenCount; k++) {
         if (seen[k] === action) {
           before = weighted[k];
           break;
@@ -47,7 +49,7 @@ export class AnimationStartWatch {
       seen[i] = actions[i];
       weighted[i] = actions[i].getEffectiveWeight() > 0;
     }
-    this._seenCount = active;
+    this.#seenCount = active;
     return startedOne;
   }
 }

@@ -23,7 +23,7 @@
 
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { pageModule } from '../page_module.js';
-import { attachWearable, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
+import { attachWearable, attachmentDisposed, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
 import { consoleReporter, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { modelsEntry } from '../wearable/wearable_entry.js';
 import { checkOptionKeys, liveEdit, loadRigOptionsOf, loadWearableRig } from '../wearable/rig_life.js';
@@ -119,19 +119,22 @@ export function springBonesOf(gltf) {
  * number of avatars, all sharing the rig.
  */
 export class SpringBonesWearable {
+  #rigOptions; #instanceOptions; #module; #startModule; #staticHair; #failure;
+  #springBones; #report; #disposed; #rigPromise;
+
   /** @private made by SpringBonesLoaderPlugin */
   constructor(gltf, rig, { springBones = null, rigOptions = {}, instance = undefined, label = null, onWarning = undefined, startModule = null, module = () => null } = {}) {
     this.gltf = gltf;
-    this._rigOptions = rigOptions;  // loadRig's, for live updates
-    this._instanceOptions = instance;  // wear()'s default createInstance options
-    this._module = module;
-    this._startModule = startModule;  // the page's module, when the plugin was given none
+    this.#rigOptions = rigOptions;  // loadRig's, for live updates
+    this.#instanceOptions = instance;  // wear()'s default createInstance options
+    this.#module = module;
+    this.#startModule = startModule;  // the page's module, when the plugin was given none
     // Why the spring bones would stay at rest (docs/diagnostics.md), said once per wearable however
     // many avatars wear it: the attachments wear() makes share this reporter.
-    this._staticHair = [];
-    this._failure = null;
-    this._springBones = springBones;
-    this._report = onWarning ?? consoleReporter(() => `wearable ${label ?? this.rig?.contentHash ?? '(loading)'}`);
+    this.#staticHair = [];
+    this.#failure = null;
+    this.#springBones = springBones;
+    this.#report = onWarning ?? consoleReporter(() => `wearable ${label ?? this.rig?.contentHash ?? '(loading)'}`);
     /** The springbones rig (joints, chains, drivers, warnings); owned: dispose() frees it. Null
      *  while the module given as a promise has not resolved. */
     this.rig = null;
@@ -139,51 +142,51 @@ export class SpringBonesWearable {
     this.attachments = [];
     /** What loading the rig failed with, when the module came as a promise; else null. */
     this.error = null;
-    this._disposed = false;
+    this.#disposed = false;
     if (isThenable(rig)) {
-      this._rigPromise = rig.then((arrived) => {
-        if (this._disposed) arrived.dispose();
-        else this._arrived(arrived);
+      this.#rigPromise = rig.then((arrived) => {
+        if (this.#disposed) arrived.dispose();
+        else this.#arrived(arrived);
         return arrived;
       }, (failure) => {
         const error = failure instanceof ModuleFailure ? failure.error : failure;
-        this._failed(failureDiagnostic(error, failure instanceof ModuleFailure));
+        this.#failed(failureDiagnostic(error, failure instanceof ModuleFailure));
         throw error;
       });
       /** Resolves to this wearable once its rig is loaded; rejects with the module's or loadRig's error. */
-      this.ready = this._rigPromise.then(() => this, (error) => {
+      this.ready = this.#rigPromise.then(() => this, (error) => {
         this.error = error;
         throw error;
       });
-      // Both said on the console (_failed): an application that catches neither gets the warning,
+      // Both said on the console (#failed): an application that catches neither gets the warning,
       // not an unhandled rejection (which ends a Node process).
-      this._rigPromise.catch(() => {});
+      this.#rigPromise.catch(() => {});
       this.ready.catch(() => {});
     } else {
-      this._rigPromise = null;
-      this._arrived(rig);
+      this.#rigPromise = null;
+      this.#arrived(rig);
       this.ready = Promise.resolve(this);
     }
   }
 
-  _arrived(rig) {
+  #arrived(rig) {
     this.rig = rig;
-    const found = this._diagnose(rig);
-    for (const warning of found) this._report(warning);
-    this._staticHair = found.filter((w) => !rig.warnings.some((own) => own.code === w.code));  // the core's are listed already
+    const found = this.#diagnose(rig);
+    for (const warning of found) this.#report(warning);
+    this.#staticHair = found.filter((w) => !rig.warnings.some((own) => own.code === w.code));  // the core's are listed already
   }
 
   /** What leaves this rig's hair at rest, from the metadata the plugin was given (diagnostics.js). */
-  _diagnose(rig) {
-    const springBones = this._springBones;
+  #diagnose(rig) {
+    const springBones = this.#springBones;
     const entry = springBones === null ? null : modelsEntry(springBones, rig.contentHash);
     return rigDiagnostics({ rig, springBones, entry, nodes: this.gltf.parser?.json?.nodes ?? [] });
   }
 
-  _failed(warning) {
-    this._failure = warning;
-    this._staticHair = [warning];
-    this._report(warning);
+  #failed(warning) {
+    this.#failure = warning;
+    this.#staticHair = [warning];
+    this.#report(warning);
   }
 
   /**
@@ -192,7 +195,7 @@ export class SpringBonesWearable {
    * that failed: docs/diagnostics.md, each with a `fix`). Empty before the rig loads.
    */
   get warnings() {
-    return [...(this.rig?.warnings ?? []), ...this._staticHair];
+    return [...(this.rig?.warnings ?? []), ...this.#staticHair];
   }
 
   /**
@@ -203,18 +206,18 @@ export class SpringBonesWearable {
   wear(avatarRoot, options = {}) {
     if (options === null || typeof options !== 'object') throw new TypeError('wear: options must be an object');
     checkOptionKeys('wear', options, ['instance', 'mixer', 'onWarning']);
-    this._startModule?.();
+    this.#startModule?.();
     const copy = cloneWithSkeletons(this.gltf.scene);
     // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
-    const rig = this.rig ?? this._rigPromise;
+    const rig = this.rig ?? this.#rigPromise;
     const attachment = attachWearable(avatarRoot, copy, rig, {
-      instance: this._instanceOptions,
+      instance: this.#instanceOptions,
       ...options,
       nodes: wearableNodes(this.gltf, copy),
       [kWearableContext]: {
-        report: this._report,
-        diagnose: (r) => this._diagnose(r),
-        failure: () => this._failure,  // the wearable's own reading of the failure (module or rig)
+        report: this.#report,
+        diagnose: (r) => this.#diagnose(r),
+        failure: () => this.#failure,  // the wearable's own reading of the failure (module or rig)
       },
     });
     this.attachments.push(attachment);
@@ -234,17 +237,17 @@ export class SpringBonesWearable {
     if (params === null || typeof params !== 'object' || Array.isArray(params)) {
       throw new TypeError('updateParams: params must be an object of node name -> parameters');
     }
-    const module = this._module();
-    if (this.rig === null || module === null || this._disposed) {
-      throw new Error(`updateParams: ${this._disposed ? 'the wearable is disposed of' : 'the rig is not loaded yet (await wearable.ready)'}`);
+    const module = this.#module();
+    if (this.rig === null || module === null || this.#disposed) {
+      throw new Error(`updateParams: ${this.#disposed ? 'the wearable is disposed of' : 'the rig is not loaded yet (await wearable.ready)'}`);
     }
-    const { springBones, options } = liveEdit(this._springBones, this.rig.contentHash, this._rigOptions, params);
+    const { springBones, options } = liveEdit(this.#springBones, this.rig.contentHash, this.#rigOptions, params);
     const rig = loadWearableRig(module, this.gltf.parser.json, springBones, options);  // throws before anything changes
     const previous = this.rig;
-    this._springBones = springBones;
-    this._rigOptions = options;
-    for (const attachment of this.attachments) if (!attachment._disposed) attachment.setRig(rig);
-    this._arrived(rig);
+    this.#springBones = springBones;
+    this.#rigOptions = options;
+    for (const attachment of this.attachments) if (!attachmentDisposed(attachment)) attachment.setRig(rig);
+    this.#arrived(rig);
     previous.dispose();
   }
 
@@ -257,7 +260,7 @@ export class SpringBonesWearable {
       if (attachment.instance === null || !attachment.instance.disposed) attachment.dispose();
     }
     this.attachments = [];
-    this._disposed = true;  // a rig still on its way is disposed of when it arrives
+    this.#disposed = true;  // a rig still on its way is disposed of when it arrives
     if (this.rig !== null) this.rig.dispose();
   }
 }

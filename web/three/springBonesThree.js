@@ -34,6 +34,15 @@ export const kWearableContext = Symbol('springbones.wearableContext');
 /** Whether `value` is a promise (or any thenable) rather than the thing itself. */
 export const isThenable = (value) => typeof value?.then === 'function';
 
+// The privates of SpringBonesAttachment and SpringBonesGroup that the other classes of this module
+// reach (FrameCopies and the group read an attachment's lists; an attachment moves itself to the
+// end of its group): set by each class's static block.
+let attachmentPrivates;
+let groupPrivates;
+
+/** Whether the attachment was disposed of (for SpringBonesWearable, springBonesLoaderPlugin.js). */
+export const attachmentDisposed = (attachment) => attachmentPrivates.disposed(attachment);
+
 /** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
 const gltfName = (object) => object.userData?.name ?? object.name;
 
@@ -103,10 +112,10 @@ export function wearableNodes(gltf, root = gltf.scene) {
 class FrameCopies extends FrameCopyLists {
   /** Takes the attachments' current instances and objects; call whenever they change. */
   setMembers(attachments) {
-    this.setCounts(attachments.map((a) => a.instance), attachments.map((a) => a._driverElements.length),
-      attachments.map((a) => a._quaternions.length));
-    this.driverElements = attachments.flatMap((a) => a._driverElements);  // null: no object
-    this.quaternions = attachments.flatMap((a) => a._quaternions);
+    this.setCounts(attachments.map((a) => a.instance), attachments.map((a) => attachmentPrivates.driverElements(a).length),
+      attachments.map((a) => attachmentPrivates.quaternions(a).length));
+    this.driverElements = attachments.flatMap((a) => attachmentPrivates.driverElements(a));  // null: no object
+    this.quaternions = attachments.flatMap((a) => attachmentPrivates.quaternions(a));
   }
 
   readDrivers() {
@@ -157,6 +166,21 @@ class FrameCopies extends FrameCopyLists {
  * A wearable worn by an avatar and simulated by one springbones instance. Made by attachWearable.
  */
 export class SpringBonesAttachment {
+  #context; #report; #armatureObjects; #unmatchedBones; #moved; #restQuaternions;
+  #instanceOptions; #group; #animationStarts; #copies; #quaternions; #driverElements;
+  #disposed;
+
+  static {
+    attachmentPrivates = {
+      driverElements: (attachment) => attachment.#driverElements,
+      quaternions: (attachment) => attachment.#quaternions,
+      group: (attachment) => attachment.#group,
+      setGroup: (attachment, group) => { attachment.#group = group; },
+      disposed: (attachment) => attachment.#disposed,
+      noteAnimationStarts: (attachment) => attachment.#noteAnimationStarts(),
+    };
+  }
+
   /** @private use attachWearable */
   constructor(avatarRoot, wearableRoot, nodeObjects, rig, options, meshes = [], moved = [], armatureObjects = new Set(), unmatchedBones = new Set()) {
     this.avatarRoot = avatarRoot;
@@ -172,26 +196,26 @@ export class SpringBonesAttachment {
     // Static-hair warnings go to the console once per code: per wearable when wear() made this
     // attachment (the wearable's reporter), else per attachment; options.onWarning replaces it.
     const context = options[kWearableContext] ?? null;
-    this._context = context;
-    this._report = typeof options.onWarning === 'function' ? options.onWarning
+    this.#context = context;
+    this.#report = typeof options.onWarning === 'function' ? options.onWarning
       : context?.report ?? consoleReporter(() => `wearable ${this.rig?.contentHash || (gltfName(wearableRoot) || '(unnamed)')}`);
-    this._armatureObjects = armatureObjects;  // the avatar's bones, for bone-not-matched
-    this._unmatchedBones = unmatchedBones;  // the wearable's bones no avatar bone matched
-    this._moved = moved;  // [object, previous parent], for detach
-    this._restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
-    this._instanceOptions = options.instance;
-    this._group = null;  // the SpringBonesGroup stepping this attachment, if any
-    this._animationStarts = null;  // an AnimationStartWatch (watchAnimations)
-    this._copies = new FrameCopies();  // readDrivers / writeRotations for this attachment alone
+    this.#armatureObjects = armatureObjects;  // the avatar's bones, for bone-not-matched
+    this.#unmatchedBones = unmatchedBones;  // the wearable's bones no avatar bone matched
+    this.#moved = moved;  // [object, previous parent], for detach
+    this.#restQuaternions = new Map();  // joint object -> its rest quaternion (x, y, z, w)
+    this.#instanceOptions = options.instance;
+    this.#group = null;  // the SpringBonesGroup stepping this attachment, if any
+    this.#animationStarts = null;  // an AnimationStartWatch (watchAnimations)
+    this.#copies = new FrameCopies();  // readDrivers / writeRotations for this attachment alone
     this.rig = null;
     this.instance = null;
     /** Object3D per rig joint (its rotation is written) and per driver (its matrixWorld is read). */
     this.jointObjects = [];
     this.tailObjects = [];
     this.driverObjects = [];
-    this._quaternions = [];
-    this._driverElements = [];
-    this._disposed = false;
+    this.#quaternions = [];
+    this.#driverElements = [];
+    this.#disposed = false;
     /** What a rig given as a promise rejected with (or its setRig threw), else null. */
     this.error = null;
     if (isThenable(rig)) {
@@ -199,13 +223,13 @@ export class SpringBonesAttachment {
       // step puts every tail at rest under that frame's drivers (docs/semantics.md): the pose
       // drawn until then, so nothing jumps. A rejection surfaces once, through `ready`.
       this.ready = Promise.resolve(rig).then((arrived) => {
-        if (!this._disposed) this.setRig(arrived);
+        if (!this.#disposed) this.setRig(arrived);
         return this;
       }).catch((error) => {
         this.error = error;
-        const warning = this._context?.failure() ?? failureDiagnostic(error, ['module-load-failed', 'module-not-found'].includes(error?.code));
+        const warning = this.#context?.failure() ?? failureDiagnostic(error, ['module-load-failed', 'module-not-found'].includes(error?.code));
         this.warnings.push(warning);
-        this._report(warning);
+        this.#report(warning);
         throw error;
       });
       // Said on the console above: an application that does not catch `ready` gets the warning,
@@ -222,8 +246,8 @@ export class SpringBonesAttachment {
    * wearable's metadata says (from wear(), which knows it; else only what the rig and the nodes
    * show), and drivers that no bone of the avatar matched (they hang from the avatar root).
    */
-  _diagnose(rig) {
-    const found = this._context?.diagnose(rig)
+  #diagnose(rig) {
+    const found = this.#context?.diagnose(rig)
       ?? rigDiagnostics({ rig, entry: undefined, nodes: this.nodes.map((o) => ({ name: o ? gltfName(o) : '' })) });
     // A driver follows the avatar when the way up from it reaches an avatar bone through the
     // wearable's own helper nodes only: a bone of the wearable's armature on that way had no avatar
@@ -235,8 +259,8 @@ export class SpringBonesAttachment {
       if (!object) return;
       let o = object;
       let missed = false;
-      for (; o && o !== this.avatarRoot && !this._armatureObjects.has(o); o = o.parent) {
-        if (this._unmatchedBones.has(o)) {
+      for (; o && o !== this.avatarRoot && !this.#armatureObjects.has(o); o = o.parent) {
+        if (this.#unmatchedBones.has(o)) {
           bones.add(gltfName(o));
           missed = true;
         }
@@ -251,7 +275,7 @@ export class SpringBonesAttachment {
     if (unmatched) found.push(unmatched);
     for (const warning of found) {
       this.warnings.push(warning);
-      this._report(warning);
+      this.#report(warning);
     }
   }
 
@@ -272,10 +296,10 @@ export class SpringBonesAttachment {
     if (!rig || !Array.isArray(rig.joints) || !Array.isArray(rig.drivers)) {
       throw new TypeError('setRig: expected a springbones rig (with joints and drivers)');
     }
-    const instance = rig.createInstance(this._instanceOptions);  // throws before anything changes
-    if (this._group) {
+    const instance = rig.createInstance(this.#instanceOptions);  // throws before anything changes
+    if (this.#group) {
       try {
-        this._group.scene.add(instance);  // e.g. a rig of another springbones module throws
+        this.#group.scene.add(instance);  // e.g. a rig of another springbones module throws
       } catch (error) {
         instance.dispose();
         throw error;
@@ -298,17 +322,17 @@ export class SpringBonesAttachment {
     // of that name, as the core's rule has it.
     const avatarObject = (d) => (d.node < 0 && d.name ? this.avatarRoot.getObjectByName(d.name) ?? null : null);
     this.driverObjects = rig.drivers.map((d) => avatarObject(d) ?? find(d.node, 'driver', d.name));
-    this._diagnose(rig);
+    this.#diagnose(rig);
     for (const object of this.jointObjects) {
-      if (object && !this._restQuaternions.has(object)) {
+      if (object && !this.#restQuaternions.has(object)) {
         const q = object.quaternion;
-        this._restQuaternions.set(object, [q.x, q.y, q.z, q.w]);
+        this.#restQuaternions.set(object, [q.x, q.y, q.z, q.w]);
       }
     }
     const current = new Set(this.jointObjects);
     for (const object of previous) {
       // fromArray fires onChange, so the released joint's .rotation is in step again
-      if (object && !current.has(object)) object.quaternion.fromArray(this._restQuaternions.get(object));
+      if (object && !current.has(object)) object.quaternion.fromArray(this.#restQuaternions.get(object));
     }
     // The per-frame loops touch only these arrays: the joints' Quaternion objects (a joint without
     // an object writes into a spare Object3D's: a bare `new Quaternion()` has another hidden class,
@@ -316,17 +340,17 @@ export class SpringBonesAttachment {
     // drivers' matrixWorld.elements arrays (Matrix4 keeps its array for life; a missing driver
     // keeps the rest world matrix the instance starts with). Reaching through object.quaternion
     // each frame cost 3x more (cache misses).
-    this._quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Object3D().quaternion));
-    this._driverElements = this.driverObjects.map((o) => (o ? o.matrixWorld.elements : null));
+    this.#quaternions = this.jointObjects.map((o) => (o ? o.quaternion : new Object3D().quaternion));
+    this.#driverElements = this.driverObjects.map((o) => (o ? o.matrixWorld.elements : null));
     if (carry) {
       carryMotion(instance, previousInstance, (next) => {
         const m = next.driverMatrices;
-        this._driverElements.forEach((e, d) => e && m.set(e, 16 * d));
+        this.#driverElements.forEach((e, d) => e && m.set(e, 16 * d));
       });
     }
     previousInstance?.dispose();  // also takes it out of the group's scene
-    this._copies.setMembers([this]);
-    if (this._group) this._group._moveToEnd(this);  // the new instance took the scene's last slot
+    this.#copies.setMembers([this]);
+    if (this.#group) groupPrivates.moveToEnd(this.#group, this);  // the new instance took the scene's last slot
     // Start from the rest pose (the rig's rotations before the first step), or the carried one.
     this.writeRotations();
   }
@@ -350,8 +374,8 @@ export class SpringBonesAttachment {
    * an animation that started since the last frame is announced to it as a jump.
    */
   readDrivers() {
-    this._noteAnimationStarts();
-    this._copies.readDrivers();
+    this.#noteAnimationStarts();
+    this.#copies.readDrivers();
   }
 
   /**
@@ -360,11 +384,11 @@ export class SpringBonesAttachment {
    * option calls this.
    */
   watchAnimations(mixer) {
-    this._animationStarts = mixer ? new AnimationStartWatch(mixer) : null;
+    this.#animationStarts = mixer ? new AnimationStartWatch(mixer) : null;
   }
 
-  _noteAnimationStarts() {
-    if (this._animationStarts?.started()) this.instance.jump();
+  #noteAnimationStarts() {
+    if (this.#animationStarts?.started()) this.instance.jump();
   }
 
   /**
@@ -372,7 +396,7 @@ export class SpringBonesAttachment {
    * `.rotation` is stale until syncEulers().
    */
   writeRotations() {
-    this._copies.writeRotations();
+    this.#copies.writeRotations();
   }
 
   /**
@@ -400,8 +424,8 @@ export class SpringBonesAttachment {
   settle(seconds) {
     if (this.instance === null) return 0;
     // An animation that started before this is the pose settled in, not a jump after it.
-    this._animationStarts?.started();
-    this._copies.readDrivers();
+    this.#animationStarts?.started();
+    this.#copies.readDrivers();
     const steps = this.instance.settle(seconds);
     this.writeRotations();
     return steps;
@@ -414,17 +438,17 @@ export class SpringBonesAttachment {
    * are the caller's to dispose of.
    */
   dispose({ detach = true } = {}) {
-    if (this._group) this._group.remove(this);
-    this._disposed = true;  // a rig still on its way is not used
+    if (this.#group) this.#group.remove(this);
+    this.#disposed = true;  // a rig still on its way is not used
     this.syncEulers();  // the joints keep their pose (detach: false) with a current .rotation
     if (this.instance !== null) this.instance.dispose();
     if (detach) {
-      for (const [object, rest] of this._restQuaternions) object.quaternion.fromArray(rest);
-      for (const [object, parent] of this._moved) {
+      for (const [object, rest] of this.#restQuaternions) object.quaternion.fromArray(rest);
+      for (const [object, parent] of this.#moved) {
         object.removeFromParent();
         if (parent) parent.add(object);
       }
-      this._moved.length = 0;
+      this.#moved.length = 0;
       for (const mesh of this.meshes) mesh.skeleton.dispose();
     }
   }
@@ -437,6 +461,12 @@ export class SpringBonesAttachment {
  * each; the scene also gives the whole crowd one distance budget (scene.setBudget).
  */
 export class SpringBonesGroup {
+  #copies; #rootElements; #waiting;
+
+  static {
+    groupPrivates = { moveToEnd: (group, attachment) => group.#moveToEnd(attachment) };
+  }
+
   /**
    * springBones: the module from createSpringBones(). The group owns the springbones scene it
    * creates (`this.scene`, for setBudget / isActive), not the attachments.
@@ -448,9 +478,9 @@ export class SpringBonesGroup {
     this.scene = springBones.createScene();
     /** The attachments, in the scene's slot order (scene.positions[3 * i] is attachments[i]'s). */
     this.attachments = [];
-    this._copies = new FrameCopies();  // every attachment's drivers and joints, in one flat list
-    this._rootElements = [];  // each attachment's avatarRoot.matrixWorld.elements, for positions
-    this._waiting = [];  // added before their rig arrived: not in the scene yet
+    this.#copies = new FrameCopies();  // every attachment's drivers and joints, in one flat list
+    this.#rootElements = [];  // each attachment's avatarRoot.matrixWorld.elements, for positions
+    this.#waiting = [];  // added before their rig arrived: not in the scene yet
   }
 
   /** Adds an attachment (adding it again does nothing); an attachment belongs to one group. */
@@ -458,35 +488,35 @@ export class SpringBonesGroup {
     if (!(attachment instanceof SpringBonesAttachment)) {
       throw new TypeError('SpringBonesGroup.add: expected an attachment from attachWearable()');
     }
-    if (attachment._group === this) return;
-    if (attachment._group) throw new Error('SpringBonesGroup.add: the attachment is in another group');
+    if (attachmentPrivates.group(attachment) === this) return;
+    if (attachmentPrivates.group(attachment)) throw new Error('SpringBonesGroup.add: the attachment is in another group');
     if (attachment.instance === null) {
       // Its rig is on its way: setRig adds the instance to this scene when it arrives.
-      if (attachment._disposed) throw new Error('SpringBonesGroup.add: the attachment is disposed of');
-      attachment._group = this;
-      this._waiting.push(attachment);
+      if (attachmentPrivates.disposed(attachment)) throw new Error('SpringBonesGroup.add: the attachment is disposed of');
+      attachmentPrivates.setGroup(attachment, this);
+      this.#waiting.push(attachment);
       return;
     }
     this.scene.add(attachment.instance);  // throws for a disposed instance or another module's
     this.attachments.push(attachment);
-    attachment._group = this;
-    this._membersChanged();
+    attachmentPrivates.setGroup(attachment, this);
+    this.#membersChanged();
   }
 
   /** Takes an attachment out (it can then update() on its own); not in the group: nothing happens. */
   remove(attachment) {
-    const waiting = this._waiting.indexOf(attachment);
+    const waiting = this.#waiting.indexOf(attachment);
     if (waiting >= 0) {
-      this._waiting.splice(waiting, 1);
-      attachment._group = null;
+      this.#waiting.splice(waiting, 1);
+      attachmentPrivates.setGroup(attachment, null);
       return;
     }
     const index = this.attachments.indexOf(attachment);
     if (index < 0) return;
     if (!attachment.instance.disposed) this.scene.remove(attachment.instance);
     this.attachments.splice(index, 1);
-    attachment._group = null;
-    this._membersChanged();
+    attachmentPrivates.setGroup(attachment, null);
+    this.#membersChanged();
   }
 
   /**
@@ -505,10 +535,10 @@ export class SpringBonesGroup {
    */
   readDrivers() {
     const attachments = this.attachments;
-    for (let i = 0; i < attachments.length; i++) attachments[i]._noteAnimationStarts();
-    this._copies.readDrivers();
+    for (let i = 0; i < attachments.length; i++) attachmentPrivates.noteAnimationStarts(attachments[i]);
+    this.#copies.readDrivers();
     const positions = this.scene.positions;  // a getter: the view survives memory growth
-    const roots = this._rootElements;
+    const roots = this.#rootElements;
     for (let i = 0, p = 0; i < roots.length; i++, p += 3) {
       const e = roots[i];
       positions[p] = e[12];
@@ -524,7 +554,7 @@ export class SpringBonesGroup {
    * code, e.g. an animation mixer, writes those joints meanwhile).
    */
   writeRotations() {
-    this._copies.writeRotations(this.scene.active);
+    this.#copies.writeRotations(this.scene.active);
   }
 
   /**
@@ -539,30 +569,30 @@ export class SpringBonesGroup {
 
   /** Frees the scene; the attachments stay usable on their own (their update()). */
   dispose() {
-    for (const attachment of this.attachments) attachment._group = null;
-    for (const attachment of this._waiting) attachment._group = null;
+    for (const attachment of this.attachments) attachmentPrivates.setGroup(attachment, null);
+    for (const attachment of this.#waiting) attachmentPrivates.setGroup(attachment, null);
     this.attachments = [];
-    this._waiting = [];
-    this._membersChanged();
+    this.#waiting = [];
+    this.#membersChanged();
     this.scene.dispose();
   }
 
   // setRig replaced the attachment's instance: the scene dropped the old one's slot (later slots
   // shift down) and appended the new one, so the attachment moves to the end here too.
   // An attachment added while its rig was on its way gets its first slot the same way.
-  _moveToEnd(attachment) {
-    const waiting = this._waiting.indexOf(attachment);
-    if (waiting >= 0) this._waiting.splice(waiting, 1);
+  #moveToEnd(attachment) {
+    const waiting = this.#waiting.indexOf(attachment);
+    if (waiting >= 0) this.#waiting.splice(waiting, 1);
     const index = this.attachments.indexOf(attachment);
     if (index >= 0) this.attachments.splice(index, 1);
     this.attachments.push(attachment);
-    this._membersChanged();
+    this.#membersChanged();
   }
 
   // The attachments, their instances or their objects changed: rebuild the flat lists.
-  _membersChanged() {
-    this._copies.setMembers(this.attachments);
-    this._rootElements = this.attachments.map((a) => a.avatarRoot.matrixWorld.elements);
+  #membersChanged() {
+    this.#copies.setMembers(this.attachments);
+    this.#rootElements = this.attachments.map((a) => a.avatarRoot.matrixWorld.elements);
   }
 }
 
