@@ -2,6 +2,7 @@
 // read with (springbones/vrm.h: VRMC_springBone wins over VRM 0.x, as in three-vrm), then the rig
 // both formats share (vrm_rig_builder.h).
 #include <exception>
+#include <new>
 #include <optional>
 #include <string>
 #include <utility>
@@ -69,7 +70,9 @@ Error loadVrm(const TypedValue& gltf, std::shared_ptr<const Rig>& out, VrmSpring
     VrmRigBuilder builder(std::move(skeleton));
     if (Error e = readSprings(extensions == gltf.end() ? TypedValue() : *extensions, builder, read)) return e;
     if (Error e = builder.emit(rig)) return e;
-  } catch (const std::exception& ex) {  // allocation failure on an absurd file; nothing else throws
+  } catch (const std::bad_alloc&) {
+    throw;  // a full heap, not a bad file: the boundary says out-of-memory, as for every entry point
+  } catch (const std::exception& ex) {  // a size beyond the containers' bounds on an absurd file
     return fail(ErrorCode::kMetadataInvalid, std::string("VRM spring bones could not be read: ") + ex.what());
   }
   if (format != nullptr) *format = read;
