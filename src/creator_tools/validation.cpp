@@ -18,8 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/json_pointer.h"
+#include "common/utf8_append.h"
 #include "creator_tools/tool_json.h"
-#include "creator_tools/utf8_append.h"
 #include "loading/bone_params.h"
 
 namespace springbones {

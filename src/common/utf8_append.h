@@ -1,4 +1,5 @@
-// UTF-8 encoding of one code point, shared by the JSON readers that decode \u escapes.
+// UTF-8 encoding of one code point, shared by the JSON readers that decode \u escapes (the
+// readers module's page_json.cpp and the creator tools' validation).
 #pragma once
 
 #include <cstdint>
