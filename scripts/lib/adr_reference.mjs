@@ -6,7 +6,7 @@
 // code with springbones: the pack's expected rotations come from here, and springbones is checked
 // against them (conformance/run.mjs). Only similarity drivers (rotation, translation, uniform
 // scale) are handled, which is all the pack uses; anything else throws.
-import { cross, dot, length, mmul, invert, qmul, qnormalize, scale, sub, add, trsMatrix } from './fixtures/vec.mjs';
+import { length, linearOnly, mmul, invert, qmul, qnormalize, rotationBetween, scale, sub, add, transformPoint, transformVector, trsMatrix } from './fixtures/vec.mjs';
 
 const TOKEN = 'springbone';
 const MIN_LENGTH = 1e-6;
@@ -141,17 +141,6 @@ export function buildRig(nodes, bones) {
 // ---------------------------------------------------------------------------------------------
 // Matrices (column-major arrays of 16) and quaternions ([x, y, z, w]).
 
-const transformPoint = (m, p) => [
-  m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12],
-  m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13],
-  m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14],
-];
-const transformVector = (m, v) => [
-  m[0] * v[0] + m[4] * v[1] + m[8] * v[2],
-  m[1] * v[0] + m[5] * v[1] + m[9] * v[2],
-  m[2] * v[0] + m[6] * v[1] + m[10] * v[2],
-];
-const linearOnly = (m) => [...m.slice(0, 12), 0, 0, 0, 1];
 
 /** A similarity matrix as translation, rotation and uniform scale. */
 export function decompose(m) {
@@ -182,14 +171,6 @@ export function decompose(m) {
 function nlerp(a, b, t) {
   const flip = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] < 0 ? -1 : 1;
   return qnormalize(a.map((c, i) => c + (flip * b[i] - c) * t));
-}
-
-/** The shortest rotation taking unit vector `from` to unit vector `to`. */
-function rotationBetween(from, to) {
-  const d = dot(from, to);
-  if (d < -0.999999) throw new Error('antiparallel aim: not used by the pack');
-  const c = cross(from, to);
-  return qnormalize([c[0], c[1], c[2], 1 + d]);
 }
 
 const normalizeOr = (v, fallback) => {

@@ -7,7 +7,7 @@
 // fixed-step rule of conformance/README.md. It shares no code with springbones. Only what the pack
 // uses is handled (a next joint that is a direct child, similarity drivers); anything else throws, so a case cannot silently leave the reference's ground.
 import { ReferenceInstance } from './adr_reference.mjs';
-import { add, cross, dot, invert, length, mmul, qmul, qnormalize, scale, sub, trsMatrix } from './fixtures/vec.mjs';
+import { add, cross, dot, invert, length, linearOnly, mmul, qmul, qnormalize, rotationBetween, scale, sub, transformPoint, transformVector, trsMatrix } from './fixtures/vec.mjs';
 
 const MIN_LENGTH = 1e-6;
 // A limit-space direction is singular when the squared length of the components that would give it
@@ -118,17 +118,6 @@ export function buildVrmRig(gltf) {
 
 // ---------------------------------------------------------------------------------------------
 
-const transformPoint = (m, p) => [
-  m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12],
-  m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13],
-  m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14],
-];
-const transformVector = (m, v) => [
-  m[0] * v[0] + m[4] * v[1] + m[8] * v[2],
-  m[1] * v[0] + m[5] * v[1] + m[9] * v[2],
-  m[2] * v[0] + m[6] * v[1] + m[10] * v[2],
-];
-const linearOnly = (m) => [...m.slice(0, 12), 0, 0, 0, 1];
 const qrotate = (q, v) => {
   const u = [q[0], q[1], q[2]];
   const t = scale(cross(u, v), 2);
@@ -149,14 +138,6 @@ function rotationOf(m) {
   else if (m11 > m22) { const t = Math.sqrt(1 + m11 - m00 - m22) * 2; q = [(m01 + m10) / t, t / 4, (m12 + m21) / t, (m02 - m20) / t]; }
   else { const t = Math.sqrt(1 + m22 - m00 - m11) * 2; q = [(m02 + m20) / t, (m12 + m21) / t, t / 4, (m10 - m01) / t]; }
   return qnormalize(q);
-}
-
-/** The shortest rotation taking unit `from` onto unit `to`. */
-function rotationBetween(from, to) {
-  const d = dot(from, to);
-  if (d < -0.999999) throw new Error('antiparallel aim: not used by the pack');
-  const c = cross(from, to);
-  return qnormalize([c[0], c[1], c[2], 1 + d]);
 }
 
 /** Keeps a unit limit-space direction within the limit (docs/semantics.md's table). */
