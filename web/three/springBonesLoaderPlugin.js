@@ -20,10 +20,17 @@
 // entity's content list has the hash; a page that shows a catalyst's wearable has the entity),
 // or `glb`, the bytes it parsed (hashed with sb.contentHash). Either way the rig is read from the
 // glTF JSON the parser already holds (parser.json), handed over as it is: no second parse.
+//
+// The 'dcl-body' colliders are measured on the avatar's bones (docs/semantics.md, "Body
+// colliders"), and the avatar is known only at wear(): the rig loaded with the file measures on
+// the GLB's bones, and wear() loads the rig again with the avatar's (avatarRestBones), once per
+// armature: every avatar with the same bones at the same rest pose (clones, one body shape) shares
+// that rig, as they share the wearable's.
 
 import { clone as cloneWithSkeletons } from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { pageModule } from '../page_module.js';
-import { attachWearable, attachmentDisposed, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
+import { attachWearable, attachmentDisposed, avatarRestBones, isThenable, kWearableContext, wearableNodes } from './springBonesThree.js';
+import { avatarBonesKey, measuresOnAvatar, withAvatarBones } from '../wearable/avatar_bones.js';
 import { consoleReporter, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { modelsEntry } from '../wearable/wearable_entry.js';
 import { checkOptionKeys, liveEdit, loadRigOptionsOf, loadWearableRig } from '../wearable/rig_life.js';
@@ -120,7 +127,7 @@ export function springBonesOf(gltf) {
  */
 export class SpringBonesWearable {
   #rigOptions; #instanceOptions; #module; #startModule; #staticHair; #failure;
-  #springBones; #report; #disposed; #rigPromise;
+  #springBones; #report; #disposed; #rigPromise; #avatarRigs;
 
   /** @private made by SpringBonesLoaderPlugin */
   constructor(gltf, rig, { springBones = null, rigOptions = {}, instance = undefined, label = null, onWarning = undefined, startModule = null, module = () => null } = {}) {
@@ -143,6 +150,9 @@ export class SpringBonesWearable {
     /** What loading the rig failed with, when the module came as a promise; else null. */
     this.error = null;
     this.#disposed = false;
+    // avatarBonesKey -> { bones, rig }: the rigs measured on the avatars worn so far ('dcl-body'),
+    // a rig or, before the module is there, the promise of one.
+    this.#avatarRigs = new Map();
     if (isThenable(rig)) {
       this.#rigPromise = rig.then((arrived) => {
         if (this.#disposed) arrived.dispose();
@@ -195,7 +205,44 @@ export class SpringBonesWearable {
    * that failed: docs/diagnostics.md, each with a `fix`). Empty before the rig loads.
    */
   get warnings() {
-    return [...(this.rig?.warnings ?? []), ...this.#staticHair];
+    // Measured on each avatar when worn, the body's shapes do not depend on the bones the GLB
+    // lacks: what an avatar lacks is in its attachment's rig.warnings.
+    const own = measuresOnAvatar(this.#rigOptions)
+      ? (this.rig?.warnings ?? []).filter((w) => w.code !== 'body-collider-skipped')
+      : (this.rig?.warnings ?? []);
+    return [...own, ...this.#staticHair];
+  }
+
+  /**
+   * The rig an attachment on `avatarRoot` runs: with 'dcl-body' colliders (and no avatarBones
+   * given), the one measured on the avatar's bones, shared by every avatar of the same bones;
+   * else, or for an avatar without skins, the wearable's. A rig or, before the module is there,
+   * the promise of one.
+   */
+  #rigFor(avatarRoot) {
+    const bones = measuresOnAvatar(this.#rigOptions) ? avatarRestBones(avatarRoot) : null;
+    if (bones === null) return this.rig ?? this.#rigPromise;
+    const key = avatarBonesKey(bones);
+    let worn = this.#avatarRigs.get(key);
+    if (worn === undefined) {
+      worn = { bones, rig: null };
+      if (this.rig !== null) {
+        worn.rig = this.#loadOn(bones);  // throws what loadRig throws, with nothing kept
+      } else {
+        worn.rig = this.#rigPromise.then(() => {
+          if (this.#disposed) return this.rig;  // the attachments are disposed of too
+          worn.rig = this.#loadOn(bones);
+          return worn.rig;
+        });
+      }
+      this.#avatarRigs.set(key, worn);
+    }
+    return worn.rig;
+  }
+
+  /** The rig with the current metadata and options, measured on `bones` (an avatar's). */
+  #loadOn(bones, springBones = this.#springBones, options = this.#rigOptions) {
+    return loadWearableRig(this.#module(), this.gltf.parser.json, springBones, withAvatarBones(options, bones));
   }
 
   /**
@@ -209,7 +256,7 @@ export class SpringBonesWearable {
     this.#startModule?.();
     const copy = cloneWithSkeletons(this.gltf.scene);
     // Before the rig is there, the attachment is worn and drawn and simulates once it arrives.
-    const rig = this.rig ?? this.#rigPromise;
+    const rig = this.#rigFor(avatarRoot);
     const attachment = attachWearable(avatarRoot, copy, rig, {
       instance: this.#instanceOptions,
       ...options,
@@ -242,13 +289,26 @@ export class SpringBonesWearable {
       throw new Error(`updateParams: ${this.#disposed ? 'the wearable is disposed of' : 'the rig is not loaded yet (await wearable.ready)'}`);
     }
     const { springBones, options } = liveEdit(this.#springBones, this.rig.contentHash, this.#rigOptions, params);
-    const rig = loadWearableRig(module, this.gltf.parser.json, springBones, options);  // throws before anything changes
-    const previous = this.rig;
+    // Every rig again, the wearable's and each avatar's, before anything changes (a throw leaves all as it was).
+    const next = new Map([[this.rig, loadWearableRig(module, this.gltf.parser.json, springBones, options)]]);
+    try {
+      for (const worn of this.#avatarRigs.values()) {
+        // One still on its way loads with the edited metadata when it arrives (#loadOn reads it then).
+        if (!isThenable(worn.rig)) next.set(worn.rig, this.#loadOn(worn.bones, springBones, options));
+      }
+    } catch (error) {
+      for (const rig of next.values()) rig.dispose();
+      throw error;
+    }
     this.#springBones = springBones;
     this.#rigOptions = options;
-    for (const attachment of this.attachments) if (!attachmentDisposed(attachment)) attachment.setRig(rig);
-    this.#arrived(rig);
-    previous.dispose();
+    for (const attachment of this.attachments) {
+      if (!attachmentDisposed(attachment) && next.has(attachment.rig)) attachment.setRig(next.get(attachment.rig));
+    }
+    for (const worn of this.#avatarRigs.values()) if (next.has(worn.rig)) worn.rig = next.get(worn.rig);
+    const previous = [...next.keys()];
+    this.#arrived(next.get(this.rig));
+    for (const rig of previous) rig.dispose();
   }
 
   /**
@@ -262,5 +322,7 @@ export class SpringBonesWearable {
     this.attachments = [];
     this.#disposed = true;  // a rig still on its way is disposed of when it arrives
     if (this.rig !== null) this.rig.dispose();
+    for (const worn of this.#avatarRigs.values()) if (!isThenable(worn.rig) && !worn.rig.disposed) worn.rig.dispose();
+    this.#avatarRigs.clear();
   }
 }

@@ -25,6 +25,7 @@ import { BufferAttribute, BufferGeometry, Color, LineBasicMaterial, LineSegments
 import { AnimationStartWatch } from './animationStarts.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { carryMotion, checkOptionKeys } from '../wearable/rig_life.js';
+import { restBonesFromInverseBinds } from '../wearable/avatar_bones.js';
 import { FrameCopyLists } from '../wearable/frame_copies.js';
 import { isSpringBoneName } from '../wearable/spring_bone_name.js';
 
@@ -46,9 +47,10 @@ export const attachmentDisposed = (attachment) => attachmentPrivates.disposed(at
 /** The glTF name of an object: GLTFLoader keeps it in userData.name (object.name is sanitized). */
 const gltfName = (object) => object.userData?.name ?? object.name;
 
-// Avatar armatures, computed once per avatar root before anything is attached to it, so bones a
-// wearable adds are never matched by the next wearable.
+// Avatar armatures and their rest bones, computed once per avatar root before anything is attached
+// to it, so bones (and skins) a wearable adds are never taken for the avatar's by the next wearable.
 const armatureCache = new WeakMap();
+const restBonesCache = new WeakMap();
 
 /**
  * The avatar's armature as a map from glTF node name to object: every bone of the avatar's
@@ -63,15 +65,33 @@ export function avatarArmature(avatarRoot) {
     const name = gltfName(object);
     if (name && !map.has(name)) map.set(name, object);
   };
+  const joints = [];
   avatarRoot.traverse((object) => {
     if (!object.isSkinnedMesh) return;
-    for (const bone of object.skeleton.bones) {
+    const { bones, boneInverses } = object.skeleton;
+    bones.forEach((bone, i) => {
       for (let o = bone; o && o !== avatarRoot; o = o.parent) add(o);
-    }
+      if (boneInverses[i]) joints.push({ name: gltfName(bone), inverseBind: boneInverses[i].elements });
+    });
   });
   if (map.size === 0) avatarRoot.traverse((o) => { if (o.isBone) add(o); });  // no skinned mesh
   armatureCache.set(avatarRoot, map);
+  restBonesCache.set(avatarRoot, restBonesFromInverseBinds(joints));
   return map;
+}
+
+/**
+ * The avatar's bones with their rest world matrices, as loadRig's `avatarBones` (glTF node name ->
+ * 16 numbers, column-major): the inverse of each joint's inverse bind matrix in the avatar's
+ * skinned meshes (web/wearable/avatar_bones.js), so the rest pose whatever the avatar is playing,
+ * in the avatar file's own space. Null for an avatar without skins. Read with avatarArmature,
+ * before anything is attached to the root, and cached per root. For a page that loads the rig
+ * itself: `sb.loadRig(glb, springBones, { colliders: 'dcl-body', avatarBones: avatarRestBones(avatar.scene) })`.
+ */
+export function avatarRestBones(avatarRoot) {
+  if (!avatarRoot?.isObject3D) throw new TypeError('avatarRestBones: avatarRoot must be an Object3D');
+  avatarArmature(avatarRoot);
+  return restBonesCache.get(avatarRoot);
 }
 
 /**
