@@ -6,16 +6,21 @@
 // cached under that id is last frame's. `computeWorldMatrix(true)` recomputes a node; whether
 // that also forces its ancestors depends on the version: the current one does (each ancestor is
 // forced in turn), Babylon 4.2 does not (it takes the parent's matrix from that cache). So this is
-// found out once, by watching whether forcing a node recomputes its parent: if it does, forcing
-// each driver is enough. If not (4.2), every ancestor of every driver is brought up to date
+// found out once, by watching whether forcing a node recomputes its grandparent (forcingReachesAncestors
+// says why not its parent): if it does, forcing each driver is enough. If not (4.2), every ancestor of every driver is brought up to date
 // without forcing, each once, parents first: 4.2 recomputes a node whose transform or whose
 // ancestors changed and keeps the others, whose cached matrices are then right. Forcing them all
 // instead would recompute the loader's `__root__` mesh too, which in 4.2 allocates.
 
-/** Whether computeWorldMatrix(true) on `node` recomputes its parent too (for an unchanged parent). */
-function forcingReachesParent(node) {
-  const parent = node.parent;
-  const observable = parent?.onAfterWorldMatrixUpdateObservable;
+/**
+ * Whether computeWorldMatrix(true) on `node` recomputes its ancestors too (for unchanged ones).
+ * Watched on the grandparent: 4.2's forced node recomputes its parent, unforced (which a glTF
+ * node, whose rotation quaternion 4.2 never marks clean, does each time), but that parent takes
+ * the grandparent's cached matrix, so the parent alone would pass for a version that forces up.
+ */
+function forcingReachesAncestors(node) {
+  const watched = node.parent?.parent ?? node.parent;
+  const observable = watched?.onAfterWorldMatrixUpdateObservable;
   if (!observable) return true;  // no parent to bring up to date
   node.computeWorldMatrix(true);  // everything above is now in step: only forcing recomputes it
   let reached = false;
@@ -34,7 +39,7 @@ function forcingReachesParent(node) {
 export function nodesToRecompute(drivers) {
   const present = [...new Set(drivers.filter((d) => d !== null))];
   const probe = present.find((d) => d.parent);
-  if (!probe || forcingReachesParent(probe)) return { nodes: present, force: true };
+  if (!probe || forcingReachesAncestors(probe)) return { nodes: present, force: true };
   const ordered = [];
   const seen = new Set();
   for (const driver of present) {
