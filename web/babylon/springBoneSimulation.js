@@ -17,6 +17,11 @@
 // space), one scene.step(dt) steps every registered wearable, and each joint's rotation goes
 // into its rotationQuaternion. No allocation per frame.
 //
+// With loadRig's 'dcl-body' colliders, the body's shapes are measured on the avatar in the scene
+// (avatarSkeleton.js: the skeleton with the whole armature, the body shape's in the preview) and
+// ride on its bones; a wearable registered before the avatar is in the scene is measured again
+// when a later registration or start() finds it.
+//
 // A page that drops this in changes its import line only, so nothing that leaves hair still may
 // pass silently: each such case (the module failing to load, an entry without isRoot, a hash or
 // id that matches nothing, a driver bone not found) is one console warning per wearable and an
@@ -30,6 +35,8 @@ import { copyWorldMatrix, isMirroredScene } from './handedness.js';
 import { resolveMetadata } from './wearableMetadata.js';
 import { springBonesOf } from './springBonesLoaderExtension.js';
 import { readWearableSkeleton } from './wearableSkeleton.js';
+import { avatarNode, avatarRestBones, findAvatarSkeleton } from './avatarSkeleton.js';
+import { measuresOnAvatar, withAvatarBones } from '../wearable/avatar_bones.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { modelsEntry } from '../wearable/wearable_entry.js';
 import { carryMotion, liveEdit, loadWearableRig } from '../wearable/rig_life.js';
@@ -80,6 +87,7 @@ class RegisteredWearable {
     this.instance = null;
     this.jointNodes = [];
     this.driverNodes = [];
+    this.avatar = null;  // the avatar's skeleton the rig's body shapes were measured on, if any
     this.restRotations = new Map();  // joint node -> [x, y, z, w] as registered
     this.error = null;
     this.problems = new Map();  // code -> warning: what leaves this wearable's hair still, now
@@ -96,7 +104,14 @@ class RegisteredWearable {
   findDriver(driver) {
     if (driver.node >= 0) return this.nodes[driver.node] ?? null;
     const own = this.nodes.find((n) => n?.name === driver.name);
-    return own ?? this.scene.getTransformNodeByName?.(driver.name) ?? null;
+    const avatar = this.avatar === null ? null : avatarNode(this.avatar, driver.name);
+    return own ?? avatar ?? this.scene.getTransformNodeByName?.(driver.name) ?? null;
+  }
+
+  /** Whether the rig wants the avatar's bones ('dcl-body') and was built before one was in the scene. */
+  waitsForAvatar() {
+    return this.rig !== null && this.avatar === null && measuresOnAvatar(this.metadata.options) &&
+      findAvatarSkeleton(this.scene, this.container) !== null;
   }
 
   /** The springBones as the core is to read it (gravityDir in the scene's space when asked). */
@@ -118,7 +133,9 @@ class RegisteredWearable {
    * rotation. Throws what loadRig throws, before changing anything.
    */
   build(sb, { carry = false } = {}) {
-    const rig = loadWearableRig(sb, this.gltf, this.springBonesForCore(), this.metadata.options);
+    const avatar = measuresOnAvatar(this.metadata.options) ? findAvatarSkeleton(this.scene, this.container) : null;
+    const options = withAvatarBones(this.metadata.options, avatar === null ? null : avatarRestBones(avatar));
+    const rig = loadWearableRig(sb, this.gltf, this.springBonesForCore(), options);
     let instance;
     try {
       instance = rig.createInstance(this.metadata.instance);
@@ -131,6 +148,7 @@ class RegisteredWearable {
     const previousRig = this.rig;
     this.rig = rig;
     this.instance = instance;
+    this.avatar = avatar;
     this.error = null;
     if (rig.contentHash) this.metadata.key = rig.contentHash;
     this.jointNodes = rig.joints.map((j) => this.nodes[j.node] ?? null);
@@ -430,7 +448,18 @@ export class SpringBoneSimulation {
       this.#reportModuleError(wearable);
     }
     this.#wearables.set(itemId, wearable);
+    this.#measureOnAvatar();
     this.#membersChanged();
+  }
+
+  /**
+   * Builds again, keeping their motion, the wearables whose body shapes wait for an avatar that is
+   * in the scene now (the preview adds each GLB and registers it in turn, the body shape perhaps
+   * after the hair).
+   */
+  #measureOnAvatar() {
+    if (!this.#sb) return;
+    for (const wearable of this.#wearables.values()) if (wearable.waitsForAvatar()) this.#build(wearable, { carry: true });
   }
 
   /**
@@ -482,6 +511,8 @@ export class SpringBoneSimulation {
     this.#scene = scene;
     this.#mirrored = isMirroredScene(scene);
     this.#observer = scene.onBeforeRenderObservable.add(this.#frame);
+    this.#measureOnAvatar();
+    this.#membersChanged();
   }
 
   /**
