@@ -23,6 +23,13 @@ test('opens on the sample with Babylon 4.2, its five chains and no console error
   assert.deepEqual(consoleErrors, []);
 });
 
+test("the hair gets the 'dcl-body' shapes measured on the avatar in the scene, all eight, with no warning", { skip }, async () => {
+  assert.deepEqual(await demo(() => window.springbonesBabylonDemo.colliders()), ['Avatar_Head', 'Avatar_Neck', 'Avatar_Spine2',
+    'Avatar_Spine1', 'Avatar_LeftShoulder', 'Avatar_RightShoulder', 'Avatar_LeftArm', 'Avatar_RightArm']);
+  assert.deepEqual(await demo(() => window.springbonesBabylonDemo.warnings()), []);
+  assert.equal(await page.locator('#warnings').textContent(), '');
+});
+
 test('every library module is preloaded, and every preload used', { skip }, async () => {
   assert.deepEqual(await libraryModulesNotPreloaded(page), []);
   assert.deepEqual(consoleWarnings.filter((w) => /preload/i.test(w)), []);

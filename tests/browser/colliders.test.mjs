@@ -1,5 +1,6 @@
-// The avatar's colliders in the demo: the page asks loadRig for the 'dcl-body' preset (from the
-// wearable's Hips-to-Head armature: head sphere, neck, chest and upper-belly capsules), and with
+// The avatar's colliders in the demo: the page asks loadRig for the 'dcl-body' preset, measured on
+// the avatar's bones (head sphere, neck, chest, upper-belly, shoulder and upper-arm capsules,
+// though the wearable's GLB carries Hips to Head only), with no warning, and with
 // them no joint tail of the sample enters the head sphere while the avatar is shaken and spun hard,
 // with either integrator. Without them the same motion does put hair inside the head, so the check
 // can fail. And the wind slider blows the hair.
@@ -38,11 +39,12 @@ const hardMotion = () => demo(() => {
 test('the rig gets the avatar colliders, drawn on demand', { skip }, async () => {
   let state = await demo(() => window.springbonesDemo.state());
   assert.equal(state.colliders, true, 'colliders are on by default');
-  assert.equal(state.rigColliders, 4, 'head sphere, neck, chest and upper-belly capsules');
+  assert.equal(state.rigColliders, 8, 'head sphere, neck, chest, upper-belly, shoulder and upper-arm capsules');
+  assert.deepEqual(state.rigWarnings, [], 'no body-collider-skipped: the avatar has every bone');
   assert.equal(state.collidersShown, 0);
   await page.locator('#show-colliders').check();
   state = await demo(() => window.springbonesDemo.state());
-  assert.equal(state.collidersShown, 4, 'one wireframe per collider, on the avatar bones');
+  assert.equal(state.collidersShown, 8, 'one wireframe per collider, on the avatar bones');
   await page.locator('#colliders').uncheck();
   state = await demo(() => window.springbonesDemo.state());
   assert.equal(state.rigColliders, 0);
@@ -51,7 +53,7 @@ test('the rig gets the avatar colliders, drawn on demand', { skip }, async () =>
   await page.locator('#colliders').check();
   await page.locator('#show-colliders').uncheck();
   state = await demo(() => window.springbonesDemo.state());
-  assert.equal(state.rigColliders, 4);
+  assert.equal(state.rigColliders, 8);
   assert.equal(state.collidersShown, 0);
   assert.deepEqual(consoleErrors, []);
 });

@@ -1,7 +1,7 @@
 // The avatar's colliders: the core's 'dcl-body' preset (a head sphere and capsules for the neck,
-// chest, shoulders and upper arms, measured from the Decentraland armature the wearable's GLB
-// carries; docs/semantics.md, "Body colliders"), handed to sb.loadRig next to the wearable's
-// metadata (the GLB is not touched), and a wireframe drawing of a rig's colliders.
+// chest, belly, shoulders and upper arms, measured on the avatar's own bones, avatarRestBones;
+// docs/semantics.md, "Body colliders"), handed to sb.loadRig next to the wearable's metadata (the
+// GLB is not touched), and a wireframe drawing of a rig's colliders.
 import * as THREE from 'three';
 
 /** loadRig's colliders option for the avatar's body. */

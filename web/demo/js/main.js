@@ -11,7 +11,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import * as SkeletonUtils from 'three/addons/utils/SkeletonUtils.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { createSpringBones } from '../../springbones.js';
-import { attachWearable, avatarArmature, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
+import { attachWearable, avatarArmature, avatarRestBones, wearableNodes, SpringBonesGroup, SpringBonesHelper } from '../../three/springBonesThree.js';
 import { AVATAR_COLLIDERS, AVATAR_HIT_RADIUS, ColliderHelper } from './colliders.js';
 import { Creator } from './creator.js';
 import { HairDrag } from './drag.js';
@@ -223,9 +223,13 @@ class Preview {
     this.restartReadout();  // new instances: other costs, and their step clocks start at zero
   }
 
-  /** loadRig options the preview adds to the wearable's metadata: the avatar's colliders. */
+  /**
+   * loadRig options the preview adds to the wearable's metadata: the avatar's colliders, measured
+   * on the avatar's bones (every avatar of the crowd is a clone of the one file: one rig serves all).
+   */
   rigOptions() {
-    return this.colliders ? { colliders: AVATAR_COLLIDERS, hitRadius: AVATAR_HIT_RADIUS } : {};
+    if (!this.colliders) return {};
+    return { colliders: AVATAR_COLLIDERS, hitRadius: AVATAR_HIT_RADIUS, avatarBones: avatarRestBones(this.avatarGltf.scene) };
   }
 
   wear(avatar) {
@@ -632,6 +636,7 @@ function debugHook(preview, creator) {
       colliders: preview.colliders,
       wind: preview.wind,
       rigColliders: first()?.rig.colliders.length ?? 0,
+      rigWarnings: first()?.rig.warnings.map((w) => w.code) ?? [],
       collidersShown: preview.avatars.reduce((n, a) => n + (a.colliderHelper?.lines.filter((l) => l.visible && l.parent).length ?? 0), 0),
       chainsShown: preview.avatars.filter((a) => a.helper?.visible && a.helper.parent).length,
       sceneSize: preview.group.scene.size,

@@ -65,9 +65,13 @@ for (const container of [avatar, wearable]) {
   container.meshes.find((m) => m.name === '__root__').parent = avatarRoot;
 }
 
-// Registered before any animation moves it: its current pose is the rest pose.
+// Registered before any animation moves it: its current pose is the rest pose. With loadRig's
+// 'dcl-body' colliders (head, neck, chest, belly, shoulders, upper arms), which the drop-in
+// measures on the avatar in the scene (the skeleton with the whole armature: the hair's GLB
+// carries Hips to Head only) and drives from the avatar's bones; the hit radius is the three.js
+// page's. Decentraland's preview passes the models entry alone, without colliders.
 const simulation = new SpringBoneSimulation(sbPromise);
-simulation.registerWearable(scene, wearable, itemHash, springBones.models[itemHash]);
+simulation.registerWearable(scene, wearable, itemHash, { springBones, contentHash: itemHash, colliders: 'dcl-body', hitRadius: 0.01 });
 simulation.start(scene);
 
 // The avatar's clips drive the wearable's bones of the same names too.
@@ -150,6 +154,9 @@ window.springbonesBabylonDemo = {
   ready: true,
   babylonVersion: BABYLON.Engine.Version,
   springbonesVersion: sb.version,
+  /** The bones that carry the rig's colliders, and the rig's warnings' codes. */
+  colliders: () => simulation.rigOf(itemHash).colliders.map((c) => c.node),
+  warnings: () => simulation.rigOf(itemHash).warnings.map((w) => w.code),
   /** The rig's joints: name, chain root, parameters. */
   joints: () => simulation.rigOf(itemHash).joints.map((j, i, all) => ({ name: j.name, chain: all[j.chain].name, params: j.params })),
   /** Every simulated node's rotationQuaternion, in the rig's joint order, flat. */
