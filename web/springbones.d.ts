@@ -133,8 +133,8 @@ export interface ColliderOptions {
  * A ready-made collider set. 'dcl-body' (a preview option, not part of the standard): a head
  * sphere and capsules for the neck, chest, shoulders and upper arms, built from the rest pose of
  * the Decentraland armature bones, sized from their rest lengths (docs/semantics.md, "Body
- * colliders"): the avatar's bones when `avatarBones` gives them, else those the GLB carries.
- * Shapes whose bones are missing are left out with a `body-collider-skipped` warning.
+ * colliders"): the avatar's bones when `avatarBones` gives them (both adapters give them when a
+ * wearable is worn), else those the GLB carries. Shapes whose bones are missing are left out with a `body-collider-skipped` warning.
  */
 export type ColliderPreset = 'dcl-body';
 

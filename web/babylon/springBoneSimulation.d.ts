@@ -31,7 +31,10 @@ export type SpringBonesModelEntry = Record<string, SpringBoneEntry>;
  */
 export type SpringBonesWithHashOptions = {
   springBones: SpringBonesData | object | string | null;
+  /** 'dcl-body': measured on the avatar in the scene (the skeleton with the most bones outside
+   *  the wearable's container), unless `avatarBones` are given. */
   colliders?: readonly ColliderOptions[] | ColliderPreset;
+  avatarBones?: LoadOptions['avatarBones'];
   hitRadius?: number;
   limits?: LoadOptions['limits'];
   jumpDistance?: number;

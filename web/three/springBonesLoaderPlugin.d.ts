@@ -75,14 +75,18 @@ export class SpringBonesWearable {
   readonly gltf: GLTF;
   /**
    * The rig, owned by the wearable: dispose() frees it. Typed as loaded: with `sb` given as a
-   * promise, or left out, it is null until `ready` resolves.
+   * promise, or left out, it is null until `ready` resolves. With `colliders: 'dcl-body'` (and no
+   * `avatarBones`) each wear() runs a rig measured on its avatar's bones instead (one per
+   * armature, also the wearable's to dispose of): `attachment.rig`.
    */
   readonly rig: Rig;
   /**
    * The rig's warnings, then the reasons the spring bones stay at rest that the rig does not list
    * itself (`no-chain-root`, `no-chains`, `module-failed`, `rig-failed`). Each of those reasons
    * (the rig's `model-not-found` and `models-missing` too) is written to the console once per
-   * wearable (see the plugin's onWarning). None before the rig loads.
+   * wearable (see the plugin's onWarning). None before the rig loads. With `colliders:
+   * 'dcl-body'` measured at wear(), the rig's `body-collider-skipped` about the GLB's own bones is
+   * left out: an avatar's missing bone is in its attachment's `rig.warnings`.
    */
   readonly warnings: readonly (Warning | StaticHairWarning)[];
   /**

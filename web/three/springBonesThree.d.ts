@@ -14,6 +14,16 @@ export type { Diagnostic, DiagnosticCode };
 export function avatarArmature(avatarRoot: Object3D): Map<string, Object3D>;
 
 /**
+ * The avatar's bones with their rest world matrices, as loadRig's `avatarBones` (glTF node name ->
+ * 16 numbers, column-major): the inverse of each joint's inverse bind matrix in the avatar's
+ * skinned meshes, so the rest pose whatever the avatar plays, in the avatar file's own space.
+ * Null for an avatar without skins. Read with avatarArmature and cached per root. The plugin's
+ * wear() passes them itself with `colliders: 'dcl-body'`.
+ * @throws TypeError when avatarRoot is not an Object3D
+ */
+export function avatarRestBones(avatarRoot: Object3D): Record<string, number[]> | null;
+
+/**
  * The Object3D of every glTF node of a loaded GLB, indexed like its `nodes` array (the indices in
  * rig.joints[].node and rig.drivers[].node). Pass `root`, a SkeletonUtils.clone of gltf.scene, to
  * get the clone's objects instead.
