@@ -88,6 +88,33 @@ for (const which of kBabylonVersions) {
       simulation.dispose(scene);
     });
 
+    test('registered before the avatar is in the scene, the hair is measured again at start()', async () => {
+      const { scene, avatar, hair, add } = await avatarAndHair();
+      add(hair);
+      const simulation = new SpringBoneSimulation(sb);
+      simulation.registerWearable(scene, hair, hash, registration(kDclBody));
+      assert.equal(simulation.rigOf(hash).colliders.length, 4);
+      add(avatar);  // not registered: start() finds it
+      simulation.start(scene);
+      assert.deepEqual(simulation.rigOf(hash).colliders.map((c) => c.node), kBodyShapes);
+      for (let f = 0; f < 10; f++) scene.render();
+      assert.ok(simulation.internalsForTests.wearable(hash).instance.worldMatrices.every(Number.isFinite), 'the rebuilt instance steps');
+      simulation.dispose(scene);
+    });
+
+    test('with the module still on its way, the hair is measured on the avatar when it comes', async () => {
+      const { scene, avatar, hair, add } = await avatarAndHair();
+      add(avatar);
+      add(hair);
+      const simulation = new SpringBoneSimulation(Promise.resolve(sb));
+      simulation.registerWearable(scene, hair, hash, registration(kDclBody));
+      assert.equal(simulation.rigOf(hash), null);
+      await simulation.ready;
+      assert.deepEqual(simulation.rigOf(hash).colliders.map((c) => c.node), kBodyShapes);
+      assert.deepEqual(simulation.warnings, []);
+      simulation.dispose(scene);
+    });
+
     test('an avatar that truly lacks a bone leaves its shapes out, and the warning names the bone', async () => {
       const { scene, avatar, hair, add } = await avatarAndHair();
       add(avatar);

@@ -455,11 +455,15 @@ export class SpringBoneSimulation {
   /**
    * Builds again, keeping their motion, the wearables whose body shapes wait for an avatar that is
    * in the scene now (the preview adds each GLB and registers it in turn, the body shape perhaps
-   * after the hair).
+   * after the hair). Returns whether one was built again.
    */
   #measureOnAvatar() {
-    if (!this.#sb) return;
-    for (const wearable of this.#wearables.values()) if (wearable.waitsForAvatar()) this.#build(wearable, { carry: true });
+    if (!this.#sb) return false;
+    let built = false;
+    for (const wearable of this.#wearables.values()) {
+      if (wearable.waitsForAvatar()) built = this.#build(wearable, { carry: true }) || built;
+    }
+    return built;
   }
 
   /**
@@ -511,8 +515,7 @@ export class SpringBoneSimulation {
     this.#scene = scene;
     this.#mirrored = isMirroredScene(scene);
     this.#observer = scene.onBeforeRenderObservable.add(this.#frame);
-    this.#measureOnAvatar();
-    this.#membersChanged();
+    if (this.#measureOnAvatar()) this.#membersChanged();
   }
 
   /**
