@@ -254,7 +254,7 @@ test('chain lines, colliders and the readout', { skip }, async () => {
   await page.locator('#show-chains').uncheck();
   assert.equal((await state()).chainsShown, 0);
   await page.locator('#show-colliders').check();
-  assert.equal((await state()).collidersShown, 4, 'the dcl-body preset: head, neck, chest, upper belly');
+  assert.equal((await state()).collidersShown, 8, 'the dcl-body preset on the avatar: head, neck, chest, upper belly, shoulders, upper arms');
   await page.locator('#show-colliders').uncheck();
 
   await page.locator('#integrator').selectOption('xpbd');
