@@ -356,6 +356,29 @@ bool setInertia(int instance, float value, int chain) {
   return i != nullptr;
 }
 
+// Colliders changed at run time (Instance::setColliders, frameMatrices).
+
+/// The colliders at `data` (typed input, readColliderOptions) as the instance's from its next
+/// step; returns {frames, warnings} as JSON (describeColliderChange), or "" with the error pending.
+std::string setColliders(int instance, std::uintptr_t data, std::size_t size) {
+  std::string described;
+  guarded([&] {
+    Instance* i = findInstance(instance);
+    if (i == nullptr) return badHandle("instance", instance);
+    ColliderOptions options;
+    if (ApiFailure f = readColliderOptions(typedAt(data, size), options)) return fail(std::move(f));
+    const std::vector<Warning> warnings = i->setColliders(options);
+    described = describeColliderChange(i->frameNames(), warnings);
+    return 1;
+  });
+  return described;
+}
+/// Moves with every setColliders.
+std::uintptr_t frameMatricesPtr(int instance) {
+  Instance* i = findInstance(instance);
+  return i ? reinterpret_cast<std::uintptr_t>(i->frameMatrices()) : 0;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Wind (Instance::setWind, Scene::setWind), checked by the JS side; the core clamps anyway.
 
@@ -430,4 +453,6 @@ EMSCRIPTEN_BINDINGS(springbones) {
   emscripten::function("release", &release);
   emscripten::function("grabbedJoint", &grabbedJoint);
   emscripten::function("setInertia", &setInertia);
+  emscripten::function("setColliders", &setColliders);
+  emscripten::function("frameMatricesPtr", &frameMatricesPtr);
 }

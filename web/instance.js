@@ -2,9 +2,11 @@
 // buffers in WebAssembly memory (made again when memory growth detaches them).
 
 import { checkDt, checkFloat32, checkInteger, checkRange, checkVec3, windArguments } from './arguments.js';
-import { disposedError } from './errors.js';
+import { deepFreeze } from './deep_freeze.js';
+import { disposedError, takeError } from './errors.js';
 import { kLongFrameSeconds, warnLongFrame } from './long_frame.js';
-import { isStale } from './wasm_memory.js';
+import { colliderChange } from './rig_options.js';
+import { isStale, withBytes } from './wasm_memory.js';
 
 /**
  * Accessors into an instance's private fields for the scene (scene.js), which reads its module
@@ -24,6 +26,10 @@ export class Instance {
   #drivers;
   #rotations;
   #world;
+  #framePtr = 0;  // setColliders' frames: where their matrices are, how many floats, the view
+  #frameFloats = 0;
+  #frames = new Float32Array(0);
+  #frameNames = Object.freeze([]);
   #scenes = new Map();  // the scenes this instance is in -> how each forgets it, called on dispose
   #chainCount;  // () => the rig's chain count
 
@@ -192,6 +198,46 @@ export class Instance {
     let index = -1;
     if (chain !== undefined) index = checkInteger('setInertia: chain', chain, 0, this.#chainCount() - 1);
     this.#m.setInertia(handle, value, index);
+  }
+
+  /**
+   * Replaces this instance's colliders (its rig's included) from its next step on: `colliders` as
+   * loadRig's option takes them (an array of colliders, or 'dcl-body'), null or [] for none;
+   * `options` {avatarBones?, scale?, omit?}: the avatar's bones for 'dcl-body', and its radii
+   * times `scale`, its shapes named in `omit` left out. Every joint then collides with all of
+   * them. A collider's node is a rig driver of that name, or else a frame the page writes each
+   * frame (frameNames, frameMatrices). Returns the warnings of the shapes (the rig's codes:
+   * collider-invalid, collider-on-spring-bone, body-collider-skipped).
+   */
+  setColliders(colliders, options) {
+    const handle = this.#live();
+    const typed = colliderChange('setColliders', colliders, options, this.#limits);
+    const m = this.#m;
+    const text = withBytes(m, typed, (ptr, size) => m.setColliders(handle, ptr, size));
+    if (text === '') throw takeError(m);
+    const { frames, warnings } = JSON.parse(text);
+    this.#frameNames = deepFreeze(frames);
+    this.#framePtr = m.frameMatricesPtr(handle);
+    this.#frameFloats = 16 * frames.length;
+    this.#frames = this.#view(this.#framePtr, this.#frameFloats);
+    return deepFreeze(warnings);
+  }
+
+  /** The frames setColliders made (collider nodes that are no driver of the rig), in frameMatrices' order. */
+  get frameNames() {
+    this.#live();
+    return this.#frameNames;
+  }
+
+  /**
+   * The frames' world matrices (column-major 4x4, 16 floats per frameNames entry), written before
+   * step() as driverMatrices are: what the colliders on each frame follow. A new array after each
+   * setColliders.
+   */
+  get frameMatrices() {
+    this.#live();
+    if (isStale(this.#m, this.#frames, this.#frameFloats)) this.#frames = this.#view(this.#framePtr, this.#frameFloats);
+    return this.#frames;
   }
 
   /**

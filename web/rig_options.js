@@ -144,6 +144,40 @@ function colliderJson(where, c) {
 
 const kColliderPresets = ['dcl-body'];
 
+/**
+ * instance.setColliders' arguments, checked, as the typed input the bindings read
+ * (readColliderOptions, springbones/boundary.h): `colliders` as loadRig's (an array, or
+ * 'dcl-body'), or null for none; `options` {avatarBones?, scale?, omit?}, scale and omit (names
+ * from `limits.bodyColliderShapes`) only with 'dcl-body'.
+ */
+export function colliderChange(where, colliders, options, limits) {
+  const opts = optionsObject(where, options, ['avatarBones', 'scale', 'omit']);
+  const out = {};
+  if (opts.avatarBones !== undefined) out.avatarBones = checkedAvatarBones(`${where}: avatarBones`, opts.avatarBones);
+  if (typeof colliders === 'string') {
+    if (!kColliderPresets.includes(colliders)) {
+      throw new RangeError(`${where}: colliders must be an array, null or one of ${kColliderPresets.join(', ')}, got '${colliders}'`);
+    }
+    out.preset = colliders;
+  } else if (colliders !== null) {
+    if (!Array.isArray(colliders)) throw new TypeError(`${where}: colliders must be an array, null or '${kColliderPresets[0]}'`);
+    out.colliders = checkDenseArray(`${where}: colliders`, colliders).map((c, i) => colliderJson(`${where}: colliders[${i}]`, c));
+  }
+  const onlyBody = (key) => {
+    if (out.preset === undefined) throw new TypeError(`${where}: ${key} only applies to '${kColliderPresets[0]}'`);
+  };
+  if (opts.scale !== undefined) {
+    onlyBody('scale');
+    out.scale = checkNonNegative(`${where}: scale`, opts.scale);
+  }
+  if (opts.omit !== undefined) {
+    onlyBody('omit');
+    if (!Array.isArray(opts.omit)) throw new TypeError(`${where}: omit must be an array of shape names`);
+    out.omit = checkDenseArray(`${where}: omit`, opts.omit).map((name, i) => checkOneOf(`${where}: omit[${i}]`, name, limits.bodyColliderShapes));
+  }
+  return encodeTyped(`${where}: colliders`, out);
+}
+
 // loadRig's `limits`: joint names to one limit each, as VRMC_springBone_limit spells it. Types and
 // shapes are checked here; the core clamps angles out of the draft's ranges with a warning.
 function checkedLimits(where, limits) {

@@ -138,6 +138,21 @@ export interface ColliderOptions {
  */
 export type ColliderPreset = 'dcl-body';
 
+/** The name of a 'dcl-body' shape, for SetCollidersOptions.omit. */
+export type BodyShapeName =
+  | 'head' | 'neck' | 'chest' | 'upper-belly' | 'left-shoulder' | 'right-shoulder' | 'left-upper-arm' | 'right-upper-arm';
+
+/** instance.setColliders' options. */
+export interface SetCollidersOptions {
+  /** As LoadOptions.avatarBones: the avatar's bones the 'dcl-body' shapes are measured on and ride on. */
+  avatarBones?: Readonly<Record<string, readonly number[] | Float32Array | Float64Array>>;
+  /** 'dcl-body' only: every shape's radius times this (finite, >= 0; 0.5 halves them). The capsules
+   *  still run between their bones: lengths are the avatar's. Default 1. */
+  scale?: number;
+  /** 'dcl-body' only: the shapes to leave out, by name. */
+  omit?: readonly BodyShapeName[];
+}
+
 /**
  * An angle limit on a joint, as VRMC_springBone_limit (1.0-draft) spells it: exactly one of cone,
  * hinge and spherical (docs/semantics.md, "Angle limits"). Angles are radians, finite; a negative
@@ -563,6 +578,32 @@ export interface Instance {
    * @throws RangeError for a value outside [0, 1] or a chain out of range
    */
   setInertia(value: number, chain?: number): void;
+  /**
+   * Replaces this instance's colliders (its rig's included) from its next step on, for whichever
+   * integrator runs it; every joint then collides with all of them, with the rig's hitRadius.
+   * `colliders` takes what LoadOptions.colliders takes, by the same rules and errors (paths such as
+   * `setColliders: colliders[2].radius`); null or [] for none. A collider's `node` that names one
+   * of rig.drivers follows that driver; any other name becomes a frame (frameNames), whose world
+   * matrix the page writes each frame into frameMatrices: another wearable's node, a hat, a hand.
+   * The rig's own colliders given again move the tails exactly as before. An instance whose
+   * colliders differ from its rig's in number, kind or which joints meet them steps on the general
+   * path rather than the lanes (the same motion rules). docs/semantics.md, "Colliders at run time".
+   * @returns the warnings of the shapes (`collider-invalid`, `collider-on-spring-bone`,
+   *   `body-collider-skipped`), as rig.warnings has them for loadRig's
+   * @throws TypeError / RangeError for a bad collider or option, SpringBonesError 'disposed'
+   */
+  setColliders(colliders: readonly ColliderOptions[] | ColliderPreset | null, options?: SetCollidersOptions): readonly Warning[];
+  /** The frames setColliders made, in frameMatrices' order: collider nodes that are no rig driver. */
+  readonly frameNames: readonly string[];
+  /**
+   * World matrices of the frames (column-major 4x4, 16 floats per frameNames entry, world space as
+   * driverMatrices), written by the caller before step(); each holds for every substep of the frame
+   * (not interpolated). A matrix with an entry that is not a number within +-1e12 is ignored (the
+   * frame keeps its last good one); until written, a frame is its avatarBones rest matrix, else the
+   * GLB node's of its name, else the identity. A new array after each setColliders; same view rules
+   * as driverMatrices.
+   */
+  readonly frameMatrices: Float32Array;
   /**
    * Frees the instance, first removing it from every scene it is in. Idempotent; any other use
    * afterwards throws SpringBonesError 'disposed'.

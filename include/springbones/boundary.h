@@ -33,6 +33,15 @@ std::string failureJson(const ApiFailure& failure);
 /// into the options, "/colliders/0/radius") names what the JavaScript's error names.
 ApiFailure readRigOptions(TypedBytes options, RigOptions& out);
 
+/// Instance::setColliders' colliders as the JS side writes them (web/rig_options.js), as typed
+/// input: {colliders?: [...as in the rig options], preset?: "dcl-body", avatarBones?, scale?,
+/// omit?: [shape names]}, scale and omit only with the preset; no bytes: none. Refused values as
+/// readRigOptions refuses them, the message starting "setColliders: ".
+ApiFailure readColliderOptions(TypedBytes options, ColliderOptions& out);
+
+/// What setColliders reports: {frames: [names, in frameMatrices' order], warnings: [...]}.
+std::string describeColliderChange(const std::vector<std::string>& frames, const std::vector<Warning>& warnings);
+
 /// The rig as JSON text: {contentHash, format, nodeCount, joints, chains, drivers, colliders,
 /// warnings}, with the property names of web/springbones.d.ts. `content_hash` is the models key
 /// the rig was built from, `format` where its springs came from (dcl, vrmc-springbone, vrm0, none).
@@ -42,7 +51,8 @@ std::string describeRig(const Rig& rig, const std::string& content_hash, const s
 
 /// The limits and defaults the JS API checks its arguments against, as the core defines them:
 /// {maxStepHz, maxSubsteps, maxXpbdIterations, maxMetadataBytes, integrators: {vrm: {stepHz,
-/// maxSubsteps}, xpbd: {stepHz, maxSubsteps, xpbdIterations}}}.
+/// maxSubsteps}, xpbd: {stepHz, maxSubsteps, xpbdIterations}}, bodyColliderShapes: the 'dcl-body' shape
+/// names setColliders' omit takes (dclBodyShapeNames)}.
 std::string limitsJson();
 
 /// {rigs, instances, scenes, heapInUse}: the live handles and the bytes malloc has handed out.

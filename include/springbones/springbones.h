@@ -240,6 +240,27 @@ struct RigOptions {
   std::map<std::string, JointLimit> limits;
 };
 
+/// The 'dcl-body' preset as one instance wants it (Instance::setColliders): every shape's radius
+/// times `scale` (the capsules still run between their bones: lengths are the avatar's), and the
+/// shapes named in `omit` left out (dclBodyShapeNames: "head", "neck", "chest", "upper-belly",
+/// "left-shoulder", "right-shoulder", "left-upper-arm", "right-upper-arm").
+struct BodyColliderOptions {
+  float scale = 1.0f;  ///< finite, >= 0; a radius it takes beyond kMaxColliderSize: collider-invalid
+  std::vector<std::string> omit;
+};
+
+/// The names of the 'dcl-body' preset's shapes, in the order it builds them.
+const std::vector<std::string>& dclBodyShapeNames();
+
+/// What Instance::setColliders takes: the shapes of RigOptions' `colliders` and `preset`, by the
+/// same rules, and the preset's per-instance size and omissions.
+struct ColliderOptions {
+  std::vector<ColliderSpec> colliders;            ///< every joint collides with all of them
+  ColliderPreset preset = ColliderPreset::kNone;  ///< shapes added before `colliders`
+  std::vector<AvatarBone> avatar_bones;           ///< as RigOptions::avatar_bones, for the preset
+  BodyColliderOptions body;                       ///< the preset's scale and omissions
+};
+
 struct RigConstants;  // what the simulation derives from a rig (src/simulation/rig_constants.h)
 
 struct Rig {
@@ -425,6 +446,27 @@ class Instance {
   void setInertia(float value, int chain = -1);
   /// The inertia of chain `chain` (kDefaultInertia for one out of range).
   float inertia(std::size_t chain) const;
+  /// Replaces the instance's colliders (every one it has, its rig's included) from its next step
+  /// on, for whichever integrator runs it: every joint then collides with all of the new ones, in
+  /// order, with its rig's hitRadius. The shapes follow RigOptions' rules and warnings
+  /// (collider-invalid, collider-on-spring-bone, body-collider-skipped), returned rather than kept.
+  /// A collider's node is one of the rig's drivers when one is named so (the first node of that
+  /// name, else an avatar bone the rig supplies by name), else a frame: a world matrix the caller
+  /// writes every frame (frameMatrices), as it writes the drivers. The rig's own colliders given
+  /// again move the tails bit for bit as before. An instance whose colliders differ from its
+  /// rig's in number, kind or which joints meet them steps on the general path, never the lanes
+  /// (the same update). Allocates here, never in the steps.
+  std::vector<Warning> setColliders(const ColliderOptions& options);
+  /// The frames setColliders made, by name, in the order of frameMatrices.
+  const std::vector<std::string>& frameNames() const;
+  /// Column-major 4x4 world matrices, 16 floats per frame, written by the caller before step():
+  /// what the colliders on that frame follow, held for every step of the frame (not interpolated
+  /// across its substeps, as drivers are). An entry that is not a number within +-kMaxDriverEntry
+  /// leaves the frame at its last good matrix; until written, a frame is the avatar bone's rest
+  /// matrix (ColliderOptions::avatar_bones), else the GLB node's of that name, else the identity. Moves when
+  /// setColliders runs again.
+  float* frameMatrices();
+
   /// Fixed steps the last frame ran (step, stepAll or Scene::step): 0 when dt was too short to
   /// reach the next step, was <= 0 or non-finite, or a scene's budget held the instance;
   /// max_substeps when the frame was longer than that many steps and its excess was dropped.

@@ -18,20 +18,23 @@ namespace {
 // Where a value sits in the options, spelled both ways: as the JavaScript would write it
 // (`colliders[0].radius`, for the message) and as a JSON pointer (`/colliders/0/radius`, the
 // failure's path, which tests compare with the JavaScript's message).
+// `owner` says whose options they are, first in the message ("rig options", "setColliders").
 struct OptionPath {
   std::string dotted;
   std::string pointer;
+  const char* owner = "rig options";
 
   OptionPath key(const std::string& name) const {
-    return {dotted.empty() ? name : dotted + "." + name, pointer + pointerToken(name)};
+    return {dotted.empty() ? name : dotted + "." + name, pointer + pointerToken(name), owner};
   }
   OptionPath index(std::size_t i) const {
-    return {dotted + "[" + std::to_string(i) + "]", pointer + "/" + std::to_string(i)};
+    return {dotted + "[" + std::to_string(i) + "]", pointer + "/" + std::to_string(i), owner};
   }
 };
 
 ApiFailure badOption(const OptionPath& at, const std::string& why) {
-  return ApiFailure{"invalid-argument", "rig options: " + (at.dotted.empty() ? "" : at.dotted + " ") + why, at.pointer};
+  return ApiFailure{"invalid-argument", std::string(at.owner) + ": " + (at.dotted.empty() ? "" : at.dotted + " ") + why,
+                    at.pointer};
 }
 
 ApiFailure checkKeys(const TypedValue& object, const OptionPath& at, std::initializer_list<const char*> known) {
@@ -209,6 +212,18 @@ ApiFailure readAvatarBones(const TypedValue& bones, const OptionPath& at, std::v
   return {};
 }
 
+// A list of colliders (readCollider each).
+ApiFailure readColliders(const TypedValue& colliders, const OptionPath& at, std::vector<ColliderSpec>& out) {
+  if (!colliders.is_array()) return badOption(at, "must be an array");
+  out.reserve(colliders.size());
+  for (std::size_t i = 0; i < colliders.size(); ++i) {
+    ColliderSpec spec;
+    if (ApiFailure f = readCollider(colliders[i], at.index(i), spec)) return f;
+    out.push_back(std::move(spec));
+  }
+  return {};
+}
+
 // The rig options as they cross from loadRig (web/rig_options.js writes them): {colliders?,
 // preset?, avatarBones?, hitRadius?, limits?}, with the rules the JavaScript checks them by, so
 // that a value the JavaScript refuses is refused here too, at the same path
@@ -238,14 +253,54 @@ ApiFailure readOptions(const TypedValue& value, RigOptions& out) {
       return ApiFailure{"invalid-argument", "rig options: " + why, "/limits"};
   }
   if (auto colliders = value.find("colliders"); colliders != value.end()) {
-    const OptionPath at = root.key("colliders");
-    if (!colliders->is_array()) return badOption(at, "must be an array");
-    out.colliders.reserve(colliders->size());
-    for (std::size_t i = 0; i < colliders->size(); ++i) {
-      ColliderSpec spec;
-      if (ApiFailure f = readCollider((*colliders)[i], at.index(i), spec)) return f;
-      out.colliders.push_back(std::move(spec));
+    if (ApiFailure f = readColliders(*colliders, root.key("colliders"), out.colliders)) return f;
+  }
+  return {};
+}
+
+// setColliders' colliders as they cross from web/rig_options.js (colliderChange): {colliders?,
+// preset?: "dcl-body", avatarBones?, scale?, omit?}, scale and omit only with the preset; by
+// the rules loadRig's options are read by, and the same failures (tests/wasm/set_colliders.test.mjs).
+ApiFailure readColliderChange(const TypedValue& value, ColliderOptions& out) {
+  OptionPath root;
+  root.owner = "setColliders";
+  if (value.is_null()) return {};
+  if (!value.is_object()) return badOption(root, "must be an object");
+  if (ApiFailure f = checkKeys(value, root, {"colliders", "preset", "avatarBones", "scale", "omit"})) return f;
+  if (auto preset = value.find("preset"); preset != value.end()) {
+    if (!preset->is_string() || *preset != "dcl-body") return badOption(root.key("preset"), "must be 'dcl-body'");
+    out.preset = ColliderPreset::kDclBody;
+  }
+  const bool body = out.preset == ColliderPreset::kDclBody;
+  if (auto bones = value.find("avatarBones"); bones != value.end()) {
+    if (ApiFailure f = readAvatarBones(*bones, root.key("avatarBones"), out.avatar_bones)) return f;
+  }
+  if (auto scale = value.find("scale"); scale != value.end()) {
+    if (!body) return badOption(root.key("scale"), "only applies to 'dcl-body'");
+    double v = 0.0;
+    if (ApiFailure f = readFinite(*scale, root.key("scale"), v)) return f;
+    if (v < 0.0) return badOption(root.key("scale"), "must be >= 0");
+    out.body.scale = static_cast<float>(v);
+  }
+  if (auto omit = value.find("omit"); omit != value.end()) {
+    const OptionPath at = root.key("omit");
+    if (!body) return badOption(at, "only applies to 'dcl-body'");
+    if (!omit->is_array()) return badOption(at, "must be an array of shape names");
+    const std::vector<std::string>& names = dclBodyShapeNames();
+    for (std::size_t i = 0; i < omit->size(); ++i) {
+      const TypedValue name = (*omit)[i];
+      const bool known =
+          name.is_string() && std::find(names.begin(), names.end(), name.get<std::string>()) != names.end();
+      if (!known) {
+        std::string listed;
+        for (const std::string& n : names) listed += (listed.empty() ? "" : ", ") + n;
+        return badOption(at.index(i), "must be one of " + listed);
+      }
+      out.body.omit.push_back(name.get<std::string>());
     }
+  }
+  if (auto colliders = value.find("colliders"); colliders != value.end()) {
+    if (ApiFailure f = readColliders(*colliders, root.key("colliders"), out.colliders)) return f;
   }
   return {};
 }
@@ -274,11 +329,24 @@ ApiFailure readRigOptions(TypedBytes options, RigOptions& out) {
   return failure;
 }
 
+ApiFailure readColliderOptions(TypedBytes options, ColliderOptions& out) {
+  out = ColliderOptions{};
+  if (options.size == 0) return {};
+  TypedDocument doc;
+  if (Error e = doc.decode(options.data, options.size, kMaxMetadataBytes)) return toFailure(e);
+  ApiFailure failure = readColliderChange(doc.root(), out);
+  if (failure) out = ColliderOptions{};
+  return failure;
+}
+
 std::string limitsJson() {
   const IntegratorDefaults vrm = integratorDefaults(Integrator::kVrm);
   const IntegratorDefaults xpbd = integratorDefaults(Integrator::kXpbd);
   JsonText out;
   out.beginObject();
+  out.key("bodyColliderShapes").beginArray();
+  for (const std::string& name : dclBodyShapeNames()) out.value(name);
+  out.endArray();
   out.key("integrators").beginObject();
   out.key("vrm").beginObject().key("maxSubsteps").value(vrm.max_substeps).key("stepHz").value(vrm.step_hz).endObject();
   out.key("xpbd").beginObject().key("maxSubsteps").value(xpbd.max_substeps).key("stepHz").value(xpbd.step_hz);

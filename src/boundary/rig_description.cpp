@@ -131,4 +131,14 @@ std::string describeRig(const Rig& rig, const std::string& content_hash, const s
   return out.take();
 }
 
+std::string describeColliderChange(const std::vector<std::string>& frames, const std::vector<Warning>& warnings) {
+  JsonText out;
+  out.beginObject().key("frames").beginArray();
+  for (const std::string& name : frames) out.value(name);
+  out.endArray().key("warnings");
+  writeWarnings(out, warnings);
+  out.endObject();
+  return out.take();
+}
+
 }  // namespace springbones

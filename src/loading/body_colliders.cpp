@@ -79,8 +79,17 @@ float largestAxisScale(const glm::mat4& m) {
 
 }  // namespace
 
+const std::vector<std::string>& dclBodyShapeNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const Rule& rule : kRules) out.emplace_back(rule.name);
+    return out;
+  }();
+  return names;
+}
+
 std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, const std::vector<AvatarBone>& avatar,
-                                           std::vector<Warning>& warnings) {
+                                           std::vector<Warning>& warnings, const BodyColliderOptions& body) {
   // The rest world matrix of each bone: the first of its name, in one pass over the avatar's bones
   // when the caller gave them (all from one space: never mixed with the GLB's), else the GLB's nodes.
   const Mat4* rest[kBoneCount] = {};
@@ -105,6 +114,7 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, const std::
     skipped += rule.name;
   };
   for (const Rule& rule : kRules) {
+    if (std::find(body.omit.begin(), body.omit.end(), rule.name) != body.omit.end()) continue;
     if (rest[rule.carrier] == nullptr || rest[rule.from] == nullptr || rest[rule.to] == nullptr) {
       for (Bone b : {rule.carrier, rule.from, rule.to}) missing[b] = missing[b] || rest[b] == nullptr;
       leaveOut(rule);
@@ -136,7 +146,7 @@ std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, const std::
     spec.shape = rule.kind == Kind::kSphere ? Collider::Shape::kSphere : Collider::Shape::kCapsule;
     spec.offset = fromGlm(glm::vec3(to_local * glm::vec4(start, 1.0f)));
     spec.tail = fromGlm(glm::vec3(to_local * glm::vec4(end, 1.0f)));
-    spec.radius = rule.radius * length / carrier_scale;
+    spec.radius = rule.radius * length / carrier_scale * body.scale;  // x 1 changes no bit
     out.push_back(std::move(spec));
   }
   if (!skipped.empty()) {

@@ -13,9 +13,10 @@ namespace springbones {
 /// armature's bones (docs/semantics.md, "Body colliders"), measured on `avatar` when it is not
 /// empty (the avatar the wearable is worn on), else on the bones `skeleton` (the wearable's GLB)
 /// carries. A shape whose bones are missing, or sit on each other, is left out, with one
-/// `body-collider-skipped` warning naming every shape left out and the bones missing.
+/// `body-collider-skipped` warning naming every shape left out and the bones missing. `body`: every
+/// radius times its scale, and the shapes it omits not built (and not warned about).
 std::vector<ColliderSpec> dclBodyColliders(const Skeleton& skeleton, const std::vector<AvatarBone>& avatar,
-                                           std::vector<Warning>& warnings);
+                                           std::vector<Warning>& warnings, const BodyColliderOptions& body = {});
 
 /// Rig::collider_passes with the preset: the neck capsule is thinner than the bones swinging round
 /// it, and one push of the tail followed by the bone length can leave the tail inside it; passes

@@ -19,7 +19,7 @@
 #include "common/shown_name.h"
 #include "common/transform_math.h"
 #include "loading/body_colliders.h"
-#include "loading/collider_size.h"
+#include "loading/collider_from_spec.h"
 #include "loading/vrm_limits.h"
 #include "springbones/springbones.h"
 
@@ -352,24 +352,8 @@ class RigBuilder {
     }
     std::unordered_map<std::string, int> external;
     for (const ColliderSpec& spec : *specs) {
-      const bool plane = spec.shape == Collider::Shape::kPlane;
-      const bool finite = isFinite(toGlm(spec.offset)) && isFinite(toGlm(spec.tail)) &&
-                          (!plane || isFinite(toGlm(spec.normal))) && std::isfinite(spec.radius);
-      if (!finite || spec.radius < 0.0f) {
-        warn("collider-invalid",
-             "collider on '" + shownName(spec.node) + "' has a non-finite or negative size; ignored");
-        continue;
-      }
-      if (exceedsMaxColliderSize(spec)) {
-        warn("collider-invalid", "collider on '" + shownName(spec.node) + "' has a radius, offset or tail beyond " +
-                                     formatNumber(kMaxColliderSize) + " (the node's units); ignored");
-        continue;
-      }
-      glm::vec3 normal = toGlm(spec.normal);
-      if (plane && !toUnitLength(normal)) {
-        warn("collider-invalid", "plane collider on '" + shownName(spec.node) + "' has a zero normal; ignored");
-        continue;
-      }
+      Collider collider;
+      if (!colliderFromSpec(spec, collider, rig_->warnings)) continue;
       int driver = -1;
       const int node = nodeNamed(spec.node);
       if (node >= 0) {
@@ -389,13 +373,7 @@ class RigBuilder {
         if (added && from_caller && spec.node.rfind("Avatar_", 0) != 0) warnColliderNodeNotFound(spec.node);
         driver = e->second;
       }
-      Collider collider;
-      static_cast<ColliderShape&>(collider) = spec;
-      collider.inside = spec.inside && !plane;
       collider.driver = driver;
-      if (spec.shape != Collider::Shape::kCapsule) collider.tail = spec.offset;
-      collider.normal = plane ? fromGlm(normal) : Vec3{0.0f, 0.0f, 1.0f};
-      if (plane) collider.radius = 0.0f;
       rig_->colliders.push_back(collider);
     }
     for (Joint& joint : rig_->joints) {

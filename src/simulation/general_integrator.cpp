@@ -45,9 +45,14 @@ struct GeneralIntegrator::SpringInput {
 };
 
 GeneralIntegrator::GeneralIntegrator(std::shared_ptr<const RigConstants> constants)
-    : SpringIntegrator(std::move(constants)), drivers_(rig_) {
+    : SpringIntegrator(std::move(constants)), drivers_(rig_, colliders_, frame_world_) {
   current_tail_.resize(rig_.joints.size());
   previous_tail_.resize(rig_.joints.size());
+}
+
+void GeneralIntegrator::setColliders(ColliderSet colliders) {
+  SpringIntegrator::setColliders(std::move(colliders));
+  drivers_.resizeColliders();
 }
 
 void GeneralIntegrator::seed(const DriverPoses& previous, const DriverPoses& current, bool) {
@@ -82,17 +87,15 @@ glm::vec3 GeneralIntegrator::collide(const Joint& joint, const SpringInput& in, 
   const float length = in.length;
   const bool limited = joint.limit.kind != JointLimit::Kind::kNone;
   const ColliderTable& table = drivers_.colliders();
-  // `passes`: Rig::collider_passes (1 but with the body preset), or more for a held tail; a pass
+  // `passes`: ColliderSet::passes (1 but with the body preset), or more for a held tail; a pass
   // that moves nothing ends them (the lane path runs them all, and a pass without a push changes
   // no bit there either).
   for (int pass = 0; pass < passes; ++pass) {
     bool pushed = false;
-    for (int c : joint.colliders) {
+    for (int c : colliders_.of(joint)) {
       const glm::vec3 start(table.x0[c], table.y0[c], table.z0[c]);
       const glm::vec3 end(table.x1[c], table.y1[c], table.z1[c]);
-      if (!moveTailByCollider(colliderKind(rig_.colliders[c]), start, end, table.radius[c], joint.hit_radius, tail)) {
-        continue;
-      }
+      if (!moveTailByCollider(colliders_.kind(c), start, end, table.radius[c], joint.hit_radius, tail)) { continue; }
       pushed = true;
       const glm::vec3 offset = tail - head;
       const float offset_length = glm::length(offset);
@@ -127,8 +130,7 @@ glm::vec3 GeneralIntegrator::integrate(std::size_t j, const Joint& joint, const 
   // one pass (a push, then the length back) can leave it inside, so it gets the passes XPBD
   // takes, while a collider still moves it.
   const bool held_tail = held.active && held.slot[j] >= 0;
-  tail = collide(joint, in, tail,
-                 held_tail ? std::max(kDefaultXpbdIterations, rig_.collider_passes) : rig_.collider_passes);
+  tail = collide(joint, in, tail, held_tail ? std::max(kDefaultXpbdIterations, colliders_.passes) : colliders_.passes);
   previous_tail_[j] = current;
   current_tail_[j] = drivers_.toCenter(joint.center_driver, tail);
   return tail - in.head;

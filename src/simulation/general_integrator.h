@@ -18,6 +18,7 @@ class GeneralIntegrator : public SpringIntegrator {
   void beginFrame(const DriverPoses&, const DriverPoses&) override {}
   SpringLanes* step(const StepDrivers& drivers, float h, const glm::vec3& wind_pull, bool queue) override;
   void balance(const DriverPoses& poses, const glm::vec3& wind_pull) override;
+  void setColliders(ColliderSet colliders) override;
   void tailState(std::size_t joint, glm::vec3& current, glm::vec3& previous) const override {
     current = current_tail_[joint];
     previous = previous_tail_[joint];

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/transform_math.h"
+#include "loading/instance_colliders.h"
 #include "simulation/driver_poses.h"
 #include "simulation/general_integrator.h"
 #include "simulation/jump_carry.h"
@@ -79,6 +80,9 @@ struct Instance::State {
   // frame's and the one before (the drivers' last motion, for jumps). They take turns every frame
   // (an index, as swapping objects of ~20 vectors each cost more than reading them).
   std::vector<float> driver_input;
+  // The collider set's frames (Instance::frameMatrices): what the caller writes, 16 floats each,
+  // read into the integrator's frame matrices once per frame.
+  std::vector<float> frame_input;
   DriverPoses poses[3];
   int current = 0;
   DriverPoses& currentPoses() { return poses[current]; }
@@ -99,8 +103,21 @@ struct Instance::State {
   mutable std::vector<float> world_output;  // worldMatrices(), filled on request
   std::vector<float> settle_rotations;      // settle(): the rotations before a step
 
+  // The frames the caller wrote, each taken when every entry is a number within kMaxDriverEntry
+  // (the drivers' rule), else left at its last good matrix.
+  void readFrames() {
+    std::vector<glm::mat4>& world = integrator->frameWorld();
+    for (std::size_t f = 0; f < world.size(); ++f) {
+      const float* m = frame_input.data() + 16 * f;
+      bool usable = true;
+      for (int k = 0; k < 16; ++k) usable = usable && std::fabs(m[k]) <= kMaxDriverEntry;  // false for NaN
+      if (usable) std::memcpy(&world[f][0][0], m, sizeof(float) * 16);
+    }
+  }
+
   // The drivers as they are, held (no motion), and the tails seeded at rest under them.
   void seedHeld(bool with_controls) {
+    readFrames();
     currentPoses().read(driver_input.data(), previousPoses());
     holdPoses();
     integrator->seed(previousPoses(), currentPoses(), with_controls);
@@ -126,6 +143,7 @@ struct Instance::State {
     // the frame's steps are counted first). A first frame only seeds: there is nothing to jump from.
     const bool was_seeded = seeded;
     bool drivers_jumped = false;
+    readFrames();
     if (!seeded) {
       seedHeld(/*with_controls=*/true);
       seeded = true;
@@ -203,6 +221,20 @@ Instance::Instance(std::shared_ptr<const Rig> rig, InstanceOptions options) {
 Instance::~Instance() = default;
 
 float* Instance::driverMatrices() { return state_->driver_input.data(); }
+
+std::vector<Warning> Instance::setColliders(const ColliderOptions& options) {
+  State& s = *state_;
+  std::vector<Warning> warnings;
+  ColliderSet set = resolveColliders(*s.rig, options, warnings);
+  s.frame_input.assign(16 * set.frame_rest.size(), 0.0f);
+  for (std::size_t f = 0; f < set.frame_rest.size(); ++f)
+    std::memcpy(s.frame_input.data() + 16 * f, set.frame_rest[f].m, sizeof(float) * 16);
+  s.integrator->setColliders(std::move(set));
+  return warnings;
+}
+
+const std::vector<std::string>& Instance::frameNames() const { return state_->integrator->colliders().frame_names; }
+float* Instance::frameMatrices() { return state_->frame_input.data(); }
 std::size_t Instance::driverCount() const { return state_->rig->drivers.size(); }
 const float* Instance::rotations() const { return state_->integrator->rotations(); }
 std::size_t Instance::jointCount() const { return state_->rig->joints.size(); }

@@ -49,7 +49,8 @@ LaneIntegrator::LaneIntegrator(std::shared_ptr<const RigConstants> constants)
 LaneIntegrator::~LaneIntegrator() { lanes_->releaseCopy(copy_); }
 
 void LaneIntegrator::seed(const DriverPoses& previous, const DriverPoses& current, bool with_controls) {
-  on_lanes_ = previous.allSimilar() && current.allSimilar() && !(with_controls && controls_.needsGeneralPath());
+  on_lanes_ = colliders_fit_ && previous.allSimilar() && current.allSimilar() &&
+              !(with_controls && controls_.needsGeneralPath());
   tails_in_lanes_ = world_from_lanes_ = on_lanes_;
   if (!on_lanes_) {
     GeneralIntegrator::seed(previous, current, with_controls);
@@ -62,7 +63,7 @@ void LaneIntegrator::seed(const DriverPoses& previous, const DriverPoses& curren
 }
 
 void LaneIntegrator::beginFrame(const DriverPoses& previous, const DriverPoses& current) {
-  on_lanes_ = previous.allSimilar() && current.allSimilar() && !controls_.needsGeneralPath();
+  on_lanes_ = colliders_fit_ && previous.allSimilar() && current.allSimilar() && !controls_.needsGeneralPath();
   if (tails_in_lanes_ != on_lanes_) moveTailState();
 }
 
@@ -132,16 +133,35 @@ SPRINGBONES_NOINLINE void LaneIntegrator::moveTailState() {
   tails_in_lanes_ = on_lanes_;
 }
 
+SPRINGBONES_NOINLINE void LaneIntegrator::setColliders(ColliderSet colliders) {
+  GeneralIntegrator::setColliders(std::move(colliders));
+  const ColliderSet& set = colliders_;
+  colliders_fit_ = set.colliders.size() == rig_.colliders.size() && set.passes == rig_.collider_passes;
+  for (std::size_t c = 0; colliders_fit_ && c < set.colliders.size(); ++c)
+    colliders_fit_ = colliderKind(set.colliders[c]) == colliderKind(rig_.colliders[c]);
+  for (std::size_t j = 0; colliders_fit_ && j < rig_.joints.size(); ++j)
+    colliders_fit_ = set.of(rig_.joints[j]) == rig_.joints[j].colliders;
+}
+
 // Colliders in world space for this step, each carried by its driver's similarity: the radius
-// scales with it, a plane's normal turns with it.
+// scales with it, a plane's normal turns with it; or by its frame's matrix (colliderInWorld).
 void LaneIntegrator::prepareColliders() {
-  const auto& all = rig_.colliders;
+  const auto& all = colliders_.colliders;
+  const std::size_t drivers = rig_.drivers.size();
   const DriverTable& table = lanes_->drivers();
   ColliderTable& colliders = lanes_->colliders();
   for (std::size_t c = 0; c < all.size(); ++c) {
     const Collider& collider = all[c];
+    const std::size_t d = static_cast<std::size_t>(collider.driver);
+    if (d >= drivers) {
+      glm::vec3 start, end;
+      float radius;
+      colliderInWorld(collider, frame_world_[d - drivers], start, end, radius);
+      colliders.set(lanes_->colliderIndex(copy_, c), start, end, radius);
+      continue;
+    }
     const bool plane = collider.shape == Collider::Shape::kPlane;
-    const std::size_t slot = lanes_->driverIndex(copy_, collider.driver);
+    const std::size_t slot = lanes_->driverIndex(copy_, d);
     Similarity m;
     m.position = glm::vec3(table.px[slot], table.py[slot], table.pz[slot]);
     m.rotation = glm::quat(table.qw[slot], table.qx[slot], table.qy[slot], table.qz[slot]);

@@ -24,6 +24,9 @@ class LaneIntegrator final : public GeneralIntegrator {
   void tailState(std::size_t joint, glm::vec3& current, glm::vec3& previous) const override;
   void setTailState(std::size_t joint, const glm::vec3& current, const glm::vec3& previous) override;
   void writeWorldMatrices(float* out) const override;
+  /// Colliders that differ from the rig's in number, kind, passes or which joints meet them keep
+  /// the instance on the general path: the lanes' collider kinds and masks are the rig's.
+  void setColliders(ColliderSet colliders) override;
 
  private:
   void moveTailState();
@@ -32,6 +35,7 @@ class LaneIntegrator final : public GeneralIntegrator {
   std::shared_ptr<SpringLanes> lanes_;
   std::size_t copy_ = 0;
   bool on_lanes_ = false;          // the path of the current frame's steps
+  bool colliders_fit_ = true;      // the colliders are laid out as the rig's (setColliders)
   bool tails_in_lanes_ = false;    // where the tail state is: the lanes, or the general path's arrays
   bool world_from_lanes_ = false;  // where the joints' world transforms of the last step are
 };

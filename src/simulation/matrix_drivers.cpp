@@ -1,19 +1,18 @@
 #include "simulation/matrix_drivers.h"
 
-#include <algorithm>
-
 #include "common/transform_math.h"
 #include "simulation/driver_poses.h"
 
 namespace springbones {
 
-MatrixDrivers::MatrixDrivers(const Rig& rig) : rig_(rig) {
+MatrixDrivers::MatrixDrivers(const Rig& rig, const ColliderSet& colliders, const std::vector<glm::mat4>& frames)
+    : rig_(rig), set_(colliders), frames_(frames) {
   const std::size_t drivers = rig.drivers.size();
   matrices_.resize(drivers);
   inverses_.resize(drivers);
   last_.resize(drivers);
   inverse_valid_.assign(drivers, false);
-  colliders_.resize(rig.colliders.size());
+  colliders_.resize(set_.colliders.size());
 }
 
 void MatrixDrivers::prepare(const StepDrivers& drivers, bool keep_last) {
@@ -40,21 +39,18 @@ void MatrixDrivers::prepare(const StepDrivers& drivers, bool keep_last) {
   prepareColliders();
 }
 
-// The radius scales by the largest axis scale of the driver. A plane's normal turns with the
-// driver's inverse transpose (perpendicular to the plane under any scale), then is made unit; a
-// singular driver leaves it NaN, and a NaN normal moves no tail.
+// Each collider carried by its driver's matrix this step, or by its frame's (colliderInWorld).
 void MatrixDrivers::prepareColliders() {
-  const auto& all = rig_.colliders;
+  const auto& all = set_.colliders;
+  const std::size_t drivers = matrices_.size();
   for (std::size_t c = 0; c < all.size(); ++c) {
     const Collider& collider = all[c];
-    const bool plane = collider.shape == Collider::Shape::kPlane;
-    const glm::mat4& m = matrices_[collider.driver];
-    const glm::vec3 start = glm::vec3(m * glm::vec4(toGlm(collider.offset), 1.0f));
-    const glm::vec3 end = plane ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * toGlm(collider.normal))
-                                : glm::vec3(m * glm::vec4(toGlm(collider.tail), 1.0f));
-    const float scale =
-        std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
-    colliders_.set(c, start, end, plane ? 0.0f : collider.radius * scale);
+    const std::size_t d = static_cast<std::size_t>(collider.driver);
+    const glm::mat4& m = d < drivers ? matrices_[d] : frames_[d - drivers];
+    glm::vec3 start, end;
+    float radius;
+    colliderInWorld(collider, m, start, end, radius);
+    colliders_.set(c, start, end, radius);
   }
 }
 

@@ -7,7 +7,7 @@
 namespace springbones {
 
 SpringIntegrator::SpringIntegrator(std::shared_ptr<const RigConstants> constants)
-    : constants_(std::move(constants)), rig_(constants_->rig) {
+    : constants_(std::move(constants)), rig_(constants_->rig), colliders_(ColliderSet::ofRig(rig_)) {
   const std::size_t joints = rig_.joints.size();
   rotations_.resize(4 * joints);
   joint_world_.resize(joints);
@@ -28,6 +28,12 @@ SpringIntegrator::~SpringIntegrator() = default;
 void SpringIntegrator::writeWorldMatrices(float* out) const {
   for (std::size_t j = 0; j < joint_world_.size(); ++j)
     std::memcpy(out + 16 * j, &joint_world_[j][0][0], sizeof(float) * 16);
+}
+
+void SpringIntegrator::setColliders(ColliderSet colliders) {
+  colliders_ = std::move(colliders);
+  frame_world_.resize(colliders_.frame_rest.size());
+  for (std::size_t f = 0; f < frame_world_.size(); ++f) frame_world_[f] = toGlm(colliders_.frame_rest[f]);
 }
 
 void SpringIntegrator::holdTails() {

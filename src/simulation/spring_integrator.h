@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/glm_interop.h"
+#include "simulation/collider_set.h"
 #include "simulation/grab.h"
 #include "simulation/rig_constants.h"
 
@@ -75,6 +76,13 @@ class SpringIntegrator {
   /// The joints' world matrices after the last step, 16 floats (column-major) per joint.
   virtual void writeWorldMatrices(float* out) const;
 
+  /// Replaces the colliders from the next step on (Instance::setColliders): the frames start at
+  /// their rest matrices. Allocates; the steps after it do not.
+  virtual void setColliders(ColliderSet colliders);
+  const ColliderSet& colliders() const { return colliders_; }
+  /// The world matrices of the collider set's frames this frame, written by the instance.
+  std::vector<glm::mat4>& frameWorld() { return frame_world_; }
+
   /// Every tail's velocity set to zero (settle): the previous tail put on the current one.
   void holdTails();
   /// Carries every chain across a jump of the drivers (jump_carry.h): the tails (current and
@@ -98,6 +106,9 @@ class SpringIntegrator {
   /// The joints' world matrices on the matrix paths (the general path, XPBD, settle's balance).
   std::vector<glm::mat4> joint_world_;
   MotionControls controls_;
+  /// The colliders the tails meet (the rig's until setColliders), and their frames' matrices.
+  ColliderSet colliders_;
+  std::vector<glm::mat4> frame_world_;
 };
 
 }  // namespace springbones

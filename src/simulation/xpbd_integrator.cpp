@@ -5,11 +5,18 @@
 namespace springbones {
 
 XpbdIntegrator::XpbdIntegrator(std::shared_ptr<const RigConstants> constants, const XpbdOptions& options)
-    : SpringIntegrator(std::move(constants)), solver_(constants_, options), drivers_(rig_) {
+    : SpringIntegrator(std::move(constants)), solver_(constants_, options), drivers_(rig_, colliders_, frame_world_) {
   current_tail_.resize(rig_.joints.size());
   previous_tail_.resize(rig_.joints.size());
   // The solver reads the grab from the controls on every step; an inactive one holds nothing.
   solver_.setHeld(&controls_.held);
+  solver_.setColliders(&colliders_);
+}
+
+void XpbdIntegrator::setColliders(ColliderSet colliders) {
+  SpringIntegrator::setColliders(std::move(colliders));
+  drivers_.resizeColliders();
+  solver_.setColliders(&colliders_);
 }
 
 void XpbdIntegrator::seed(const DriverPoses& previous, const DriverPoses& current, bool) {

@@ -19,6 +19,7 @@ class XpbdIntegrator final : public SpringIntegrator {
   void beginFrame(const DriverPoses&, const DriverPoses&) override {}
   SpringLanes* step(const StepDrivers& drivers, float h, const glm::vec3& wind_pull, bool queue) override;
   void balance(const DriverPoses& poses, const glm::vec3& wind_pull) override;
+  void setColliders(ColliderSet colliders) override;
   void tailState(std::size_t joint, glm::vec3& current, glm::vec3& previous) const override {
     solver_.tailState(joint, current, previous);
   }

@@ -118,6 +118,11 @@ void XpbdSolver::seed(const glm::mat4* driver_world, float* rotations_out, glm::
   }
 }
 
+void XpbdSolver::setColliders(const ColliderSet* colliders) {
+  colliders_ = colliders;
+  collider_scratch_.assign(colliders_ ? colliders_->colliders.size() : rig_.colliders.size(), XpbdCollider{});
+}
+
 void XpbdSolver::step(const glm::mat4* driver_world, const ColliderTable& colliders, float h, float* rotations_out,
                       glm::mat4* joint_world_out) {
   const std::size_t count = std::min(colliders.count, collider_scratch_.size());
@@ -126,7 +131,7 @@ void XpbdSolver::step(const glm::mat4* driver_world, const ColliderTable& collid
     out.start = glm::vec3(colliders.x0[c], colliders.y0[c], colliders.z0[c]);
     out.end = glm::vec3(colliders.x1[c], colliders.y1[c], colliders.z1[c]);
     out.radius = colliders.radius[c];
-    out.kind = colliderKind(rig_.colliders[c]);
+    out.kind = colliders_ ? colliders_->kind(static_cast<int>(c)) : colliderKind(rig_.colliders[c]);
   }
   step(driver_world, collider_scratch_.data(), count, h, rotations_out, joint_world_out);
 }
@@ -216,7 +221,7 @@ void XpbdSolver::solveJoint(std::size_t j, const glm::vec3& head, const glm::vec
     // hitRadius) >= 0, inside C = (radius - hitRadius) - |x - closest point| >= 0, plane
     // C = (x - point).normal - hitRadius >= 0. The same arithmetic as the default path's, each
     // followed by the length again.
-    for (int c : joint.colliders) {
+    for (int c : colliders_ ? colliders_->of(joint) : joint.colliders) {
       if (c < 0 || static_cast<std::size_t>(c) >= collider_count) continue;
       const XpbdCollider& collider = colliders[c];
       if (!moveTailByCollider(collider.kind, collider.start, collider.end, collider.radius, joint.hit_radius, x))

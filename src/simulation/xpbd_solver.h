@@ -13,6 +13,7 @@
 
 #include "common/glm_interop.h"
 #include "simulation/collider_kind.h"
+#include "simulation/collider_set.h"
 #include "simulation/rig_constants.h"
 
 namespace springbones {
@@ -75,6 +76,11 @@ class XpbdSolver {
   /// The holder owns it and keeps it alive while set.
   void setHeld(const HeldJoints* held) { held_ = held; }
 
+  /// The colliders the joints meet (an instance's, collider_set.h), read by every step until set
+  /// again: their kinds and which joint meets which; the holder keeps it alive while set, and sets
+  /// it again after it changes. Null: the rig's own (Joint::colliders, Rig::colliders).
+  void setColliders(const ColliderSet* colliders);
+
   /// World position of a joint's tail particle after the last seed/step (tests, reports).
   glm::vec3 tailWorld(std::size_t joint) const { return tail_world_[joint]; }
   /// A joint's tail state: the current and previous tail particle, in the joint's center space.
@@ -120,7 +126,8 @@ class XpbdSolver {
   std::vector<glm::mat4> center_inverse_;
   std::vector<unsigned char> center_inverse_valid_;
 
-  const HeldJoints* held_ = nullptr;  // setHeld
+  const HeldJoints* held_ = nullptr;        // setHeld
+  const ColliderSet* colliders_ = nullptr;  // setColliders
 
   // Colliders of the current step (the ColliderTable overload copies into it).
   std::vector<XpbdCollider> collider_scratch_;

@@ -507,11 +507,9 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     return Vec3{v[0], v[1], v[2]};
   };
   // Colliders by node name (or on an avatar bone the GLB lacks), with any numbers at all.
-  RigOptions rig_options;
-  const int collider_count = in.byte() % 4;
-  for (int c = 0; c < collider_count; ++c) {
+  const auto fuzzCollider = [&](const char* external) {
     ColliderSpec spec;
-    spec.node = in.byte() % 4 == 0 ? std::string("Avatar_External") : names[in.byte() % node_count];
+    spec.node = in.byte() % 4 == 0 ? std::string(external) : names[in.byte() % node_count];
     // Sphere, capsule, plane, inside sphere, inside capsule; a plane with any inside and radius.
     const int shape = in.byte() % 5;
     spec.shape = shape == 2       ? Collider::Shape::kPlane
@@ -522,8 +520,11 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     spec.tail = vec3(0.2);
     spec.radius = toFloat(in.number(0.2, ByteReader::kAny));
     if (shape == 2) spec.normal = vec3(1.0);
-    rig_options.colliders.push_back(spec);
-  }
+    return spec;
+  };
+  RigOptions rig_options;
+  const int collider_count = in.byte() % 4;
+  for (int c = 0; c < collider_count; ++c) rig_options.colliders.push_back(fuzzCollider("Avatar_External"));
   rig_options.hit_radius = toFloat(in.number(0.05, ByteReader::kAny));
   if (in.byte() % 4 == 0) rig_options.preset = ColliderPreset::kDclBody;
   const std::shared_ptr<const Rig> rig = buildRig(std::move(skeleton), model, std::move(warnings), rig_options);
@@ -623,6 +624,23 @@ inline std::string runSimulation(const std::uint8_t* data, std::size_t size) {
     }
     if (std::string f = checkRotations(instance, "after a fuzzed step"); !f.empty()) return f;
     (void)instance.worldMatrices();
+  }
+  // Colliders changed at run time (Instance::setColliders): any numbers, on drivers, spring bones
+  // or frames, the body preset at any scale; then frames of any matrices.
+  ColliderOptions change;
+  const int changed = in.byte() % 4;
+  for (int c = 0; c < changed; ++c) change.colliders.push_back(fuzzCollider("a frame"));
+  if (in.byte() % 4 == 0) {
+    change.preset = ColliderPreset::kDclBody;
+    change.body.scale = toFloat(in.number(4, ByteReader::kAny));
+  }
+  (void)instance.setColliders(change);
+  for (int frame = 0; frame < 20; ++frame) {
+    float* frames = instance.frameMatrices();
+    for (std::size_t k = 0; k < 16 * instance.frameNames().size(); ++k)
+      frames[k] = in.byte() % 2 ? in.rawFloat() : (k % 5 == 0 ? 1.0f : 0.0f);
+    instance.step(1.0 / 60);
+    if (std::string f = checkRotations(instance, "after setColliders"); !f.empty()) return f;
   }
 #ifdef SPRINGBONES_FUZZ_HAS_XPBD
   // The XPBD integrator on the same rig, fed as an owner feeds it: finite driver matrices (the
