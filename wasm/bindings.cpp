@@ -101,14 +101,15 @@ int loadRig(std::uintptr_t gltf, std::size_t gltf_size, std::uintptr_t metadata,
   });
 }
 
-/// Loads the spring bones of a VRM document given as typed {asset, nodes, extensions}
-/// (VRMC_springBone 1.0 or VRM 0.x secondaryAnimation) into a rig. Returns the rig handle, or 0
-/// with the error pending.
-int loadVrm(std::uintptr_t gltf, std::size_t size) {
+/// Takes a VRM avatar's rig, built by the readers module from the document (its loadVrm, with
+/// every error and warning of the VRM rules) and handed over as rig data (springbones/boundary.h,
+/// readRigData): the runtime carries no VRM reader. Returns the rig handle, or 0 with the error
+/// pending.
+int loadVrm(std::uintptr_t rig_data, std::size_t size) {
   return guarded([&] {
     LoadedRig loaded;
     VrmSpringFormat format = VrmSpringFormat::kNone;
-    if (Error e = springbones::loadVrm(typedAt(gltf, size), loaded.rig, &format)) return fail(e);
+    if (Error e = readRigData(typedAt(rig_data, size), loaded.rig, format)) return fail(e);
     loaded.format = format == VrmSpringFormat::kVrmcSpringBone1 ? "vrmc-springbone"
                     : format == VrmSpringFormat::kVrm0          ? "vrm0"
                                                                 : "none";

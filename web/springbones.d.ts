@@ -26,8 +26,8 @@ export type SpringBonesErrorCode =
   | 'out-of-memory'               // WebAssembly memory could not grow
   | 'internal-error'              // a bug: please report it with the input
   | 'disposed'                    // the rig, instance or scene was used after dispose()
-  | 'readers-not-loaded'          // loadRig / loadVrm were given bytes in a browser before
-                                  // `await sb.readers()` (or the readers module failed to load)
+  | 'readers-not-loaded'          // loadRig was given bytes, or loadVrm called, in a browser
+                                  // before `await sb.readers()` (or the readers module failed to load)
   | 'module-not-found'            // a module's glue (web/dist/springbones_wasm.js,
                                   // springbones_readers.js or springbones_creator_tools.js) is missing (not built)
   | 'module-load-failed';         // the .wasm could not be fetched, compiled or instantiated
@@ -253,16 +253,18 @@ export interface SpringBones {
   /**
    * Loads the spring bones of a VRM avatar: VRMC_springBone 1.0 (preferred when both are present)
    * or VRM 0.x secondaryAnimation, with their colliders. Same Rig interface; contentHash is ''.
-   * A file with neither gives an empty rig with a 'vrm-no-springs' warning.
+   * A file with neither gives an empty rig with a 'vrm-no-springs' warning. The VRM rules run in
+   * the readers module (a preview of wearables never downloads them): in a browser,
+   * `await sb.readers()` first, else a 'readers-not-loaded' error, whichever the input.
    * @param vrm the glTF JSON a loader parsed (its asset, nodes and root extensions are read), or
-   *   the .vrm bytes (read by the readers module, as for loadRig)
+   *   the .vrm bytes
    */
   loadVrm(vrm: GltfJson | Uint8Array | ArrayBuffer): Rig;
   /**
-   * The readers module, which reads GLB and VRM bytes for loadRig and loadVrm
-   * (dist/springbones_readers.wasm, the package's `springbones/readers-wasm`). In Node,
-   * createSpringBones() loads it; in a browser a page that has bytes to read awaits this first (a
-   * page that hands over its loader's parse never needs it). Every later call resolves with the
+   * The readers module, which reads GLB and VRM bytes for loadRig and loadVrm and runs loadVrm's
+   * VRM rules (dist/springbones_readers.wasm, the package's `springbones/readers-wasm`). In Node,
+   * createSpringBones() loads it; in a browser a page that has bytes to read, or VRM avatars to
+   * load, awaits this first (a page that hands loadRig its loader's parse never needs it). Every later call resolves with the
    * same module; a failed load rejects ('module-load-failed') and the next call tries again.
    */
   readers(options?: CreateOptions): Promise<void>;

@@ -13,8 +13,8 @@
 //   - arguments.js, json_arguments.js, rig_options.js, models_entry.js: the argument checks, which
 //     run before anything crosses into WebAssembly (arguments.js says which file checks what);
 //   - wasm_memory.js: bytes copied into the module's memory, and views on it;
-//   - readers.js and creator_tools.js: the readers module (GLB and VRM bytes, loaded beside the
-//     runtime in Node and by sb.readers() in browsers) and the creator tools (deploy-time
+//   - readers.js and creator_tools.js: the readers module (GLB and VRM bytes, and loadVrm's VRM
+//     rules; loaded beside the runtime in Node and by sb.readers() in browsers) and the creator tools (deploy-time
 //     validation and the Builder edits, loaded on first use by sb.creatorTools()).
 //
 // The module files (dist/springbones_wasm.js + .wasm) are built by `scripts/build wasm` and
@@ -118,12 +118,15 @@ class SpringBones {
   /**
    * Loads the spring bones of a VRM avatar (.vrm bytes, or the glTF JSON a loader parsed):
    * VRMC_springBone 1.0, or VRM 0.x secondaryAnimation, with their colliders. The rig has the same
-   * interface as loadRig's.
+   * interface as loadRig's. The VRM rules run in the readers module, which builds the rig and hands
+   * it to the runtime as rig data: a page awaits sb.readers() first (Node loads them with the runtime).
    */
   loadVrm(vrm) {
     const gltf = this.#gltfInput('loadVrm', vrm, true);
+    const rigData = this.#loadedReaders('loadVrm reads VRM spring bones in the readers module, and it is not loaded: ' +
+                                        'await sb.readers() first').readVrm(gltf.typed);
     const m = this.#m;
-    const handle = withBytes(m, gltf.typed, (ptr, size) => m.loadVrm(ptr, size));
+    const handle = withBytes(m, rigData, (ptr, size) => m.loadVrm(ptr, size));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle);
   }
@@ -154,13 +157,9 @@ class SpringBones {
   #gltfInput(where, value, withExtensions) {
     if (value instanceof Uint8Array || value instanceof ArrayBuffer) {
       const bytes = toBytes(`${where}: bytes`, value);
-      if (this.#readers === undefined) {
-        const error = new SpringBonesError('readers-not-loaded',
-          `${where} was given bytes, which the readers module reads, and it is not loaded: ` +
-          'await sb.readers() first, or pass the glTF JSON your loader already parsed (three.js: gltf.parser.json)');
-        throw this.#readersError ? withCause(error, this.#readersError) : error;
-      }
-      return { typed: this.#readers.readGltf(bytes, withExtensions), bytes };
+      const readers = this.#loadedReaders(`${where} was given bytes, which the readers module reads, and it is not loaded: ` +
+        'await sb.readers() first, or pass the glTF JSON your loader already parsed (three.js: gltf.parser.json)');
+      return { typed: readers.readGltf(bytes, withExtensions), bytes };
     }
     if (value === null || typeof value !== 'object' || Array.isArray(value) || ArrayBuffer.isView(value) ||
         (value.asset === undefined && value.nodes === undefined)) {
@@ -168,6 +167,14 @@ class SpringBones {
                           'a Uint8Array or an ArrayBuffer');
     }
     return { typed: encodeGltf(`${where}: glTF`, value, withExtensions) };
+  }
+
+  // The readers, or the 'readers-not-loaded' error saying `why` they were needed (with the cause
+  // of their last failed load).
+  #loadedReaders(why) {
+    if (this.#readers !== undefined) return this.#readers;
+    const error = new SpringBonesError('readers-not-loaded', why);
+    throw this.#readersError ? withCause(error, this.#readersError) : error;
   }
 
   /** The Decentraland content hash (CIDv1 string) of some bytes, as the catalyst computes it. */

@@ -5,11 +5,15 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "springbones/springbones.h"
 #include "springbones/typed_input.h"
+#include "springbones/vrm.h"
 
 namespace springbones {
 
@@ -48,6 +52,13 @@ std::string describeColliderChange(const std::vector<std::string>& frames, const
 /// Members in key order; non-finite floats are written as null; strings that are not UTF-8 with
 /// U+FFFD in their place.
 std::string describeRig(const Rig& rig, const std::string& content_hash, const std::string& format);
+
+/// A built rig as bytes (src/boundary/rig_data.cpp has the layout), with the format its springs
+/// were read from: how a rig the readers module builds (loadVrm) crosses into the runtime module,
+/// so that the runtime carries no VRM reader. readRigData gives back the same rig, float for float;
+/// bytes in another layout (or another build's) are a kInvalidArgument Error.
+void writeRigData(const Rig& rig, VrmSpringFormat format, std::vector<std::uint8_t>& out);
+Error readRigData(TypedBytes data, std::shared_ptr<const Rig>& out, VrmSpringFormat& format);
 
 /// The limits and defaults the JS API checks its arguments against, as the core defines them:
 /// {maxStepHz, maxSubsteps, maxXpbdIterations, maxMetadataBytes, integrators: {vrm: {stepHz,
