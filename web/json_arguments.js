@@ -2,7 +2,7 @@
 // caller gives (serialized here, with what JSON.stringify would silently change refused first) or
 // the caller's own JSON text. The runtime's inputs cross as typed input instead (typed_value.js), so
 // only creator_tools.js imports this file: what the runtime's bundle and the two modules loaded on
-// demand share is one chunk of helpers (scripts/minify.mjs), and a helper only some of them import
+// demand share is one chunk of helpers (scripts/lib/minify.mjs), and a helper only some of them import
 // would make a second.
 
 import { checkWellFormed, isWellFormed } from './arguments.js';

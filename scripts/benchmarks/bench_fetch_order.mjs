@@ -9,7 +9,7 @@
 // Environment: BENCH_LINKS (comma-separated link names, default "slow 4G,4G"), CHROMIUM_PATH.
 import { coldVisit, freshBrowser, LINKS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
-import { startServer } from '../serve.mjs';
+import { startServer } from '../lib/serve.mjs';
 
 const ORDERS = ['after-draw', 'at-wear', 'after-downloads', 'with-glbs', 'with-glbs-low', 'preload', 'preload-low'];
 const samples = Number(process.argv[2] ?? 5);

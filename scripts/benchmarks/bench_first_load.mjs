@@ -7,7 +7,7 @@
 import { loadavg } from 'node:os';
 import { freshBrowser } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
-import { startServer } from '../serve.mjs';
+import { startServer } from '../lib/serve.mjs';
 
 const samples = Number(process.argv[2] ?? 7);
 if (!Number.isInteger(samples) || samples < 1) throw new Error(`samples must be a positive integer, got ${process.argv[2]}`);

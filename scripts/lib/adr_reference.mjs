@@ -1,6 +1,6 @@
 // An independent reference of the spring-bone rules, written from their statement in
 // docs/semantics.md and conformance/README.md (which adds where each step of a frame falls), in
-// doubles, for the conformance pack (scripts/make_conformance.mjs): which models entry applies,
+// doubles, for the conformance pack (scripts/generate/make_conformance.mjs): which models entry applies,
 // discovery, roots, chains, parameters (defaults, clamps, non-finite values), centers, the VRM
 // update, the fixed-step rule with its substep cap, driver interpolation, and jumps. It shares no
 // code with springbones: the pack's expected rotations come from here, and springbones is checked

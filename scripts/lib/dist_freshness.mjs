@@ -17,7 +17,7 @@ import { fileURLToPath } from 'node:url';
 
 /** What the modules and the minified JavaScript are built from, relative to the checkout. */
 export const kDistInputs = ['src', 'include', 'wasm', 'web', 'CMakeLists.txt', 'CMakePresets.json',
-  'scripts/minify.mjs', 'package-lock.json'];
+  'scripts/lib/minify.mjs', 'package-lock.json'];
 /** Inside the inputs, what the build does not read: its own output, and the demo, served as it is. */
 const kNotInputs = new Set(['web/dist', 'web/demo']);
 const kStamp = 'web/dist/.complete';

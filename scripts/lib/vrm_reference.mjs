@@ -1,6 +1,6 @@
 // An independent reference of VRMC_springBone 1.0 as docs/semantics.md states it ("VRM avatars",
 // "Colliders", "Angle limits"), in doubles, for the VRM part of the conformance pack
-// (scripts/make_conformance_vrm.mjs): joints aiming at the next joint of their spring, per-joint
+// (scripts/generate/make_conformance_vrm.mjs): joints aiming at the next joint of their spring, per-joint
 // parameters with the VRM defaults and ranges, a spring's center, collider groups (a collider in two
 // of a spring's groups pushes twice), sphere and capsule colliders, VRMC_springBone_extended_collider
 // (plane, inside sphere, inside capsule), VRMC_springBone_limit with UniVRM's import rules, and the

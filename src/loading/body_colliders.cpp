@@ -2,7 +2,7 @@
 // so the body's shapes follow from it: each shape is measured in the rest pose's world space from
 // the distance between two bones (a "segment": neck to head, spine to spine, shoulder to arm...),
 // then written in the carrying bone's own space. The fractions below were fitted to the sample
-// mannequin (scripts/make_sample_avatar.mjs), whose body is modelled on Decentraland's proportions;
+// mannequin (scripts/generate/make_sample_avatar.mjs), whose body is modelled on Decentraland's proportions;
 // docs/semantics.md gives every number with its reason.
 #include "loading/body_colliders.h"
 

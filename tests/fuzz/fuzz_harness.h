@@ -1,7 +1,7 @@
 // The bodies of the fuzz targets, shared by the libFuzzer entry points (tests/fuzz/*_fuzzer.cpp)
 // and by the GoogleTest that replays the checked-in corpus and every past finding
 // (tests/native/fuzz_regressions_test.cpp), so a crash found by the fuzzer stays a test in the
-// ordinary native suite (and under native-asan) without clang or libFuzzer.
+// ordinary native suite (and under the sanitizers) without clang or libFuzzer.
 //
 // Each run* function takes arbitrary bytes, drives the public API with them and returns an empty
 // string when every invariant held, else a description of the broken one. Crashes, leaks and

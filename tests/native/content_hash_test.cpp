@@ -1,9 +1,9 @@
 // contentHash against Decentraland's own implementation.
 //
-// Every expected CID below was printed by scripts/content_hash_reference.mjs, which runs `hashV1`
+// Every expected CID below was printed by scripts/reference/content_hash_reference.mjs, which runs `hashV1`
 // of npm @dcl/hashing 3.0.4 (and, for the small-layout table, the ipfs-unixfs-importer bundled in
 // it). The two worked examples of docs/content-hash.md are among them.
-// To regenerate: npm install && node scripts/content_hash_reference.mjs
+// To regenerate: npm install && node scripts/reference/content_hash_reference.mjs
 #include "springbones/content_hash.h"
 #include "content_hash/cid.h"
 #include "test_helpers.h"
@@ -127,7 +127,7 @@ TEST(ContentHash, IsBase32LowerCaseWithoutPadding) {
 }
 
 // Small chunks and fan-outs reach trees three and more levels deep (a real three-level tree needs
-// 7.9 GB). Reference: section 2 of scripts/content_hash_reference.mjs, input mod251(size).
+// 7.9 GB). Reference: section 2 of scripts/reference/content_hash_reference.mjs, input mod251(size).
 struct LayoutCase {
   std::size_t chunk_size;
   std::size_t max_children;

@@ -1,7 +1,7 @@
 // Replays the fuzz targets' seed corpora and every input a fuzzer ever reported
 // (tests/fuzz/corpus/<target>/, tests/fuzz/regressions/<target>/) through the same harness the
 // libFuzzer binaries run (tests/fuzz/fuzz_harness.h). This keeps past findings fixed in the
-// ordinary native suite, with gcc and under native-asan, without clang or libFuzzer. Each finding
+// ordinary native suite, with gcc and under the sanitizers, without clang or libFuzzer. Each finding
 // also has a named test in hostile_input_test.cpp that says what went wrong.
 #include <gtest/gtest.h>
 

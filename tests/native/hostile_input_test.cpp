@@ -1,7 +1,7 @@
 // Hostile input, end to end: every named case goes through the whole path a wearable
 // takes (GLB bytes -> loadSkeleton -> springBones -> buildRig -> Instance -> step) and must end in
 // a clear Error or in a documented clamp with a warning, never in a crash, a hang or a NaN. The
-// loader's and the reader's own unit tests (glb_loader_test.cpp, metadata_test.cpp) check each
+// loader's and the reader's own unit tests (load_skeleton_test.cpp, metadata_test.cpp) check each
 // rule in isolation; here the point is that nothing downstream breaks. Inputs that a fuzzer found
 // are replayed by fuzz_regressions_test.cpp and named here (RegressionFuzz*).
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Chain building tests (src/loading/rig_builder.cpp): the ADR's naming table and Full Example, the chain
 // rules of docs/semantics.md, and the avatar fixture (tests/fixtures/avatar_hair.glb, laid out in
-// scripts/make_fixtures.mjs, whose comments give every offset used below).
+// scripts/generate/make_fixtures.mjs, whose comments give every offset used below).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -414,7 +414,7 @@ TEST(Solver, GeneralMatrixPathAgreesWithTheSimilarityFastPath) {
 
 // -----------------------------------------------------------------------------------------------
 // Agreement with the VRM update as @pixiv/three-vrm-springbone 3.5.5 implements it, one step per
-// frame. tests/fixtures/vrm_reference.json is written by scripts/make_vrm_reference.mjs.
+// frame. tests/fixtures/vrm_reference.json is written by scripts/generate/make_vrm_reference.mjs.
 
 json readFixtureJson(const std::string& name) {
   std::ifstream in(test::fixturePath(name));

@@ -1,5 +1,5 @@
 // Shared helpers for the native tests: fixture files (tests/fixtures, written by
-// scripts/make_fixtures.mjs), GLB/glTF bytes built in memory, approximate comparisons, and
+// scripts/generate/make_fixtures.mjs), GLB/glTF bytes built in memory, approximate comparisons, and
 // warning look-ups.
 #pragma once
 
@@ -33,7 +33,8 @@ inline std::string fixturePath(const std::string& name) { return std::string(fix
 /// The bytes of a fixture file; fails the current test (and returns nothing) when it is missing.
 inline std::vector<std::uint8_t> readFixture(const std::string& name) {
   std::ifstream in(fixturePath(name), std::ios::binary);
-  EXPECT_TRUE(in.good()) << "missing fixture " << fixturePath(name) << " (run: node scripts/make_fixtures.mjs)";
+  EXPECT_TRUE(in.good()) << "missing fixture " << fixturePath(name)
+                         << " (run: node scripts/generate/make_fixtures.mjs)";
   return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 

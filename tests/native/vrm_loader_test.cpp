@@ -1,7 +1,7 @@
 // VRM spring bones (src/loading/vrm_loader.cpp): the mapping of VRMC_springBone 1.0 and VRM 0.x
-// secondaryAnimation onto a Rig, checked on the fixtures of scripts/make_vrm_fixtures.mjs and on
+// secondaryAnimation onto a Rig, checked on the fixtures of scripts/generate/make_vrm_fixtures.mjs and on
 // small documents built here; agreement of the simulation with @pixiv/three-vrm-springbone 3.5.5
-// (tests/fixtures/vrm_trajectories.json, scripts/make_vrm_trajectories.mjs); and bad input.
+// (tests/fixtures/vrm_trajectories.json, scripts/generate/make_vrm_trajectories.mjs); and bad input.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,8 +1,8 @@
 // A backpack that never leaks, the page's side: cycles of load a wearable -> wear it on the avatar
 // -> 30 frames -> take it off and dispose, through the three.js adapter, as a backpack or login
 // screen swaps wearables for as long as it is open. Runs in a page with three in its import map
-// (tests/browser/pages/blank.html); tests/browser/backpackSoak.mjs drives it and measures between
-// batches (tests/browser/backpack_soak.test.mjs in CI, `scripts/bench --soak` in full).
+// (tests/browser/pages/blank.html); tests/browser/backpack_soak.test.mjs drives it and measures
+// between batches (600 cycles in CI, 2,000 in `scripts/bench --soak`).
 //
 // The cycle alternates three wearables: the sample hair through GLTFLoader with the
 // SpringBonesLoaderPlugin (entity + body shape, wear(), dispose()), and the two VRM fixtures

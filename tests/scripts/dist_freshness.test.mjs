@@ -19,7 +19,7 @@ function builtCheckout(t) {
   t.after(checkout.cleanup);
   assert.equal(runBuild(checkout, ['wasm']).status, 0);
   for (const path of ['src/simulation/solver.cpp', 'web/springbones.js', 'web/demo/index.html', 'CMakeLists.txt',
-    'scripts/minify.mjs']) {
+    'scripts/lib/minify.mjs']) {
     age(join(checkout.dir, path), 0);
   }
   writeDistStamp(checkout.dir, Date.UTC(2026, 0, 1) + 100_000);

@@ -1,7 +1,7 @@
 // A throwaway checkout for the tests of the build scripts: the real scripts/build and its helpers
 // copied into a temporary folder, beside a fake `cmake` (first on PATH) that logs its arguments
-// and writes what a WebAssembly build would leave in web/dist/, and a fake scripts/minify.mjs. The
-// scripts run as they are, with no compiler: each test takes well under a second of CPU.
+// and writes what a WebAssembly build would leave in web/dist/, and a fake scripts/lib/minify.mjs.
+// The scripts run as they are, with no compiler: each test takes well under a second of CPU.
 import { spawn, spawnSync } from 'node:child_process';
 import { chmodSync, copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync, existsSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -39,7 +39,7 @@ fi
 `;
 
 const kFakeMinify = `import { writeFileSync } from 'node:fs';
-writeFileSync(new URL('../web/dist/springbones.min.js', import.meta.url), 'bundle\\n');
+writeFileSync(new URL('../../web/dist/springbones.min.js', import.meta.url), 'bundle\\n');
 `;
 
 /** Makes a fake checkout; returns its paths and a cleanup. */
@@ -49,7 +49,7 @@ export function makeFakeCheckout() {
     mkdirSync(dirname(join(dir, file)), { recursive: true });
     copyFileSync(join(repoRoot, file), join(dir, file));
   }
-  writeFileSync(join(dir, 'scripts/minify.mjs'), kFakeMinify);
+  writeFileSync(join(dir, 'scripts/lib/minify.mjs'), kFakeMinify);
   mkdirSync(join(dir, 'bin'));
   writeFileSync(join(dir, 'bin/cmake'), kFakeCmake);
   chmodSync(join(dir, 'bin/cmake'), 0o755);

@@ -106,9 +106,9 @@ test('the runner fails, naming the case, frame and node, when one expected rotat
   assert.match(stdout, new RegExp(`^${caseFiles.length - 1} of ${caseFiles.length} cases pass`, 'm'));
 });
 
-test('the VRM part is what scripts/make_conformance_vrm.mjs writes, byte for byte', () => {
+test('the VRM part is what scripts/generate/make_conformance_vrm.mjs writes, byte for byte', () => {
   const out = join(scratch, 'regenerated-vrm');
-  const { code, stderr } = runNode(join(root, 'scripts', 'make_conformance_vrm.mjs'), '--out', out);
+  const { code, stderr } = runNode(join(root, 'scripts', 'generate', 'make_conformance_vrm.mjs'), '--out', out);
   assert.equal(code, 0, stderr);
   for (const folder of ['cases', 'models']) {
     const files = readdirSync(join(vrmPack, folder)).sort();
@@ -119,9 +119,9 @@ test('the VRM part is what scripts/make_conformance_vrm.mjs writes, byte for byt
   }
 });
 
-test('the pack is what scripts/make_conformance.mjs writes, byte for byte', () => {
+test('the pack is what scripts/generate/make_conformance.mjs writes, byte for byte', () => {
   const out = join(scratch, 'regenerated');
-  const { code, stderr } = runNode(join(root, 'scripts', 'make_conformance.mjs'), '--out', out);
+  const { code, stderr } = runNode(join(root, 'scripts', 'generate', 'make_conformance.mjs'), '--out', out);
   assert.equal(code, 0, stderr);
   for (const folder of ['cases', 'glb']) {
     const files = readdirSync(join(pack, folder)).sort();

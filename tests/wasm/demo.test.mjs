@@ -1,5 +1,5 @@
 // The demo's sample assets and the creator panel's entity handling (web/demo/js/entity.js), in
-// Node: the assets are what scripts/make_sample_avatar.mjs writes, the metadata is keyed by the
+// Node: the assets are what scripts/generate/make_sample_avatar.mjs writes, the metadata is keyed by the
 // wearable's content hash, and the entity the panel builds for the API's validator and Builder
 // edit judges the edited GLB the way a catalyst would.
 import assert from 'node:assert/strict';
@@ -24,10 +24,10 @@ function gltfJson(bytes) {
 }
 
 describe('sample assets', () => {
-  test('are exactly what scripts/make_sample_avatar.mjs writes', () => {
+  test('are exactly what scripts/generate/make_sample_avatar.mjs writes', () => {
     const out = mkdtempSync(join(tmpdir(), 'springbones-samples-'));
     try {
-      execFileSync(process.execPath, [join(root, 'scripts', 'make_sample_avatar.mjs'), '--out', out], { stdio: 'pipe' });
+      execFileSync(process.execPath, [join(root, 'scripts', 'generate', 'make_sample_avatar.mjs'), '--out', out], { stdio: 'pipe' });
       const files = readdirSync(out).sort();
       assert.deepEqual(files, readdirSync(assets).sort());
       for (const f of files) assert.ok(readFileSync(join(out, f)).equals(readFileSync(join(assets, f))), `${f} differs: rerun the script`);

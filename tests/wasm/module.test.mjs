@@ -1,7 +1,7 @@
 // The built modules themselves: each one's size against its budget, that the same files load the
 // way a browser loads them (fetched over HTTP relative to the page, streaming compilation), not only
 // the way Node does (bytes read with fs), and that the minified bundles the package ships (written
-// by scripts/minify.mjs) and the inline entry are the same API.
+// by scripts/lib/minify.mjs) and the inline entry are the same API.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { createServer } from 'node:http';

@@ -11,7 +11,7 @@ import { test } from 'node:test';
 import { root } from './helpers.mjs';
 
 const pkg = JSON.parse(readFileSync(join(root, 'package.json'), 'utf8'));
-// Minified code breaks lines near 500 characters (scripts/minify.mjs); a string literal can run
+// Minified code breaks lines near 500 characters (scripts/lib/minify.mjs); a string literal can run
 // past that. The bundles used to be one line each, 5 to 17 KB long.
 const kLongestLine = 1500;
 

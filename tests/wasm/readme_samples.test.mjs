@@ -12,7 +12,7 @@ import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import { pathToFileURL } from 'node:url';
 import { Scene } from 'three';
-import { startServer } from '../../scripts/serve.mjs';
+import { startServer } from '../../scripts/lib/serve.mjs';
 import { root } from './helpers.mjs';
 
 const readme = readFileSync(join(root, 'README.md'), 'utf8');

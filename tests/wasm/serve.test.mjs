@@ -1,4 +1,4 @@
-// scripts/serve.mjs, the demo's server: the headers a preview relies on (streaming compilation,
+// scripts/lib/serve.mjs, the demo's server: the headers a preview relies on (streaming compilation,
 // cross-origin isolation) and revalidation, so that a rebuilt module is never served stale while
 // an unchanged one is a 304; gzip for a request that accepts it, as a CDN serves files.
 import assert from 'node:assert/strict';
@@ -9,7 +9,7 @@ import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import { gunzipSync } from 'node:zlib';
 
-import { startServer } from '../../scripts/serve.mjs';
+import { startServer } from '../../scripts/lib/serve.mjs';
 
 let root, server, url;
 before(async () => {

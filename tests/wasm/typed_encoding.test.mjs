@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { before, describe, test } from 'node:test';
 
-import { description, headerText, kHeaderPath, kModulePath, moduleText } from '../../scripts/make_typed_encoding.mjs';
+import { description, headerText, kHeaderPath, kModulePath, moduleText } from '../../scripts/generate/make_typed_encoding.mjs';
 import { kGltfNodeFields, kTypedLimits, kTypedTags } from '../../web/typed_encoding.js';
 import { loadReaders } from '../../web/readers.js';
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
@@ -23,8 +23,8 @@ before(async () => {
 describe('the description', () => {
   test('src/common/typed_encoding.h and web/typed_encoding.js are what the generator writes from the JSON', () => {
     const d = description();
-    assert.equal(readFileSync(kHeaderPath, 'utf8'), headerText(d), 'run node scripts/make_typed_encoding.mjs');
-    assert.equal(readFileSync(kModulePath, 'utf8'), moduleText(d), 'run node scripts/make_typed_encoding.mjs');
+    assert.equal(readFileSync(kHeaderPath, 'utf8'), headerText(d), 'run node scripts/generate/make_typed_encoding.mjs');
+    assert.equal(readFileSync(kModulePath, 'utf8'), moduleText(d), 'run node scripts/generate/make_typed_encoding.mjs');
     assert.deepEqual({ ...kTypedTags }, d.tags);
     assert.deepEqual({ ...kTypedLimits }, d.limits);
   });

@@ -1,4 +1,4 @@
-// The Chromium half of the benchmark: serves the repository (scripts/serve.mjs: gzip-encoded, as a
+// The Chromium half of the benchmark: serves the repository (scripts/lib/serve.mjs: gzip-encoded, as a
 // CDN serves it), drives Debian's Chromium with playwright-core and prints
 //   - the conditions: Chromium version, cross-origin isolation, the timer step and the
 //     requestAnimationFrame interval the page observed, CPUs, load average;
@@ -25,7 +25,7 @@ import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { brotliCompressSync, constants as zlibConstants } from 'node:zlib';
 import { chromium } from 'playwright-core';
-import { startServer } from '../../serve.mjs';
+import { startServer } from '../../lib/serve.mjs';
 import { median, rigName } from './bench_rigs.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..', '..');

@@ -3,10 +3,10 @@
 // so the per-frame page refuses to run; the cold pages run as a preview iframe does, without it),
 // the smallest timer step observed, and the CPU count.
 
-/** Throws unless the page is cross-origin isolated (COOP/COEP headers from scripts/serve.mjs). */
+/** Throws unless the page is cross-origin isolated (COOP/COEP headers from scripts/lib/serve.mjs). */
 export function requireIsolation() {
   if (globalThis.crossOriginIsolated !== true) {
-    throw new Error('benchmark page is not cross-origin isolated: serve it with COOP/COEP (scripts/serve.mjs)');
+    throw new Error('benchmark page is not cross-origin isolated: serve it with COOP/COEP (scripts/lib/serve.mjs)');
   }
 }
 

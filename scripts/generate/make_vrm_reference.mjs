@@ -6,7 +6,7 @@
 // three-vrm measures the bone length from the child's previous-frame position, which only equals
 // the true length when the head does not move, while springbones always uses the exact length.
 //
-//   node scripts/make_vrm_reference.mjs
+//   node scripts/generate/make_vrm_reference.mjs
 import { writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import * as THREE from 'three';
@@ -88,7 +88,7 @@ function run(s) {
 }
 
 const result = {
-  generator: 'scripts/make_vrm_reference.mjs with @pixiv/three-vrm-springbone 3.5.5',
+  generator: 'scripts/generate/make_vrm_reference.mjs with @pixiv/three-vrm-springbone 3.5.5',
   fps,
   frames,
   scenarios: scenarios.map((s) => ({
@@ -100,6 +100,6 @@ const result = {
     ...run(s),
   })),
 };
-const path = fileURLToPath(new URL('../tests/fixtures/vrm_reference.json', import.meta.url));
+const path = fileURLToPath(new URL('../../tests/fixtures/vrm_reference.json', import.meta.url));
 writeFileSync(path, JSON.stringify(result) + '\n');
 console.log(`wrote ${path}: ${result.scenarios.length} scenarios x ${frames} frames`);

@@ -4,7 +4,7 @@
 // accepts gzip gets the file gzip-encoded, as a CDN serves it (images, already compressed, as they
 // are); the compressed bytes are kept in memory per file version.
 //
-//   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1]
+//   node scripts/lib/serve.mjs [--port 8080] [--host 127.0.0.1]
 //
 // Also imported by tests/browser/ and the benchmark (startServer) to serve on a free port
 // in-process. No dependencies beyond node's own modules.
@@ -14,7 +14,7 @@ import { extname, join, normalize, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { gzipSync } from 'node:zlib';
 
-const repoRoot = resolve(fileURLToPath(new URL('..', import.meta.url)));
+const repoRoot = resolve(fileURLToPath(new URL('../..', import.meta.url)));
 
 const MIME = {
   '.html': 'text/html; charset=utf-8',

@@ -2,7 +2,7 @@
 // hierarchies, their data.springBones metadata, a few malformed hierarchies, and manifest.json
 // (content hash of every file, and which metadata key each GLB is meant to be loaded with).
 //
-//   node scripts/make_fixtures.mjs
+//   node scripts/generate/make_fixtures.mjs
 //
 // Node 20 with the npm devDependencies (@dcl/hashing for the content hashes). Deterministic: the
 // same bytes on every run (no timestamps, no Math.random, no trigonometry — every rotation is a
@@ -12,11 +12,11 @@ import { mkdirSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';  // CommonJS: named imports do not resolve, the default does
-import { AVATAR_BONES, dclArmature, flatten, restPose } from './lib/fixtures/dcl_armature.mjs';
-import { BinaryBuffer, glbOfDoc } from './lib/fixtures/glb.mjs';
-import { add, cross, invert, length, near, normalize, position, scale, sub } from './lib/fixtures/vec.mjs';
+import { AVATAR_BONES, dclArmature, flatten, restPose } from '../lib/fixtures/dcl_armature.mjs';
+import { BinaryBuffer, glbOfDoc } from '../lib/fixtures/glb.mjs';
+import { add, cross, invert, length, near, normalize, position, scale, sub } from '../lib/fixtures/vec.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const outDir = join(root, 'tests', 'fixtures');
 
 const gltfText = (doc) => Buffer.from(JSON.stringify(doc, null, 2) + '\n', 'utf8');
@@ -239,7 +239,7 @@ function buildAvatarHair() {
 
   const meshNode = nodes.length;
   const doc = {
-    asset: { version: '2.0', generator: 'springbones scripts/make_fixtures.mjs' },
+    asset: { version: '2.0', generator: 'springbones scripts/generate/make_fixtures.mjs' },
     scene: 0,
     scenes: [{ name: 'avatar_hair', nodes: [...roots, meshNode] }],
     nodes: [...nodes, { name: 'HairMesh', mesh: 0, skin: 0 }],
@@ -318,7 +318,7 @@ await write('cycle.gltf', gltfText(cycleDoc));
 // Manifest last (it describes the others, not itself).
 const sortedManifest = Object.fromEntries(Object.keys(manifest).sort().map((k) => [k, manifest[k]]));
 writeFileSync(join(outDir, 'manifest.json'), jsonText({
-  comment: 'Written by scripts/make_fixtures.mjs. contentHash: the CIDv1 Decentraland computes for ' +
+  comment: 'Written by scripts/generate/make_fixtures.mjs. contentHash: the CIDv1 Decentraland computes for ' +
     'the file (@dcl/hashing hashV1). metadataKey: the models key to load the file with.',
   files: sortedManifest,
 }));

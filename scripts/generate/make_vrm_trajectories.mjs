@@ -1,10 +1,10 @@
-// Generates tests/fixtures/vrm_trajectories.json: the VRM fixtures of scripts/make_vrm_fixtures.mjs
+// Generates tests/fixtures/vrm_trajectories.json: the VRM fixtures of scripts/generate/make_vrm_fixtures.mjs
 // run by @pixiv/three-vrm-springbone 3.5.5 (three.js GLTFLoader + VRMSpringBoneLoaderPlugin, in
 // Node: the files have no buffers or images, so GLTFLoader parses them without a DOM), one
 // manager.update(1/60) per frame. tests/native/vrm_loader_test.cpp loads the same files with
 // loadVrm, writes the recorded driver matrices and compares the joints' local rotations.
 //
-//   node scripts/make_vrm_trajectories.mjs
+//   node scripts/generate/make_vrm_trajectories.mjs
 //
 // The body is animated through three nodes: J_Hips bobs and turns about Y, J_Spine rolls, J_Head
 // nods (frame 1 is the rest pose, so both engines start from the same tails). Per frame the file
@@ -30,14 +30,14 @@ import { fileURLToPath } from 'node:url';
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
-import { gltfOf } from './lib/fixtures/glb.mjs';
-import { countCollisions } from './lib/three_vrm_collisions.mjs';
-import { useExactBoneLength } from './lib/three_vrm_equalized.mjs';
+import { gltfOf } from '../lib/fixtures/glb.mjs';
+import { countCollisions } from '../lib/three_vrm_collisions.mjs';
+import { useExactBoneLength } from '../lib/three_vrm_equalized.mjs';
 
 const fps = 60;
 const frames = 240;
 const fixtures = ['vrm10_springs.vrm', 'vrm0_springs.vrm', 'vrm10_extended_colliders.vrm'];
-const fixturePath = (name) => fileURLToPath(new URL(`../tests/fixtures/${name}`, import.meta.url));
+const fixturePath = (name) => fileURLToPath(new URL(`../../tests/fixtures/${name}`, import.meta.url));
 
 
 const round = (x) => Number(x.toPrecision(10));
@@ -115,7 +115,7 @@ async function run(name, exactLength) {
 }
 
 const result = {
-  generator: 'scripts/make_vrm_trajectories.mjs with @pixiv/three-vrm-springbone 3.5.5 and three ' + THREE.REVISION,
+  generator: 'scripts/generate/make_vrm_trajectories.mjs with @pixiv/three-vrm-springbone 3.5.5 and three ' + THREE.REVISION,
   fps,
   frames,
   models: [],

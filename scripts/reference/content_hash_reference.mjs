@@ -1,7 +1,7 @@
 // Prints the reference content hashes that tests/native/content_hash_test.cpp checks, computed by
 // Decentraland's own code: `hashV1` of npm @dcl/hashing (a devDependency; run `npm install` first).
 //
-//   node scripts/content_hash_reference.mjs
+//   node scripts/reference/content_hash_reference.mjs
 //
 // Section 1 uses hashV1 exactly as the Builder and the catalyst do. Section 2 runs the same bundled
 // ipfs-unixfs-importer with a smaller chunk size and fan-out, so trees three and more levels deep

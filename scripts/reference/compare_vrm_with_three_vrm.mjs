@@ -7,7 +7,7 @@
 // collider node. For files made elsewhere (e.g. the team's shared real VRM files), which must not
 // be copied into the repository: this reads them where they are.
 //
-//   node scripts/compare_vrm_with_three_vrm.mjs [--stock] <file>...
+//   node scripts/reference/compare_vrm_with_three_vrm.mjs [--stock] <file>...
 //
 // --stock: three-vrm as published (stale bone lengths, authored radii), to see how far the
 // documented differences move it.
@@ -21,10 +21,10 @@ import { basename } from 'node:path';
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { VRMSpringBoneLoaderPlugin } from '@pixiv/three-vrm-springbone';
-import { createSpringBones } from '../web/springbones.js';
-import { countCollisions } from './lib/three_vrm_collisions.mjs';
-import { applyLimits } from './lib/three_vrm_limits.mjs';
-import { scaleColliderRadii, useExactBoneLength } from './lib/three_vrm_equalized.mjs';
+import { createSpringBones } from '../../web/springbones.js';
+import { countCollisions } from '../lib/three_vrm_collisions.mjs';
+import { applyLimits } from '../lib/three_vrm_limits.mjs';
+import { scaleColliderRadii, useExactBoneLength } from '../lib/three_vrm_equalized.mjs';
 
 const fps = 60;
 const frames = 240;
@@ -102,7 +102,7 @@ async function compare(sb, file) {
 const stock = process.argv.includes('--stock');
 const files = process.argv.slice(2).filter((a) => a !== '--stock');
 if (files.length === 0) {
-  console.error('usage: node scripts/compare_vrm_with_three_vrm.mjs [--stock] <file.vrm | file.gltf>...');
+  console.error('usage: node scripts/reference/compare_vrm_with_three_vrm.mjs [--stock] <file.vrm | file.gltf>...');
   process.exit(2);
 }
 const sb = await createSpringBones();

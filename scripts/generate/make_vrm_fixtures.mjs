@@ -13,12 +13,12 @@
 //                      the extension asks for), and an extension of an unknown version whose base
 //                      sphere applies.
 //
-//   node scripts/make_vrm_fixtures.mjs
+//   node scripts/generate/make_vrm_fixtures.mjs
 //
 // Node 20, no npm packages. Deterministic (literal numbers only, no trigonometry). The files are
 // GLB with a JSON chunk only: a node hierarchy and the spring-bone extension, no meshes, no
 // VRMC_vrm / humanoid data, so they are test models, not complete avatars. Every node is made up
-// here; nothing is copied from a third-party model. scripts/make_vrm_trajectories.mjs runs them in
+// here; nothing is copied from a third-party model. scripts/generate/make_vrm_trajectories.mjs runs them in
 // @pixiv/three-vrm-springbone 3.5.5 and tests/native/vrm_loader_test.cpp loads them.
 //
 // Values are chosen where springbones and three-vrm 3.5.5 agree by design (docs/semantics.md,
@@ -29,9 +29,9 @@
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { glbOfDoc } from './lib/fixtures/glb.mjs';
+import { glbOfDoc } from '../lib/fixtures/glb.mjs';
 
-const outDir = join(dirname(fileURLToPath(import.meta.url)), '..', 'tests', 'fixtures');
+const outDir = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'tests', 'fixtures');
 
 // Nodes are given as [name, parentName, translation, rotation?]; indices follow list order.
 function buildNodes(list) {
@@ -54,7 +54,7 @@ function buildNodes(list) {
 // The glTF document of one model: one scene over `roots`, the extensions at the top level.
 function vrmDoc(nodes, roots, extensionsUsed, extensions) {
   return {
-    asset: { version: '2.0', generator: 'springbones scripts/make_vrm_fixtures.mjs' },
+    asset: { version: '2.0', generator: 'springbones scripts/generate/make_vrm_fixtures.mjs' },
     extensionsUsed,
     extensions,
     scene: 0,

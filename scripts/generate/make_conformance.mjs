@@ -1,7 +1,7 @@
 // Writes the ADR-316 conformance pack: conformance/glb/*.glb and conformance/cases/*.json
 // (conformance/README.md describes the format; conformance/run.mjs replays it on springbones).
 //
-//   node scripts/make_conformance.mjs [--out <dir>]
+//   node scripts/generate/make_conformance.mjs [--out <dir>]
 //
 // --out writes the pack elsewhere (default: conformance/), e.g. to compare it with the one checked in.
 //
@@ -17,12 +17,12 @@ import { mkdirSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';  // CommonJS: named imports do not resolve, the default does
-import { dclArmature, flatten } from './lib/fixtures/dcl_armature.mjs';
-import { glbOfDoc } from './lib/fixtures/glb.mjs';
-import { mmul, qaxis, qmul, round, trsMatrix } from './lib/fixtures/vec.mjs';
-import { ReferenceInstance, buildRig, modelEntry, modelKey, poseWorld } from './lib/adr_reference.mjs';
+import { dclArmature, flatten } from '../lib/fixtures/dcl_armature.mjs';
+import { glbOfDoc } from '../lib/fixtures/glb.mjs';
+import { mmul, qaxis, qmul, round, trsMatrix } from '../lib/fixtures/vec.mjs';
+import { ReferenceInstance, buildRig, modelEntry, modelKey, poseWorld } from '../lib/adr_reference.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const outFlag = process.argv.indexOf('--out');
 const outDir = outFlag >= 0 ? process.argv[outFlag + 1] : join(root, 'conformance');
 if (!outDir) throw new Error('--out needs a folder');
@@ -85,7 +85,7 @@ const branchTrees = [{
 
 function makeGlb(file, trees) {
   const flat = flatten([dclArmature({ full: false, extraChildren: { Avatar_Head: trees } })]);
-  const doc = { asset: { version: '2.0', generator: 'springbones scripts/make_conformance.mjs' }, scene: 0, scenes: [{ nodes: [0] }], nodes: flat.nodes };
+  const doc = { asset: { version: '2.0', generator: 'springbones scripts/generate/make_conformance.mjs' }, scene: 0, scenes: [{ nodes: [0] }], nodes: flat.nodes };
   return { file, nodes: flat.nodes, parent: flat.parent, bytes: glbOfDoc(doc) };
 }
 

@@ -5,7 +5,7 @@
 // -g so the names survive), and adds up the function bodies of the code section. Prints Markdown
 // tables (docs/performance.md, "Every byte", holds the last ones).
 //
-//   node scripts/size_report.mjs [--module springbones_wasm] [--top 40]     (after scripts/build wasm)
+//   node scripts/benchmarks/size_report.mjs [--module springbones_wasm] [--top 40]     (after scripts/build wasm)
 //
 // "gzip" of a group is gzip -9 of its bodies laid end to end: how much that code weighs on its
 // own, which is not exactly what removing it saves from the whole module (gzip shares repeats
@@ -17,7 +17,7 @@ import { basename, dirname, join, relative } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { gzipSync } from 'node:zlib';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const options = parseArguments(process.argv.slice(2));
 const buildDir = join(root, 'build', 'wasm-release', 'wasm');
 const targetDir = join(buildDir, 'CMakeFiles', `${options.module}.dir`);
@@ -33,7 +33,7 @@ function parseArguments(args) {
     if (flag === '--module' && value) parsed.module = value;
     else if (flag === '--top' && Number.isInteger(Number(value)) && Number(value) > 0) parsed.top = Number(value);
     else {
-      console.error('usage: node scripts/size_report.mjs [--module <CMake target, e.g. springbones_wasm>] [--top <functions>]');
+      console.error('usage: node scripts/benchmarks/size_report.mjs [--module <CMake target, e.g. springbones_wasm>] [--top <functions>]');
       process.exit(2);
     }
   }

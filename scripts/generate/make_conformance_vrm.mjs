@@ -2,7 +2,7 @@
 // conformance/vrm/cases/*.json (conformance/README.md describes the format; conformance/run.mjs
 // replays it on springbones, conformance/run_three_vrm.mjs the cases without limits on three-vrm).
 //
-//   node scripts/make_conformance_vrm.mjs [--out <dir>]
+//   node scripts/generate/make_conformance_vrm.mjs [--out <dir>]
 //
 // --out writes the part elsewhere (default: conformance/vrm/). Deterministic: running it again
 // rewrites the same bytes.
@@ -16,12 +16,12 @@
 import { mkdirSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { glbOfDoc } from './lib/fixtures/glb.mjs';
-import { qaxis, qmul, round, trsMatrix } from './lib/fixtures/vec.mjs';
-import { poseWorld } from './lib/adr_reference.mjs';
-import { VrmReferenceInstance, buildVrmRig } from './lib/vrm_reference.mjs';
+import { glbOfDoc } from '../lib/fixtures/glb.mjs';
+import { qaxis, qmul, round, trsMatrix } from '../lib/fixtures/vec.mjs';
+import { poseWorld } from '../lib/adr_reference.mjs';
+import { VrmReferenceInstance, buildVrmRig } from '../lib/vrm_reference.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const outFlag = process.argv.indexOf('--out');
 const outDir = outFlag >= 0 ? process.argv[outFlag + 1] : join(root, 'conformance', 'vrm');
 if (!outDir) throw new Error('--out needs a folder');
@@ -76,7 +76,7 @@ function model(strands, extra, springBone) {
   if (text.includes('VRMC_springBone_extended_collider')) used.push('VRMC_springBone_extended_collider');
   if (text.includes('VRMC_springBone_limit')) used.push('VRMC_springBone_limit');
   return {
-    asset: { version: '2.0', generator: 'springbones scripts/make_conformance_vrm.mjs' },
+    asset: { version: '2.0', generator: 'springbones scripts/generate/make_conformance_vrm.mjs' },
     extensionsUsed: used,
     scene: 0, scenes: [{ nodes: [0] }], nodes,
     extensions: { VRMC_springBone: { specVersion: '1.0', ...extension } },

@@ -1,5 +1,6 @@
-// GLB / glTF loader tests (src/loading/glb_loader.cpp): what loads, the rest pose it yields, and one test
-// per class of malformed input with the ErrorCode it must produce.
+// loadSkeleton on GLB and glTF input (the readers' src/readers/glb_container.cpp, the node table's
+// src/loading/gltf_nodes.cpp): what loads, the rest pose it yields, and one test per class of
+// malformed input with the ErrorCode it must produce.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -2,7 +2,7 @@
 // SpringBonesData.validate of @dcl/schemas (Ajv 8, allErrors), so the C++ validator
 // (src/creator_tools/validation.cpp) can be checked against it case by case (tests/native/validation_test.cpp).
 //
-//   node scripts/validation_cases.mjs        (needs `npm install` first)
+//   node scripts/generate/make_validation_cases.mjs        (needs `npm install` first)
 //
 // Each case: { name, input, valid, errors, content, representations, catalystErrors, contents,
 //              itemCatalystErrors }
@@ -33,10 +33,10 @@ import { mkdirSync, writeFileSync } from 'node:fs'
 import { dirname, join } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { SpringBonesData } from '@dcl/schemas'
-import { seededRandom } from './lib/fixtures/random.mjs'
+import { seededRandom } from '../lib/fixtures/random.mjs'
 
 const kSeed = 0x5eed5b0e
-const kOutput = join(dirname(fileURLToPath(import.meta.url)), '..', 'tests', 'fixtures', 'validation_cases.json')
+const kOutput = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'tests', 'fixtures', 'validation_cases.json')
 
 const random = seededRandom(kSeed)
 const randInt = (lo, hi) => lo + Math.floor(random() * (hi - lo + 1))
