@@ -7,9 +7,9 @@ import { describe, test } from 'node:test';
 import { AnimationMixer, Object3D, Scene, Vector3 } from 'three';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
-import { attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
+import { SpringBonesGroup, attachWearable, wearableNodes } from '../../web/three/springBonesThree.js';
 
-const { avatarGltf, wearableGltf, rig } = await loadSampleWearable();
+const { sb, avatarGltf, wearableGltf, rig } = await loadSampleWearable();
 
 /** A fresh avatar in a scene, wearing a fresh clone of the sample wearable; warnings collected. */
 function wornSample() {
@@ -135,5 +135,31 @@ describe('attachment.setColliders', () => {
     attachment.setRig(rig);
     assert.notEqual(attachment.instance, before);
     assert.deepEqual(attachment.instance.frameNames, ['object'], 'an unnamed object gets a name of its own');
+  });
+
+  test('in a SpringBonesGroup, the frames are copied by group.update: the same rotations as alone', () => {
+    const alone = wornSample();
+    const grouped = wornSample();
+    const group = new SpringBonesGroup(sb);
+    group.add(grouped.attachment);
+    const hats = [alone, grouped].map(({ scene, attachment }) => {
+      const hat = new Object3D();
+      scene.add(hat);
+      attachment.setColliders([{ node: hat, radius: 0.04 }]);
+      return hat;
+    });
+    const target = tails(alone.attachment).reduce((low, p) => (p.y < low.y ? p : low));
+    for (let f = 0; f < 60; f++) {
+      for (const hat of hats) hat.position.set(target.x, target.y, target.z + 0.1 * Math.sin(f * 0.1));
+      alone.scene.updateMatrixWorld();
+      grouped.scene.updateMatrixWorld();
+      alone.attachment.update(1 / 60);
+      group.update(1 / 60);
+    }
+    assert.deepEqual(Array.from(grouped.attachment.instance.frameMatrices), Array.from(alone.attachment.instance.frameMatrices));
+    assert.deepEqual(Array.from(grouped.attachment.instance.rotations), Array.from(alone.attachment.instance.rotations));
+    assert.deepEqual(Array.from(grouped.attachment.instance.frameMatrices), Array.from(Float32Array.from(hats[1].matrixWorld.elements)),
+      'group.update copied the hat\'s last matrixWorld');
+    group.dispose();
   });
 });
