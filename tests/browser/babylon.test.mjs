@@ -77,6 +77,17 @@ test('the wind slider goes to simulation.setWind without errors', { skip }, asyn
   assert.deepEqual(consoleErrors, []);
 });
 
+test('the body colliders slider goes to simulation.setColliders without errors or warnings', { skip }, async () => {
+  await page.locator('#body-scale').fill('2');
+  assert.equal(await page.locator('#body-scale-value').textContent(), '2.00');
+  await page.waitForTimeout(300);
+  const rotations = await demo(() => window.springbonesBabylonDemo.rotations());
+  assert.ok(rotations.every(Number.isFinite));
+  await page.locator('#body-scale').fill('1');
+  assert.equal(await page.locator('#body-scale-value').textContent(), '1.00');
+  assert.deepEqual(consoleErrors, []);
+});
+
 test('teleport: the avatar moves and the page keeps running; screenshot', { skip }, async () => {
   await page.locator('#teleport').click();
   await page.waitForTimeout(400);

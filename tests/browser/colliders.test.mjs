@@ -94,3 +94,22 @@ test('the wind slider sets a wind on every avatar, which moves the hair', { skip
   assert.deepEqual(calmAgain, calm, 'no wind: the same motion as before, bit for bit');
   assert.deepEqual(consoleErrors, []);
 });
+
+test('the body colliders slider resizes the body shapes while the avatar moves; back at 1, the same motion', { skip }, async () => {
+  const pose = () => rotationsAfter(page, 'walk', 2);
+  const setSlider = (value) => page.locator('#body-scale').evaluate((input, v) => {
+    input.value = v;
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+  }, value);
+  const before = await pose();
+  await setSlider('2');
+  const state = await demo(() => window.springbonesDemo.state());
+  assert.equal(state.bodyScale, 2);
+  assert.equal(state.rigColliders, 8, 'the rig is not rebuilt: the instance has the shapes resized');
+  const larger = await pose();
+  const largest = Math.max(...before.map((v, i) => Math.abs(v - larger[i])));
+  assert.ok(largest > 0.05, `twice the body's radii changed no rotation by more than ${largest}`);
+  await setSlider('1');
+  assert.deepEqual(await pose(), before, 'the rig\'s own shapes again: bit for bit the motion before');
+  assert.deepEqual(consoleErrors, []);
+});

@@ -1,10 +1,22 @@
 // Types of the Babylon.js drop-in (springBoneSimulation.js). Babylon is not imported: the
 // parameters are described by the few members the class uses, which Babylon 4.2's `babylonjs`
 // and the current `@babylonjs/core` both have, so a consumer of either type-checks.
-import type { ColliderOptions, ColliderPreset, Instance, InstanceOptions, LoadOptions, Rig, SpringBoneEntry, SpringBones, SpringBonesData, WindOptions } from '../springbones.js';
+import type { ColliderOptions, ColliderPreset, Instance, InstanceOptions, LoadOptions, Rig, SetCollidersOptions, SpringBoneEntry, SpringBones, SpringBonesData, Warning, WindOptions } from '../springbones.js';
 import type { Diagnostic, DiagnosticCode } from '../wearable/diagnostics.js';
 
 export type { Diagnostic, DiagnosticCode };
+
+/** A Babylon TransformNode (or mesh), as a collider follows it: its world matrix. */
+export interface BabylonTransformNodeLike {
+  name: string;
+  computeWorldMatrix(force?: boolean): unknown;
+  getWorldMatrix(): { m: ArrayLike<number> };
+}
+
+/** A collider for simulation.setColliders: as loadRig's, its `node` a name or any TransformNode to follow. */
+export interface BabylonColliderOptions extends Omit<ColliderOptions, 'node'> {
+  node: string | BabylonTransformNodeLike;
+}
 
 /** A Babylon Scene, as the simulation uses it. */
 export interface BabylonSceneLike {
@@ -122,6 +134,20 @@ export class SpringBoneSimulation {
    * @throws TypeError for params that are not an object
    */
   updateParams(itemId: string, params: SpringBonesModelEntry): void;
+  /**
+   * Replaces a registered wearable's colliders (its rig's included) from the next frame on
+   * (instance.setColliders): an array or 'dcl-body', null or [] for none. A collider's `node` is a
+   * name (a rig driver, an avatar bone, a node of the wearable or the scene) or any TransformNode
+   * (a hat, a hand, another wearable's node), whose world matrix each frame copies, in the glTF's
+   * space, after the drivers'. For 'dcl-body', `scale` resizes and `omit` leaves out shapes,
+   * measured on the avatar in the scene unless `avatarBones` is given. Kept across updateParams;
+   * before the module is there, applied when it comes. Returns the instance's warnings, each also
+   * in `warnings` with a fix; [] before the module is there. An itemId not registered does nothing
+   * and warns once (`unknown-item`).
+   * @throws TypeError / RangeError / SpringBonesError for a bad collider (`setColliders: ...`),
+   *   before anything changes
+   */
+  setColliders(itemId: string, colliders: readonly BabylonColliderOptions[] | ColliderPreset | null, options?: SetCollidersOptions): readonly Warning[];
   /** Steps every registered wearable before each render of `scene`. Idempotent. */
   start(scene: BabylonSceneLike): void;
   /**

@@ -41,6 +41,7 @@ import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiag
 import { modelsEntry } from '../wearable/wearable_entry.js';
 import { carryMotion, liveEdit, loadWearableRig } from '../wearable/rig_life.js';
 import { FrameCopyLists } from '../wearable/frame_copies.js';
+import { colliderDiagnostics, collidersWithFrames, frameFollowers, withMeasuredBones } from '../wearable/collider_followers.js';
 
 /**
  * The one place that carries an instance across a discontinuity of its drivers (an animation
@@ -87,6 +88,8 @@ class RegisteredWearable {
     this.instance = null;
     this.jointNodes = [];
     this.driverNodes = [];
+    this.frameNodes = [];  // the node each frame of the instance's setColliders colliders follows (or null)
+    this.colliders = null;  // the last setColliders call ({ colliders, options }), kept for a new rig
     this.avatar = null;  // the avatar's skeleton the rig's body shapes were measured on, if any
     this.restRotations = new Map();  // joint node -> [x, y, z, w] as registered
     this.error = null;
@@ -167,6 +170,37 @@ class RegisteredWearable {
       if (node && !current.has(node)) this.restoreRest(node);
     }
     this.diagnose();
+    this.frameNodes = [];
+    if (this.colliders !== null) this.applyColliders();  // the page's colliders outlive a rebuild
+  }
+
+  /** The kept setColliders call as the instance takes it, and the nodes its frames follow. */
+  collidersForInstance() {
+    const { colliders, options } = this.colliders;
+    const engine = {
+      // A Bone has both methods too, but its world matrix is the skeleton's space: pass its linked node.
+      isObject: (value) => typeof value?.getWorldMatrix === 'function' && typeof value?.computeWorldMatrix === 'function' &&
+        value.getClassName?.() !== 'Bone',
+      nameOf: (node) => node.name,
+      driverNames: this.rig?.drivers.map((d) => d.name) ?? [],
+    };
+    const prepared = collidersWithFrames('setColliders', colliders, engine);
+    const avatar = colliders === 'dcl-body' ? this.avatar ?? findAvatarSkeleton(this.scene, this.container) : null;
+    return { ...prepared, options: withMeasuredBones(colliders, options, avatar === null ? null : avatarRestBones(avatar)) };
+  }
+
+  /** Applies the kept setColliders call to the instance; returns its warnings, reported. */
+  applyColliders() {
+    const { colliders, options, followed } = this.collidersForInstance();
+    const warnings = this.instance.setColliders(colliders, options);
+    const avatar = this.avatar ?? findAvatarSkeleton(this.scene, this.container);
+    const byName = (name) => this.nodes.find((n) => n?.name === name) ?? (avatar === null ? null : avatarNode(avatar, name)) ??
+      this.scene.getTransformNodeByName?.(name) ?? null;
+    const { objects, missing } = frameFollowers(this.instance.frameNames, followed, byName);
+    this.frameNodes = objects;
+    for (const code of kColliderCodes) this.problems.delete(code);
+    for (const found of colliderDiagnostics(warnings, missing)) this.report(found);
+    return warnings;
   }
 
   /** The drivers' current world matrices into the instance (what the last frame stepped under). */
@@ -218,6 +252,7 @@ class RegisteredWearable {
     for (const node of this.restRotations.keys()) this.restoreRest(node);
     this.jointNodes = [];
     this.driverNodes = [];
+    this.frameNodes = [];
   }
 }
 
@@ -227,20 +262,31 @@ class RegisteredWearable {
  */
 class FrameCopies extends FrameCopyLists {
   set(wearables) {
-    this.setCounts(wearables.map((w) => w.instance), wearables.map((w) => w.driverNodes.length), wearables.map((w) => w.jointNodes.length));
+    this.setCounts(wearables.map((w) => w.instance), wearables.map((w) => w.driverNodes.length), wearables.map((w) => w.jointNodes.length),
+      wearables.map((w) => w.frameNodes.length));
     this.driverNodes = wearables.flatMap((w) => w.driverNodes);
-    ({ nodes: this.recompute, force: this.forceRecompute } = nodesToRecompute(this.driverNodes));
+    this.frameNodes = wearables.flatMap((w) => w.frameNodes);
+    ({ nodes: this.recompute, force: this.forceRecompute } = nodesToRecompute([...this.driverNodes, ...this.frameNodes]));
     this.jointNodes = wearables.flatMap((w) => w.jointNodes);
   }
 
   /** Each driver's current world matrix into its instance, in the glTF's space. */
   readDrivers(mirrored) {
-    const { instances, driverCounts, driverNodes, recompute, forceRecompute } = this;
+    const { instances, driverCounts, driverNodes, frameCounts, frameNodes, recompute, forceRecompute } = this;
     for (let i = 0; i < recompute.length; i++) recompute[i].computeWorldMatrix(forceRecompute);
     for (let i = 0, d = 0; i < instances.length; i++) {
       const view = this.driverView(i);
       for (let o = 0, end = d + driverCounts[i]; d < end; d++, o += 16) {
         const node = driverNodes[d];
+        if (node !== null) copyWorldMatrix(node.getWorldMatrix().m, view, o, mirrored);
+      }
+    }
+    // The frames of colliders setColliders put on nodes (a hat, another wearable's node), as drivers.
+    for (let i = 0, f = 0; i < instances.length; i++) {
+      if (frameCounts[i] === 0) continue;
+      const view = this.frameView(i);
+      for (let o = 0, end = f + frameCounts[i]; f < end; f++, o += 16) {
+        const node = frameNodes[f];
         if (node !== null) copyWorldMatrix(node.getWorldMatrix().m, view, o, mirrored);
       }
     }
@@ -262,6 +308,9 @@ class FrameCopies extends FrameCopyLists {
     for (const instance of this.instances) carryAcrossJump(instance);
   }
 }
+
+/** The codes of setColliders' warnings, replaced by each call (web/wearable/diagnostics.js). */
+const kColliderCodes = ['collider-invalid', 'collider-on-spring-bone', 'body-collider-skipped', 'collider-not-followed'];
 
 /** The codes a build finds again (diagnose), cleared before each build. */
 const kRigCodes = ['rig-failed', 'springbones-missing', 'models-missing', 'model-not-found', 'entry-not-matched', 'no-chain-root',
@@ -495,6 +544,43 @@ export class SpringBoneSimulation {
       return;
     }
     this.#membersChanged();
+  }
+
+  /**
+   * Replaces a registered wearable's colliders (its rig's included) from the next frame on
+   * (instance.setColliders): `colliders` as loadRig's option takes them, an array or 'dcl-body',
+   * null or [] for none, where a collider's `node` is a name (a rig driver, a bone of the avatar, a
+   * node of the wearable or of the scene) or any TransformNode (a hat, a hand, another wearable's
+   * node): each frame then copies that node's world matrix for it, in the glTF's space, after the
+   * drivers'. `options` { scale?, omit?, avatarBones? }: for 'dcl-body', every shape's radius
+   * times `scale` and the shapes named in `omit` left out, measured on the avatar in the scene
+   * unless `avatarBones` is given. Kept across updateParams and rebuilds; before the module is
+   * there, applied when it comes. Returns the instance's warnings (each also in `warnings`, with a
+   * fix: docs/diagnostics.md); [] before the module is there. An itemId that is not registered
+   * does nothing and warns once (`unknown-item`).
+   * @throws TypeError / RangeError / SpringBonesError for a bad collider, as instance.setColliders
+   *   (messages starting `setColliders:`), before anything changes
+   */
+  setColliders(itemId, colliders, options) {
+    const wearable = this.#wearables.get(itemId);
+    if (!wearable) {
+      this.#reportStray(itemId, 'setColliders');
+      return Object.freeze([]);
+    }
+    const previous = wearable.colliders;
+    wearable.colliders = { colliders, options };
+    try {
+      if (!wearable.instance) {
+        wearable.collidersForInstance();  // the nodes' part is checked now; the rest when the rig comes
+        return Object.freeze([]);
+      }
+      const warnings = wearable.applyColliders();
+      this.#membersChanged();
+      return warnings;
+    } catch (error) {
+      wearable.colliders = previous;
+      throw error;
+    }
   }
 
   /** unknown-item for a call that named no registered wearable: once per id. */

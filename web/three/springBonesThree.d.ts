@@ -1,10 +1,15 @@
 // Types of the three.js adapter (springBonesThree.js). `three` is a peer dependency.
 import type { AnimationMixer, LineSegments, Object3D, SkinnedMesh } from 'three';
 import type { GLTF } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import type { Instance, InstanceOptions, Rig, Scene, SpringBones } from '../springbones.js';
+import type { ColliderOptions, ColliderPreset, Instance, InstanceOptions, Rig, Scene, SetCollidersOptions, SpringBones, Warning } from '../springbones.js';
 import type { Diagnostic, DiagnosticCode } from '../wearable/diagnostics.js';
 
 export type { Diagnostic, DiagnosticCode };
+
+/** A collider for attachment.setColliders: as loadRig's, its `node` a name or any Object3D to follow. */
+export interface ThreeColliderOptions extends Omit<ColliderOptions, 'node'> {
+  node: string | Object3D;
+}
 
 /**
  * The avatar's armature by glTF node name: every bone of its skinned meshes and their ancestors
@@ -157,6 +162,19 @@ export class SpringBonesAttachment {
    * @throws TypeError for a non-rig, or rig.createInstance's errors; nothing changes then
    */
   setRig(rig: Rig, options?: { carry?: boolean }): void;
+  /**
+   * Replaces the instance's colliders (the rig's included) from the next update() on
+   * (instance.setColliders): an array or 'dcl-body', null or [] for none. A collider's `node` is a
+   * name (a rig driver, an avatar bone, a node of the wearable or the scene) or any Object3D (a
+   * hat, a hand, another wearable's node), whose matrixWorld each update() copies after the
+   * drivers'. For 'dcl-body', `scale` resizes and `omit` leaves out shapes, measured on the
+   * avatar's bones unless `avatarBones` is given. Kept across setRig; before a promised rig
+   * arrives, applied when it does. Returns the instance's warnings, each also reported with a fix
+   * (docs/diagnostics.md); [] before the rig arrives.
+   * @throws TypeError / RangeError / SpringBonesError for a bad collider (`setColliders: ...`),
+   *   before anything changes
+   */
+  setColliders(colliders: readonly ThreeColliderOptions[] | ColliderPreset | null, options?: SetCollidersOptions): readonly Warning[];
   /**
    * Disposes of the instance (update() then throws SpringBonesError 'disposed'); with detach
    * (default true) also takes the wearable's objects off the avatar, restores the joints' rest

@@ -26,8 +26,12 @@ import { AnimationStartWatch } from './animationStarts.js';
 import { boneNotMatched, consoleReporter, diagnostic, failureDiagnostic, rigDiagnostics } from '../wearable/diagnostics.js';
 import { carryMotion, checkOptionKeys } from '../wearable/rig_life.js';
 import { restBonesFromInverseBinds } from '../wearable/avatar_bones.js';
+import { colliderDiagnostics, collidersWithFrames, frameFollowers, withMeasuredBones } from '../wearable/collider_followers.js';
 import { FrameCopyLists } from '../wearable/frame_copies.js';
 import { isSpringBoneName } from '../wearable/spring_bone_name.js';
+
+/** The codes of setColliders' warnings: replaced by each call (web/wearable/diagnostics.js). */
+const kColliderCodes = ['collider-invalid', 'collider-on-spring-bone', 'body-collider-skipped', 'collider-not-followed'];
 
 /** Symbol of the option with which SpringBonesWearable.wear() hands its context to attachWearable. */
 export const kWearableContext = Symbol('springbones.wearableContext');
@@ -116,6 +120,15 @@ export function wearableNodes(gltf, root = gltf.scene) {
   return nodes;
 }
 
+/** A matrixWorld's 16 elements into `m` at `o` (nothing for null: no object); 16 statements, no loop. */
+function copyMatrix(e, m, o) {
+  if (e === null) return;
+  m[o] = e[0]; m[o + 1] = e[1]; m[o + 2] = e[2]; m[o + 3] = e[3];
+  m[o + 4] = e[4]; m[o + 5] = e[5]; m[o + 6] = e[6]; m[o + 7] = e[7];
+  m[o + 8] = e[8]; m[o + 9] = e[9]; m[o + 10] = e[10]; m[o + 11] = e[11];
+  m[o + 12] = e[12]; m[o + 13] = e[13]; m[o + 14] = e[14]; m[o + 15] = e[15];
+}
+
 /**
  * The per-frame copies between three.js and springbones for a list of attachments (one attachment
  * on its own, or a group's): each driver's matrixWorld into its instance's driverMatrices, and each
@@ -133,23 +146,24 @@ class FrameCopies extends FrameCopyLists {
   /** Takes the attachments' current instances and objects; call whenever they change. */
   setMembers(attachments) {
     this.setCounts(attachments.map((a) => a.instance), attachments.map((a) => attachmentPrivates.driverElements(a).length),
-      attachments.map((a) => attachmentPrivates.quaternions(a).length));
+      attachments.map((a) => attachmentPrivates.quaternions(a).length), attachments.map((a) => attachmentPrivates.frameElements(a).length));
     this.driverElements = attachments.flatMap((a) => attachmentPrivates.driverElements(a));  // null: no object
+    this.frameElements = attachments.flatMap((a) => attachmentPrivates.frameElements(a));  // setColliders' followed objects
     this.quaternions = attachments.flatMap((a) => attachmentPrivates.quaternions(a));
   }
 
   readDrivers() {
-    const { instances, driverCounts, driverElements } = this;
+    const { instances, driverCounts, driverElements, frameCounts, frameElements } = this;
     for (let i = 0, d = 0; i < instances.length; i++) {
       const m = this.driverView(i);
-      for (let o = 0, end = d + driverCounts[i]; d < end; d++, o += 16) {
-        const e = driverElements[d];
-        if (e === null) continue;
-        m[o] = e[0]; m[o + 1] = e[1]; m[o + 2] = e[2]; m[o + 3] = e[3];
-        m[o + 4] = e[4]; m[o + 5] = e[5]; m[o + 6] = e[6]; m[o + 7] = e[7];
-        m[o + 8] = e[8]; m[o + 9] = e[9]; m[o + 10] = e[10]; m[o + 11] = e[11];
-        m[o + 12] = e[12]; m[o + 13] = e[13]; m[o + 14] = e[14]; m[o + 15] = e[15];
-      }
+      for (let o = 0, end = d + driverCounts[i]; d < end; d++, o += 16) copyMatrix(driverElements[d], m, o);
+    }
+    // The frames of colliders setColliders put on objects (a hat, another wearable's node): the
+    // object's matrixWorld into frameMatrices, as a driver's.
+    for (let i = 0, f = 0; i < instances.length; i++) {
+      if (frameCounts[i] === 0) continue;
+      const m = this.frameView(i);
+      for (let o = 0, end = f + frameCounts[i]; f < end; f++, o += 16) copyMatrix(frameElements[f], m, o);
     }
   }
 
@@ -188,11 +202,12 @@ class FrameCopies extends FrameCopyLists {
 export class SpringBonesAttachment {
   #context; #report; #armatureObjects; #unmatchedBones; #moved; #restQuaternions;
   #instanceOptions; #group; #animationStarts; #copies; #quaternions; #driverElements;
-  #disposed;
+  #disposed; #colliders; #frameElements;
 
   static {
     attachmentPrivates = {
       driverElements: (attachment) => attachment.#driverElements,
+      frameElements: (attachment) => attachment.#frameElements,
       quaternions: (attachment) => attachment.#quaternions,
       group: (attachment) => attachment.#group,
       setGroup: (attachment, group) => { attachment.#group = group; },
@@ -235,6 +250,8 @@ export class SpringBonesAttachment {
     this.driverObjects = [];
     this.#quaternions = [];
     this.#driverElements = [];
+    this.#colliders = null;  // the last setColliders call ({ colliders, options }), kept for a new rig
+    this.#frameElements = [];  // matrixWorld.elements of the object each of the instance's frames follows
     this.#disposed = false;
     /** What a rig given as a promise rejected with (or its setRig threw), else null. */
     this.error = null;
@@ -297,6 +314,66 @@ export class SpringBonesAttachment {
       this.warnings.push(warning);
       this.#report(warning);
     }
+  }
+
+  /**
+   * Replaces the instance's colliders (the rig's included) from the next update on
+   * (instance.setColliders): `colliders` as loadRig's option takes them, an array or 'dcl-body',
+   * null or [] for none, where a collider's `node` is a name (a rig driver, a bone of the avatar, a
+   * node of the wearable or of the scene) or any Object3D (a hat, a hand, another wearable's
+   * node): every update() then copies that object's matrixWorld for it, after the drivers'.
+   * `options` { scale?, omit?, avatarBones? }: for 'dcl-body', every shape's radius times `scale`
+   * and the shapes named in `omit` left out, measured on the avatar's bones (avatarRestBones)
+   * unless `avatarBones` is given. Kept across setRig; before a rig given as a promise arrives, it
+   * is applied when it does. Returns the instance's warnings (each also reported, as the
+   * attachment's other warnings, with a fix: docs/diagnostics.md); [] before the rig arrives.
+   * @throws TypeError / RangeError / SpringBonesError for a bad collider, as instance.setColliders
+   *   (messages starting `setColliders:`), before anything changes
+   */
+  setColliders(colliders, options) {
+    const previous = this.#colliders;
+    this.#colliders = { colliders, options };
+    if (this.instance === null) {
+      try {
+        this.#collidersForInstance();  // the objects' part is checked now; the rest when the rig arrives
+      } catch (error) {
+        this.#colliders = previous;
+        throw error;
+      }
+      return Object.freeze([]);
+    }
+    let warnings;
+    try {
+      warnings = this.#applyColliders();
+    } catch (error) {
+      this.#colliders = previous;
+      throw error;
+    }
+    this.#copies.setMembers([this]);
+    if (this.#group) groupPrivates.membersChanged(this.#group);
+    return warnings;
+  }
+
+  /** The kept setColliders call as the instance takes it, and the objects its frames follow. */
+  #collidersForInstance() {
+    const { colliders, options } = this.#colliders;
+    const engine = { isObject: (value) => value?.isObject3D === true, nameOf: gltfName, driverNames: this.rig?.drivers.map((d) => d.name) ?? [] };
+    const prepared = collidersWithFrames('setColliders', colliders, engine);
+    return { ...prepared, options: withMeasuredBones(colliders, options, avatarRestBones(this.avatarRoot)) };
+  }
+
+  /** Applies the kept setColliders call to the instance; its warnings, reported. */
+  #applyColliders() {
+    const { colliders, options, followed } = this.#collidersForInstance();
+    const warnings = this.instance.setColliders(colliders, options);
+    const byName = (name) => this.nodes.find((o) => o && gltfName(o) === name) ?? this.avatarRoot.getObjectByName(name) ?? null;
+    const { objects, missing } = frameFollowers(this.instance.frameNames, followed, byName);
+    this.#frameElements = objects.map((o) => (o ? o.matrixWorld.elements : null));
+    const kept = this.warnings.filter((w) => !kColliderCodes.includes(w.code));
+    const found = colliderDiagnostics(warnings, missing);
+    this.warnings = [...kept, ...found];
+    for (const warning of found) this.#report(warning);
+    return warnings;
   }
 
   /** Whether update() simulates: false while a rig given as a promise has not arrived. */
@@ -369,6 +446,8 @@ export class SpringBonesAttachment {
       });
     }
     previousInstance?.dispose();  // also takes it out of the group's scene
+    this.#frameElements = [];
+    if (this.#colliders !== null) this.#applyColliders();  // the page's colliders outlive a rig swap
     this.#copies.setMembers([this]);
     if (this.#group) groupPrivates.moveToEnd(this.#group, this);  // the new instance took the scene's last slot
     // Start from the rest pose (the rig's rotations before the first step), or the carried one.
@@ -484,7 +563,10 @@ export class SpringBonesGroup {
   #copies; #rootElements; #waiting;
 
   static {
-    groupPrivates = { moveToEnd: (group, attachment) => group.#moveToEnd(attachment) };
+    groupPrivates = {
+      moveToEnd: (group, attachment) => group.#moveToEnd(attachment),
+      membersChanged: (group) => group.#membersChanged(),
+    };
   }
 
   /**

@@ -14,7 +14,11 @@ export type DiagnosticCode =
   | 'no-chains'              // three.js attachWearable with a rig alone: no chain, spring-bone nodes in the GLB
   | 'bone-not-matched'       // avatar bones the chains hang from (or colliders sit on) were not found
   | 'unknown-item'           // Babylon: a call named an id not registered
-  | 'node-not-found';        // three.js: a joint or driver without an object
+  | 'node-not-found'         // three.js: a joint or driver without an object
+  | 'collider-invalid'       // setColliders: the core left a shape out (size beyond 1e6, bad plane)
+  | 'collider-on-spring-bone' // setColliders: a collider on a simulated joint
+  | 'body-collider-skipped'  // setColliders: 'dcl-body' shapes whose bones are missing
+  | 'collider-not-followed'; // setColliders: a collider's node names nothing in the scene
 
 /** One reason the hair stays still, with the fix. */
 export interface Diagnostic {

@@ -85,6 +85,22 @@ export const kDiagnostics = Object.freeze({
     message: ({ what, name, index }) => `${what} ${JSON.stringify(name)} (glTF node ${index}) has no object in the engine's scene, so it does not move`,
     fix: () => 'wear the scene loaded from the same GLB as the rig (or pass its nodes in glTF order)',
   },
+  'collider-invalid': {
+    message: ({ coreMessage }) => `setColliders: ${coreMessage}, so the hair passes through where that shape would be`,
+    fix: () => 'give the shape a finite radius in [0, 1e6] (and offsets and tails within 1e6), or a plane a normal that is not [0, 0, 0]',
+  },
+  'collider-on-spring-bone': {
+    message: ({ coreMessage }) => `setColliders: ${coreMessage}, so the hair passes through where that shape would be`,
+    fix: () => 'put the collider on a bone of the avatar or an object that is no spring bone',
+  },
+  'body-collider-skipped': {
+    message: ({ coreMessage }) => `setColliders: ${coreMessage}, so the hair passes through where those body shapes would be`,
+    fix: () => 'wear the wearable on an avatar with Decentraland\'s armature (its Avatar_ bones), or pass avatarBones',
+  },
+  'collider-not-followed': {
+    message: ({ names }) => `setColliders: no object of the scene is named ${listNames(names)}, so the colliders on it stay where the rest pose puts them and do not follow anything`,
+    fix: () => 'pass the object itself as the collider\'s node (three.js: an Object3D; Babylon: a TransformNode), or the name of a node of the wearable, the avatar or the scene',
+  },
 });
 
 /** The diagnostic of `code` with these facts. */

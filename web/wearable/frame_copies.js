@@ -14,13 +14,25 @@ export class FrameCopyLists {
     this.setCounts([], [], []);
   }
 
-  /** The members' instances and their driver and joint counts; call whenever they change. */
-  setCounts(instances, driverCounts, jointCounts) {
+  /**
+   * The members' instances and their driver, joint and frame counts (frames: the objects their
+   * setColliders colliders follow; none by default); call whenever they change.
+   */
+  setCounts(instances, driverCounts, jointCounts, frameCounts = instances.map(() => 0)) {
     this.instances = instances;
     this.driverCounts = driverCounts;
     this.jointCounts = jointCounts;
+    this.frameCounts = frameCounts;
     this.driverViews = instances.map(() => kNoView);  // fetched on first use
     this.rotationViews = instances.map(() => kNoView);
+    this.frameViews = instances.map(() => kNoView);
+  }
+
+  /** Member i's frameMatrices, 16 floats per frame (a new array after each setColliders: call setCounts). */
+  frameView(i) {
+    const view = this.frameViews[i];
+    if (!this.instances[i].disposed && view.length === 16 * this.frameCounts[i]) return view;
+    return (this.frameViews[i] = this.instances[i].frameMatrices);
   }
 
   /** Member i's driverMatrices, 16 floats per driver. */

@@ -57,6 +57,7 @@ class Preview {
     this.headSphere = null;    // the body colliders' head sphere (headClearance)
     this.wind = 0;             // the wind slider's strength, world units per second
     this.inertia = 1;          // the inertia slider: how much of the avatar's motion the hair feels
+    this.bodyScale = 1;        // the body colliders slider: the 'dcl-body' shapes' radii times this
     this.budget = null;        // simulate only this many avatars nearest to the camera; null: all
     this.onRigOptionsChange = null;  // set by the creator: rebuild the rig
     this.springFrames = new RecentFrames(1000);  // ms per frame in group.update (drivers, scene.step, rotations)
@@ -216,6 +217,7 @@ class Preview {
     for (const a of this.avatars) {
       if (!a.attachment) continue;
       a.attachment.setRig(rig);  // disposes of the old instance, which leaves the scene with it
+      this.applyBodyScale(a);
       this.linkAttachment(a);
       a.helper.rebuild();
     }
@@ -244,6 +246,8 @@ class Preview {
     avatar.helper.visible = this.showChains;
     this.scene.add(avatar.helper);
     this.group.add(avatar.attachment);  // setRig keeps it in the group, dispose takes it out
+    avatar.bodyScaled = false;
+    this.applyBodyScale(avatar);
     this.linkAttachment(avatar);
   }
 
@@ -395,6 +399,31 @@ class Preview {
     this.colliders = on;
     $('colliders').checked = on;
     this.onRigOptionsChange?.();
+  }
+
+  /**
+   * The body colliders slider: every avatar's 'dcl-body' shapes resized (attachment.setColliders
+   * with `scale`), 0 to 2, for this instance only: the rig is not rebuilt.
+   */
+  setBodyScale(value) {
+    const scale = Math.min(2, Math.max(0, Number(value)));
+    this.bodyScale = Number.isFinite(scale) ? scale : 1;
+    $('body-scale').value = String(this.bodyScale);
+    $('body-scale-num').textContent = this.bodyScale.toFixed(2);
+    for (const a of this.avatars) this.applyBodyScale(a);
+  }
+
+  /**
+   * The slider's scale on one avatar's attachment. Untouched at 1 (the rig's own shapes); with
+   * the colliders off, the rig has none and a scaled avatar gets none either. setRig keeps an
+   * attachment's colliders, so after a new rig this says again which it is to have.
+   */
+  applyBodyScale(avatar) {
+    const { attachment } = avatar;
+    if (!attachment || (this.bodyScale === 1 && !avatar.bodyScaled)) return;
+    avatar.bodyScaled = true;
+    if (this.colliders) attachment.setColliders(AVATAR_COLLIDERS, { scale: this.bodyScale });
+    else attachment.setColliders(null);
   }
 
   setShowColliders(show) {
@@ -597,6 +626,7 @@ function wireControls(preview) {
   $('show-colliders').addEventListener('change', (e) => preview.setShowColliders(e.target.checked));
   $('wind').addEventListener('input', (e) => preview.setWind(e.target.value));
   $('inertia').addEventListener('input', (e) => preview.setInertia(e.target.value));
+  $('body-scale').addEventListener('input', (e) => preview.setBodyScale(e.target.value));
   $('budget').addEventListener('change', (e) => preview.setBudget(e.target.value === 'all' ? null : Number(e.target.value)));
   $('avatars').addEventListener('change', (e) => {
     preview.setAvatarCount(Number(e.target.value));
@@ -635,6 +665,7 @@ function debugHook(preview, creator) {
       integrator: preview.integrator,
       colliders: preview.colliders,
       wind: preview.wind,
+      bodyScale: preview.bodyScale,
       rigColliders: first()?.rig.colliders.length ?? 0,
       rigWarnings: first()?.rig.warnings.map((w) => w.code) ?? [],
       collidersShown: preview.avatars.reduce((n, a) => n + (a.colliderHelper?.lines.filter((l) => l.visible && l.parent).length ?? 0), 0),
@@ -756,6 +787,7 @@ function debugHook(preview, creator) {
     setBudget: (n) => preview.setBudget(n),
     setWind: (strength) => preview.setWind(strength),
     setInertia: (value) => preview.setInertia(value),
+    setBodyScale: (value) => preview.setBodyScale(value),
     setColliders: (on) => preview.setColliders(Boolean(on)),
     setShowColliders: (show) => preview.setShowColliders(Boolean(show)),
     /**

@@ -41,6 +41,14 @@ export async function preview(avatar: Object3D, url: string, entity: object): Pr
   // @ts-expect-error the live edit's parameters are numbers too
   wearable.updateParams({ SpringBone_a: { stiffness: '1.2', isRoot: true } });
   wearable.updateParams({ SpringBone_a: { stiffness: 1.2, isRoot: true } });
+  // Colliders at run time: on a name or any Object3D; 'dcl-body' resized; the instance's warnings back.
+  const colliderWarnings: readonly { code: string }[] = worn.setColliders([{ node: worn.avatarRoot, radius: 0.1 }, { node: 'Avatar_Head', radius: 0.12 }]);
+  worn.setColliders('dcl-body', { scale: 0.5, omit: ['left-upper-arm'] });
+  console.log(colliderWarnings.length);
+  // @ts-expect-error a collider's node is a name or an Object3D
+  worn.setColliders([{ node: 3, radius: 0.1 }]);
+  // @ts-expect-error omit takes the body's shape names
+  worn.setColliders('dcl-body', { omit: ['left-knee'] });
   // @ts-expect-error sb is the springbones module or a promise of it
   new SpringBonesLoaderPlugin(loader as never, { sb: 42, springBones: null });
   // @ts-expect-error rotations are read-only typed arrays of numbers, not strings

@@ -113,6 +113,13 @@ document.getElementById('inertia').addEventListener('input', (event) => {
   document.getElementById('inertia-value').textContent = inertia.toFixed(2);
   simulation.setInertia(inertia);
 });
+// The body's shapes resized for this wearable without a rebuild (applied when the module comes,
+// if it has not yet).
+document.getElementById('body-scale').addEventListener('input', (event) => {
+  const scale = Number(event.target.value);
+  document.getElementById('body-scale-value').textContent = scale.toFixed(2);
+  simulation.setColliders(itemHash, 'dcl-body', { scale });
+});
 document.getElementById('wind').addEventListener('input', (event) => {
   const strength = Number(event.target.value);
   document.getElementById('wind-value').textContent = strength.toFixed(1);

@@ -25,3 +25,5 @@ declare const attachments: readonly import('springbones/three').SpringBonesAttac
 declare const mixers: readonly import('three').AnimationMixer[];
 declare const AnimationMixer: typeof import('three').AnimationMixer;
 declare function showError(error: unknown): void;
+declare const worn: import('springbones/three').SpringBonesAttachment;
+declare const hatGltf: import('three/examples/jsm/loaders/GLTFLoader.js').GLTF;
