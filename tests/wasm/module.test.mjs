@@ -17,7 +17,7 @@ const dist = join(root, 'web', 'dist');
 // docs/design.md, "Numbers": each module as a page downloads it (the .wasm and its minified glue),
 // gzip -9, at its measured size plus 2%.
 const kBudgets = [
-  { module: 'runtime', files: ['springbones_wasm.wasm', 'springbones_wasm.min.js'], measured: 125674 },
+  { module: 'runtime', files: ['springbones_wasm.wasm', 'springbones_wasm.min.js'], measured: 130590 },
   { module: 'readers', files: ['springbones_readers.wasm', 'springbones_readers.min.js'], measured: 76858 },
   { module: 'creator tools', files: ['springbones_creator_tools.wasm', 'springbones_creator_tools.min.js'], measured: 97011 },
 ];
