@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
-import { springRig } from './helpers.mjs';
+import { springRig, tailPositions } from './helpers.mjs';
 
 let sb;
 before(async () => {
@@ -20,16 +20,6 @@ const kHit = 0.01;
 
 function load(options) {
   return sb.loadRig(chain.glb, chain.springBones, { contentHash: chain.hash, ...options });
-}
-
-/** World position of every joint's tail: its world matrix applied to its tail offset. */
-function tails(rig, instance) {
-  const w = instance.worldMatrices;
-  return rig.joints.map((joint, i) => {
-    const m = w.subarray(16 * i, 16 * i + 16);
-    const [x, y, z] = joint.tailOffset;
-    return [m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13], m[2] * x + m[6] * y + m[10] * z + m[14]];
-  });
 }
 
 const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
@@ -53,14 +43,14 @@ describe('pushing a chain out', () => {
     const plain = load();
     const free = plain.createInstance();
     settle(free);
-    assert.ok(distance(tails(plain, free)[1], center) < 0.011, 'without colliders the tail stays inside');
+    assert.ok(distance(tailPositions(plain, free)[1], center) < 0.011, 'without colliders the tail stays inside');
 
     const rig = load({ colliders: [{ node: 'Avatar_Head', offset, radius: kRadius }], hitRadius: kHit });
     assert.deepEqual(rig.colliders, [{ driver: 0, node: 'Avatar_Head', shape: 'sphere', inside: false, offset, radius: kRadius }]);
     assert.ok(rig.joints.every((j) => j.hitRadius === kHit));
     const pushed = rig.createInstance();
     settle(pushed);
-    const after = tails(rig, pushed);
+    const after = tailPositions(rig, pushed);
     for (const [i, tail] of after.entries()) {
       assert.ok(distance(tail, center) > 0.95 * (kRadius + kHit), `tail ${i} at ${distance(tail, center)}`);
     }
@@ -78,10 +68,10 @@ describe('pushing a chain out', () => {
     const instance = rig.createInstance();
     settle(instance);
     const world = (p) => [head[0] + p[0], head[1] + p[1], head[2] + p[2]];
-    for (const [i, tail] of tails(rig, instance).entries()) {
+    for (const [i, tail] of tailPositions(rig, instance).entries()) {
       assert.ok(distanceToSegment(tail, world(start), world(end)) > 0.95 * (kRadius + kHit), `tail ${i}`);
     }
-    assert.ok(tails(rig, instance)[1][2] < 0.03, 'pushed towards -z');
+    assert.ok(tailPositions(rig, instance)[1][2] < 0.03, 'pushed towards -z');
     instance.dispose();
     rig.dispose();
   });
@@ -93,15 +83,15 @@ describe('pushing a chain out', () => {
     assert.equal(rig.warnings.length, 0);
     const instance = rig.createInstance();
     const chest = instance.driverMatrices.subarray(16, 32);
-    const rest = tails(rig, instance);
+    const rest = tailPositions(rig, instance);
     // Far away: the chain hangs as at rest.
     chest.set([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1]);
     settle(instance, 30);
-    tails(rig, instance).forEach((t, i) => assert.ok(distance(t, rest[i]) < 1e-5, `tail ${i}`));
+    tailPositions(rig, instance).forEach((t, i) => assert.ok(distance(t, rest[i]) < 1e-5, `tail ${i}`));
     // Moved next to the middle tail: it pushes.
     chest.set([0.01, 1.5, 0.05], 12);
     settle(instance);
-    assert.ok(distance(tails(rig, instance)[1], [0.01, 1.5, 0.05]) > 0.95 * (kRadius + kHit));
+    assert.ok(distance(tailPositions(rig, instance)[1], [0.01, 1.5, 0.05]) > 0.95 * (kRadius + kHit));
     instance.dispose();
     rig.dispose();
   });
@@ -110,7 +100,7 @@ describe('pushing a chain out', () => {
     const rig = load({ colliders: [{ node: 'Avatar_Head', offset, radius: kRadius }], hitRadius: kHit });
     const instance = rig.createInstance({ integrator: 'xpbd' });
     settle(instance);
-    for (const tail of tails(rig, instance)) assert.ok(distance(tail, center) > 0.95 * (kRadius + kHit));
+    for (const tail of tailPositions(rig, instance)) assert.ok(distance(tail, center) > 0.95 * (kRadius + kHit));
     instance.dispose();
     rig.dispose();
   });
@@ -145,7 +135,7 @@ describe('extended shapes: inside sphere, inside capsule, plane', () => {
       const plain = load();
       const free = plain.createInstance();
       settle(free);
-      const without = Math.min(...tails(plain, free).map(shape.allowed));
+      const without = Math.min(...tailPositions(plain, free).map(shape.allowed));
       assert.ok(without < -0.005, `without it a tail is on the forbidden side (${without})`);
       const rig = load({ colliders: [shape.collider], hitRadius: kHit });
       for (const integrator of ['vrm', 'xpbd']) {
@@ -154,7 +144,7 @@ describe('extended shapes: inside sphere, inside capsule, plane', () => {
         // Each step's stiffness pulls toward the rest pose again and the length constraint after
         // the move gives back some of it, so a tail may stay a little on the forbidden side: here
         // under a centimetre, and at most a third of the way it is without the shape.
-        const withShape = Math.min(...tails(rig, instance).map(shape.allowed));
+        const withShape = Math.min(...tailPositions(rig, instance).map(shape.allowed));
         assert.ok(withShape > -0.01 && withShape > without / 3, `${integrator}: ${withShape} (without the shape ${without})`);
         assert.ok(instance.rotations.every(Number.isFinite));
         instance.dispose();

@@ -76,6 +76,16 @@ export function loadFixtureRig(sb, name) {
   return sb.loadRig(fixture(name), fixture(entry.metadata).toString('utf8'), { contentHash: entry.metadataKey });
 }
 
+/** World position of every joint's tail: its world matrix (instance.worldMatrices) applied to its tail offset. */
+export function tailPositions(rig, instance) {
+  const w = instance.worldMatrices;
+  return rig.joints.map((joint, i) => {
+    const m = w.subarray(16 * i, 16 * i + 16);
+    const [x, y, z] = joint.tailOffset;
+    return [m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13], m[2] * x + m[6] * y + m[10] * z + m[14]];
+  });
+}
+
 /**
  * Sways an instance's drivers about the pose they hold now (bin/sway.mjs) for `frames`
  * frames at `fps`, stepping after each; returns that rest pose, to sway on from.

@@ -12,7 +12,7 @@ import { instantiateModule } from '../../web/module_loader.js';
 import { encodeGltf, encodeTyped } from '../../web/typed_value.js';
 import { withBytes, withRoomForStrings } from '../../web/wasm_memory.js';
 import { swayDrivers } from '../../bin/sway.mjs';
-import { fixture, metadataKeyOf, springRig, swayFrames } from './helpers.mjs';
+import { fixture, metadataKeyOf, springRig, swayFrames, tailPositions } from './helpers.mjs';
 
 let sb;
 let core;
@@ -38,14 +38,6 @@ function load(options) {
   return sb.loadRig(chain.glb, chain.springBones, { contentHash: chain.hash, ...options });
 }
 
-function tails(rig, instance) {
-  const w = instance.worldMatrices;
-  return rig.joints.map((joint, i) => {
-    const m = w.subarray(16 * i, 16 * i + 16);
-    const [x, y, z] = joint.tailOffset;
-    return [m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13], m[2] * x + m[6] * y + m[10] * z + m[14]];
-  });
-}
 const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 const transform = (m, [x, y, z]) => [m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13],
   m[2] * x + m[6] * y + m[10] * z + m[14]];
@@ -213,14 +205,14 @@ describe('the motion', () => {
     assert.notDeepEqual(Array.from(b.rotations), Array.from(a.rotations), 'the next step meets the bigger sphere');
     for (let k = 0; k < 120; ++k) b.step(1 / 60);
     const center = transform(b.driverMatrices.subarray(0, 16), kOffset);
-    assert.ok(tails(rig, b).every((t) => distance(t, center) > 0.03 - 0.003), 'every tail ends outside the bigger sphere');
+    assert.ok(tailPositions(rig, b).every((t) => distance(t, center) > 0.03 - 0.003), 'every tail ends outside the bigger sphere');
   });
 
   test("a collider following a page's matrix pushes the tail out of where the page puts it", () => {
     const rig = load();
     const free = rig.createInstance();
     for (let k = 0; k < 120; ++k) free.step(1 / 60);
-    assert.ok(distance(tails(rig, free)[1], kCenter) < 0.011, 'without the collider the tail sits inside the sphere');
+    assert.ok(distance(tailPositions(rig, free)[1], kCenter) < 0.011, 'without the collider the tail sits inside the sphere');
 
     const instance = rig.createInstance();
     assert.deepEqual(instance.setColliders([{ node: 'hat', radius: 0.03 }]), []);
@@ -232,13 +224,13 @@ describe('the motion', () => {
       frame.set(kCenter, 12);  // the hat's world matrix, written each frame without allocating
       instance.step(1 / 60);
     }
-    assert.ok(tails(rig, instance).every((t) => distance(t, kCenter) > 0.03 - 0.003), JSON.stringify(tails(rig, instance)));
+    assert.ok(tailPositions(rig, instance).every((t) => distance(t, kCenter) > 0.03 - 0.003), JSON.stringify(tailPositions(rig, instance)));
     // The frame is gone with the next set; null leaves the tails free again.
     instance.setColliders(null);
     assert.deepEqual(instance.frameNames, []);
     assert.equal(instance.frameMatrices.length, 0);
     for (let k = 0; k < 240; ++k) instance.step(1 / 60);
-    assert.ok(distance(tails(rig, instance)[1], kCenter) < 0.011, 'without colliders the tail falls back inside');
+    assert.ok(distance(tailPositions(rig, instance)[1], kCenter) < 0.011, 'without colliders the tail falls back inside');
   });
 
   test("'dcl-body' per instance: the same preset moves bit for bit, a scaled one differently", () => {
