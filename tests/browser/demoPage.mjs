@@ -52,15 +52,28 @@ export function useDemoPage(opened, options) {
  * @returns {Promise<{ page, consoleErrors: string[], consoleWarnings: string[], requests: string[],
  *                     close: () => Promise<void> }>}
  */
-export function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo', beforeOpen = null } = {}) {
-  return openPage(`/web/demo/${demoPage}`, (hook) => window[hook]?.ready === true, { arg: readyHook, beforeOpen });
+export function openDemo({ page: demoPage = '', readyHook = 'springbonesDemo', beforeOpen = null, viewport } = {}) {
+  return openPage(`/web/demo/${demoPage}`, (hook) => window[hook]?.ready === true, { arg: readyHook, beforeOpen, viewport });
 }
 
 /**
- * Serves the repository, opens `path` in Chromium and waits until `ready(arg)` (a function
- * evaluated in the page) is true; `beforeOpen(page)` runs first. Same result as openDemo.
+ * The window a test's page opens in unless it asks for another. Without a GPU every frame is
+ * drawn on the CPU (SwiftShader), at a cost that follows the canvas's pixels, and the demo pages
+ * draw every frame: in a 1280 x 800 window their canvas is 900 x 800 pixels, and a test waits on
+ * those frames. 820 x 500 keeps the pages' wide layout (the panel beside the canvas above 800 px)
+ * with a canvas of 440 x 500. A test about what a user sees at a given size (tests/browser/
+ * view.test.mjs) asks for that size.
  */
-export async function openPage(path, ready, { arg = null, beforeOpen = null } = {}) {
+export const kTestViewport = { width: 820, height: 500 };
+/** A desktop browser's window: what the wide layout is designed for. */
+export const kWideViewport = { width: 1280, height: 800 };
+
+/**
+ * Serves the repository, opens `path` in Chromium, in a window of `viewport` (kTestViewport unless
+ * given), and waits until `ready(arg)` (a function evaluated in the page) is true;
+ * `beforeOpen(page)` runs first. Same result as openDemo.
+ */
+export async function openPage(path, ready, { arg = null, beforeOpen = null, viewport = kTestViewport } = {}) {
   assert.ok(existsSync(join(root, 'web/dist/springbones_wasm.wasm')), 'build the WebAssembly module first: scripts/build wasm');
   const { server } = await startServer({ port: 0 });
   const { port } = server.address();
@@ -68,7 +81,7 @@ export async function openPage(path, ready, { arg = null, beforeOpen = null } = 
   const context = await chromium.launchPersistentContext(profileDir, {
     executablePath: chromiumPath,
     headless: true,
-    viewport: { width: 1280, height: 800 },
+    viewport,
     args: [
       '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
       '--disable-sync', '--no-first-run',

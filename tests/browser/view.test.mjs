@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { artifacts, openDemo, skip } from './demoPage.mjs';
+import { artifacts, kWideViewport, openDemo, skip } from './demoPage.mjs';
 
 // A marketplace's wearable preview iframe.
 const kNarrow = { width: 420, height: 640 };
@@ -35,7 +35,7 @@ async function assertReadoutClear(page, onScreen, where) {
 describe('the three.js page', () => {
   let demo;
   before(async () => {
-    if (!skip) demo = await openDemo();
+    if (!skip) demo = await openDemo({ viewport: kWideViewport });
   });
   after(async () => demo?.close());
 
@@ -69,7 +69,7 @@ describe('the three.js page', () => {
     assert.equal(await page.locator('#readout').isVisible(), true);
     assert.match(await page.locator('#readout-joints').textContent(), /^\d+$/);
     await page.screenshot({ path: join(artifacts, 'view-three-420.png') });
-    await page.setViewportSize({ width: 1280, height: 800 });
+    await page.setViewportSize(kWideViewport);
     assert.deepEqual(consoleErrors, []);
   });
 });
@@ -119,7 +119,7 @@ describe('at 420 px the layout does not follow the readout', () => {
 describe('the Babylon.js page', () => {
   let demo;
   before(async () => {
-    if (!skip) demo = await openDemo({ page: 'babylon.html', readyHook: 'springbonesBabylonDemo' });
+    if (!skip) demo = await openDemo({ page: 'babylon.html', readyHook: 'springbonesBabylonDemo', viewport: kWideViewport });
   });
   after(async () => demo?.close());
 
@@ -136,7 +136,7 @@ describe('the Babylon.js page', () => {
   test('the teleport keeps the avatar in frame, wide and at 420 px; the readout never covers it', { skip }, async () => {
     const { page, consoleErrors } = demo;
     mkdirSync(artifacts, { recursive: true });
-    for (const size of [{ width: 1280, height: 800 }, kNarrow]) {
+    for (const size of [kWideViewport, kNarrow]) {
       await page.setViewportSize(size);
       await frames(page);
       const where = `${size.width} px`;
@@ -155,7 +155,7 @@ describe('the Babylon.js page', () => {
       state = await page.evaluate(onScreen);
       assert.deepEqual(state.position, [0, 0, 0], `${where}: back`);
     }
-    await page.setViewportSize({ width: 1280, height: 800 });
+    await page.setViewportSize(kWideViewport);
     assert.deepEqual(consoleErrors, []);
   });
 });
