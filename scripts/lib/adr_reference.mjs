@@ -142,14 +142,11 @@ export function buildRig(nodes, bones) {
 // Matrices (column-major arrays of 16) and quaternions ([x, y, z, w]).
 
 
-/** A similarity matrix as translation, rotation and uniform scale. */
-export function decompose(m) {
-  const s = Math.hypot(m[0], m[1], m[2]);
-  const sy = Math.hypot(m[4], m[5], m[6]);
-  const sz = Math.hypot(m[8], m[9], m[10]);
-  if (Math.abs(sy - s) > 1e-5 * s || Math.abs(sz - s) > 1e-5 * s) throw new Error('not a similarity');
-  const r = [0, 1, 2, 4, 5, 6, 8, 9, 10].map((k) => m[k] / s);
-  const [m00, m10, m20, m01, m11, m21, m02, m12, m22] = r;
+/**
+ * The unit quaternion of a rotation matrix given by its elements (mRC: row R, column C), by the
+ * largest of the trace and the diagonal, so no branch divides by a small number.
+ */
+export function quaternionOfRotation(m00, m10, m20, m01, m11, m21, m02, m12, m22) {
   const trace = m00 + m11 + m22;
   let q;
   if (trace > 0) {
@@ -165,7 +162,17 @@ export function decompose(m) {
     const t = Math.sqrt(1 + m22 - m00 - m11) * 2;
     q = [(m02 + m20) / t, (m12 + m21) / t, t / 4, (m10 - m01) / t];
   }
-  return { t: [m[12], m[13], m[14]], r: qnormalize(q), s };
+  return qnormalize(q);
+}
+
+/** A similarity matrix as translation, rotation and uniform scale. */
+export function decompose(m) {
+  const s = Math.hypot(m[0], m[1], m[2]);
+  const sy = Math.hypot(m[4], m[5], m[6]);
+  const sz = Math.hypot(m[8], m[9], m[10]);
+  if (Math.abs(sy - s) > 1e-5 * s || Math.abs(sz - s) > 1e-5 * s) throw new Error('not a similarity');
+  const r = [0, 1, 2, 4, 5, 6, 8, 9, 10].map((k) => m[k] / s);
+  return { t: [m[12], m[13], m[14]], r: quaternionOfRotation(...r), s };
 }
 
 function nlerp(a, b, t) {

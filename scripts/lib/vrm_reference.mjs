@@ -6,7 +6,7 @@
 // (plane, inside sphere, inside capsule), VRMC_springBone_limit with UniVRM's import rules, and the
 // fixed-step rule of conformance/README.md. It shares no code with springbones. Only what the pack
 // uses is handled (a next joint that is a direct child, similarity drivers); anything else throws, so a case cannot silently leave the reference's ground.
-import { ReferenceInstance } from './adr_reference.mjs';
+import { ReferenceInstance, quaternionOfRotation } from './adr_reference.mjs';
 import { add, cross, dot, invert, length, linearOnly, mmul, qmul, qnormalize, rotationBetween, scale, sub, transformPoint, transformVector, trsMatrix } from './fixtures/vec.mjs';
 
 const MIN_LENGTH = 1e-6;
@@ -127,17 +127,8 @@ const qinverse = (q) => [-q[0], -q[1], -q[2], q[3]];
 
 /** The rotation of a matrix with its (uniform or not) axis scales divided out. */
 function rotationOf(m) {
-  const c = [0, 4, 8].map((k) => { const s = Math.hypot(m[k], m[k + 1], m[k + 2]); return [m[k] / s, m[k + 1] / s, m[k + 2] / s]; });
-  const [m00, m10, m20] = c[0];
-  const [m01, m11, m21] = c[1];
-  const [m02, m12, m22] = c[2];
-  const trace = m00 + m11 + m22;
-  let q;
-  if (trace > 0) { const t = Math.sqrt(1 + trace) * 2; q = [(m21 - m12) / t, (m02 - m20) / t, (m10 - m01) / t, t / 4]; }
-  else if (m00 > m11 && m00 > m22) { const t = Math.sqrt(1 + m00 - m11 - m22) * 2; q = [t / 4, (m01 + m10) / t, (m02 + m20) / t, (m21 - m12) / t]; }
-  else if (m11 > m22) { const t = Math.sqrt(1 + m11 - m00 - m22) * 2; q = [(m01 + m10) / t, t / 4, (m12 + m21) / t, (m02 - m20) / t]; }
-  else { const t = Math.sqrt(1 + m22 - m00 - m11) * 2; q = [(m02 + m20) / t, (m12 + m21) / t, t / 4, (m10 - m01) / t]; }
-  return qnormalize(q);
+  const columns = [0, 4, 8].map((k) => { const s = Math.hypot(m[k], m[k + 1], m[k + 2]); return [m[k] / s, m[k + 1] / s, m[k + 2] / s]; });
+  return quaternionOfRotation(...columns.flat());
 }
 
 /** Keeps a unit limit-space direction within the limit (docs/semantics.md's table). */
