@@ -90,7 +90,9 @@ function makeProject(name, dependencies, devDependencies = {}) {
   writeFileSync(join(dir, 'package.json'), JSON.stringify({
     name: `springbones-${name}`, private: true, type: 'module', dependencies, devDependencies,
   }, null, 2));
-  run('npm', ['install', '--no-audit', '--no-fund', '--loglevel=error'], dir);
+  // Every version is pinned, so what npm's cache holds is what the registry would answer:
+  // --prefer-offline takes it without asking the registry again (anything missing is fetched).
+  run('npm', ['install', '--prefer-offline', '--no-audit', '--no-fund', '--loglevel=error'], dir);
   if (process.env.SPRINGBONES_KEEP_CONSUMER) console.log(`# kept: ${dir}`);
   return dir;
 }
