@@ -4,6 +4,11 @@
 // (attachWearable gets the rig as a promise, README "three.js"); the module's download starts when
 // the page's fetch order says (cold_start.mjs), compiled by createSpringBones as it streams in; the
 // springs take over once it is there.
+// Both pages' first modules name `three` themselves (cold_threevrm.mjs for Vector3), as a page's
+// own module does: the browser then finds three.module.js beside cold_start.mjs rather than a
+// round trip after it. A trace of the cold page on slow 4G (scripts/benchmarks/trace_cold_page.mjs)
+// showed that hop as most of the drawable frame's gap when only the three-vrm page had it.
+import 'three';
 import { coldStart } from './cold_start.mjs';
 
 const MODULE = new URL('../../../web/dist/springbones_wasm.wasm', import.meta.url);
