@@ -14,7 +14,9 @@
 // on the link. The trace's JSON goes to build/bench/trace-<page>-<visit>-<sample>.json (open it
 // in Chromium's DevTools, Performance panel).
 //
-//   node scripts/benchmarks/trace_cold_page.mjs [--second] [--link "slow 4G"] [--samples 1] [--query fetch=...] [page ...]
+//   node scripts/benchmarks/trace_cold_page.mjs [--second] [--link "slow 4G"] [--samples 1] [--query fetch=...]
+//     [--cache max-age=600] [page ...]
+// --cache: every file's Cache-Control (default no-cache, scripts/lib/serve.mjs).
 // pages: springbones (default) and threevrm. After scripts/build wasm.
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { loadavg } from 'node:os';
@@ -49,6 +51,7 @@ if (!link) throw new Error(`unknown link (expected ${LINKS.map((l) => l.name).jo
 const samples = Number(option('samples', 1));
 if (!Number.isInteger(samples) || samples < 1) throw new Error('--samples must be a positive integer');
 const query = option('query', '');
+const cacheControl = option('cache', 'no-cache');
 const pages = args.length ? args : ['springbones'];
 for (const page of pages) if (!['springbones', 'threevrm'].includes(page)) throw new Error(`unknown page ${page} (springbones, threevrm)`);
 
@@ -176,10 +179,10 @@ function print(page, visitName, result, b) {
   }
 }
 
-const { server, url: base } = await startServer({ port: 0, isolated: false });
+const { server, url: base } = await startServer({ port: 0, isolated: false, cacheControl });
 const outDir = join(root, 'build', 'bench');
 mkdirSync(outDir, { recursive: true });
-console.log(`load average ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);
+console.log(`load average ${loadavg().map((x) => x.toFixed(2)).join(' ')}; Cache-Control: ${cacheControl}`);
 try {
   for (let s = 1; s <= samples; s++) {
     for (const page of s % 2 ? pages : [...pages].reverse()) {
