@@ -61,6 +61,18 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
   }
   const url = wasmUrl === undefined ? defaultUrl : new URL(wasmUrl, defaultUrl);
 
+  // What is read, for the error: the option that gave the module, or the URL fetched or read.
+  const loading = {
+    source: wasm !== undefined ? 'the wasm option'
+      : wasmBinary !== undefined ? (options[kBinarySource] ?? 'the wasmBinary option') : url.href,
+  };
+  // The module is fetched and compiled while the glue is imported, not after it: each is a request
+  // (on a page's second visit a revalidation), and one after the other they were two round trips
+  // where one will do (docs/performance.md, "Cold start of a preview"). Its errors wait for the
+  // glue's, which come first as before.
+  const compiling = compiledModule({ wasm, wasmBinary, url }, loading);
+  compiling.catch(() => {});  // awaited below
+
   let factory;
   try {
     ({ default: factory } = await importGlue());
@@ -70,13 +82,8 @@ export async function instantiateModule(where, options, { importGlue, glueFile, 
         `with scripts/build wasm (${cause?.message ?? cause})`), cause);
   }
 
-  // What is read, for the error: the option that gave the module, or the URL fetched or read.
-  const loading = {
-    source: wasm !== undefined ? 'the wasm option'
-      : wasmBinary !== undefined ? (options[kBinarySource] ?? 'the wasmBinary option') : url.href,
-  };
   try {
-    const compiled = await compiledModule({ wasm, wasmBinary, url }, loading);
+    const compiled = await compiling;
     // The glue waits for the instance forever if instantiateWasm fails: the race reports it.
     let receive;
     const instantiationFailed = new Promise((_, reject) => {

@@ -53,8 +53,13 @@ function acceptsGzip(header) {
  * Starts serving `root`; resolves to { server, url } once listening. port 0 picks a free port.
  * isolated (default true): COOP/COEP headers, so pages are cross-origin isolated (the demo's
  * 5 us timer); false serves like an ordinary host, e.g. a marketplace's preview iframe.
+ * cacheControl (default 'no-cache', below): the Cache-Control of every file; the benchmark's second
+ * visit also measures a host that lets browsers keep files without asking ('max-age=600').
  */
-export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, log = false, isolated = true } = {}) {
+export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, log = false, isolated = true, cacheControl = 'no-cache' } = {}) {
+  if (typeof cacheControl !== 'string' || cacheControl === '' || /[\r\n]/.test(cacheControl)) {
+    throw new TypeError('startServer: cacheControl must be a header value (e.g. "no-cache", "max-age=600")');
+  }
   const gzipCache = new Map();  // file -> { etag, bytes }
   const gzipped = (file, etag) => {
     let entry = gzipCache.get(file);
@@ -108,7 +113,7 @@ export function startServer({ port = 8080, host = '127.0.0.1', root = repoRoot, 
     const version = `${stat.size.toString(36)}-${Math.floor(stat.mtimeMs).toString(36)}`;
     const etag = gzip ? `"${version}-gz"` : `"${version}"`;
     const headers = {
-      'Cache-Control': 'no-cache',
+      'Cache-Control': cacheControl,
       ETag: etag,
       Vary: 'Accept-Encoding',
     };

@@ -98,3 +98,18 @@ test('isolated: false serves without the cross-origin isolation headers', async 
     plain.server.close();
   }
 });
+
+test('cacheControl: every file under that Cache-Control, still with its ETag; a bad value is refused', async () => {
+  const cached = await startServer({ port: 0, root, isolated: false, cacheControl: 'max-age=600' });
+  try {
+    const response = await fetch(new URL('m.wasm', cached.url));
+    assert.equal(response.status, 200);
+    assert.equal(response.headers.get('cache-control'), 'max-age=600');
+    assert.match(response.headers.get('etag'), /^"[0-9a-z]+-[0-9a-z]+(-gz)?"$/);
+  } finally {
+    cached.server.close();
+  }
+  for (const bad of ['', 'max-age=1\r\nX-Injected: 1', 600]) {
+    assert.throws(() => startServer({ port: 0, root, cacheControl: bad }), /cacheControl must be a header value/);
+  }
+});

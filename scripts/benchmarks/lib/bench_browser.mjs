@@ -38,7 +38,7 @@ export const LINKS = [
   { name: '4G', conditions: { latency: 85, downloadThroughput: 9e6 / 8, uploadThroughput: 1.5e6 / 8 } },
   { name: 'slow 4G', conditions: { latency: 150, downloadThroughput: 1.6e6 / 8, uploadThroughput: 0.75e6 / 8 } },
 ];
-const REVISIT_AFTER_MS = 3000;
+export const REVISIT_AFTER_MS = 3000;
 const LOOP = {
   frames: Number(process.env.BENCH_FRAMES ?? 600), runs: 5,
   warmup: 60, batches: Number(process.env.BENCH_RAF_BATCHES ?? 5), batchSize: 60,
@@ -115,7 +115,7 @@ function libraryOfPath(path) {
 /**
  * Opens a cold page with the link's conditions and counts every response's bytes on the wire
  * (Network.loadingFinished's encodedDataLength: headers and the gzip body). Returns the page's
- * result with pageKB, libraryKB and the library's paths.
+ * result with pageKB, libraryKB, the library's paths and the number of requests that finished.
  */
 export async function coldVisit(browser, url, link) {
   const cdp = await browser.context.newCDPSession(browser.page);
@@ -137,7 +137,7 @@ export async function coldVisit(browser, url, link) {
       libraryPaths.push(path);
     }
   }
-  return { ...result, pageKB: page / 1024, libraryKB: library / 1024, libraryPaths: libraryPaths.sort() };
+  return { ...result, pageKB: page / 1024, libraryKB: library / 1024, libraryPaths: libraryPaths.sort(), requests: bytes.size };
 }
 
 /** Brotli (quality 11, computed here) and gzip -9 sizes of the files at these request paths, KB. */

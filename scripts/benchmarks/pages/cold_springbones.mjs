@@ -4,6 +4,11 @@
 // (attachWearable gets the rig as a promise, README "three.js"); the module's download starts when
 // the page's fetch order says (cold_start.mjs), compiled by createSpringBones as it streams in; the
 // springs take over once it is there.
+// Both pages' first modules name `three` themselves (cold_threevrm.mjs for Vector3), as a page's
+// own module does: the browser then finds three.module.js beside cold_start.mjs rather than a
+// round trip after it. A trace of the cold page on slow 4G (scripts/benchmarks/trace_cold_page.mjs)
+// showed that hop as most of the drawable frame's gap when only the three-vrm page had it.
+import 'three';
 import { coldStart } from './cold_start.mjs';
 
 const MODULE = new URL('../../../web/dist/springbones_wasm.wasm', import.meta.url);
@@ -12,6 +17,10 @@ const MODULE = new URL('../../../web/dist/springbones_wasm.wasm', import.meta.ur
 const ORDER = new URLSearchParams(location.search).get('fetch') ?? 'after-draw';
 const API_BEFORE_DRAWING = !['after-draw', 'after-downloads', 'at-wear'].includes(ORDER);
 const importApi = () => import('../../../web/springbones.js');
+// `?wasm=api`: the API finds and fetches the module itself, createSpringBones() without options, as
+// the adapters' page module (web/page_module.js) calls it; by default the page fetches it beside
+// the API's import and hands the download over (README "three.js").
+const PAGE_FETCHES_WASM = new URLSearchParams(location.search).get('wasm') !== 'api';
 
 coldStart({
   name: 'springbones',
@@ -20,9 +29,9 @@ coldStart({
     return { api, adapter };
   },
   start: async (lib, { priority }) => {
-    const wasm = fetch(MODULE, priority ? { priority } : {});
+    const wasm = PAGE_FETCHES_WASM ? fetch(MODULE, priority ? { priority } : {}) : undefined;
     const api = lib.api ?? await importApi();
-    return api.createSpringBones({ wasm });
+    return api.createSpringBones(wasm ? { wasm } : {});
   },
   wear: (lib, { avatar, wearable, springBones, contentHash }, started) => {
     let loadStart = 0, loadRigMs = 0;
