@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, skip, useDemoPage } from './demoPage.mjs';
+import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, skip, useDemoPage } from './demo_page.mjs';
 
 let page;
 let consoleErrors, consoleWarnings;

@@ -15,7 +15,7 @@
 // bytes a cycle within 2,000.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { openPage, skip } from './demoPage.mjs';
+import { openPage, skip } from './demo_page.mjs';
 
 const kWarmupCycles = 100;
 const kJsHeapBoundBytes = 1 << 20;

@@ -5,7 +5,7 @@
 // moves again, which is what the held ones would do without the budget.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { skip, useDemoPage } from './demoPage.mjs';
+import { skip, useDemoPage } from './demo_page.mjs';
 
 let page;
 let consoleErrors;

@@ -6,7 +6,7 @@
 // can fail. And the wind slider blows the hair.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { rotationsAfter, skip, useDemoPage } from './demoPage.mjs';
+import { rotationsAfter, skip, useDemoPage } from './demo_page.mjs';
 
 let page;
 let consoleErrors;

@@ -4,7 +4,7 @@
 // the hair (instance.settle): the next frame of the paused page hardly moves it.
 import assert from 'node:assert/strict';
 import { after, before, describe, test } from 'node:test';
-import { openDemo, skip } from './demoPage.mjs';
+import { openDemo, skip } from './demo_page.mjs';
 
 const distance = (a, b) => Math.hypot(a.x - b.x, a.y - b.y);
 

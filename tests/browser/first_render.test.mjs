@@ -4,7 +4,7 @@
 // then finishes starting as usual, the sample wearable simulated.
 import assert from 'node:assert/strict';
 import { after, test } from 'node:test';
-import { openDemo, skip } from './demoPage.mjs';
+import { openDemo, skip } from './demo_page.mjs';
 
 const HOLD_MS = 3000;
 let close;

@@ -2,7 +2,7 @@
 // a page equal the native ones (tests/wasm/frame_hash.test.mjs checks Node against the same).
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
-import { openPage, skip } from './demoPage.mjs';
+import { openPage, skip } from './demo_page.mjs';
 import { nativeFrameHashes } from '../scenarios/native_frame_hashes.mjs';
 
 let page, consoleErrors, close;

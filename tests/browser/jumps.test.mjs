@@ -4,7 +4,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { turnAt } from '../../scripts/lib/fixtures/vec.mjs';
-import { skip, useDemoPage } from './demoPage.mjs';
+import { skip, useDemoPage } from './demo_page.mjs';
 
 let page;
 let consoleErrors;

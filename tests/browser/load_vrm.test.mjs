@@ -9,7 +9,7 @@ import { after, test } from 'node:test';
 
 import { createSpringBones } from '../../web/springbones.js';
 import { glbJson, vrmSummary } from '../scenarios/load_vrm.mjs';
-import { openPage, root, skip } from './demoPage.mjs';
+import { openPage, root, skip } from './demo_page.mjs';
 
 let close;
 after(async () => { await close?.(); });

@@ -3,7 +3,7 @@
 // (tests/wasm/module_load_errors.test.mjs has every case in Node).
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
-import { openPage, skip } from './demoPage.mjs';
+import { openPage, skip } from './demo_page.mjs';
 
 let page, consoleErrors, consoleWarnings, close;
 before(async () => {

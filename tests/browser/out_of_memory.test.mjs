@@ -3,7 +3,7 @@
 // page, with the same checks.
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
-import { openPage, skip } from './demoPage.mjs';
+import { openPage, skip } from './demo_page.mjs';
 import { checkOutOfMemoryReport } from '../scenarios/out_of_memory_checks.mjs';
 
 let page, consoleErrors, close;

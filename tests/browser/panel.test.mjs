@@ -7,7 +7,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { maxAbsDiff, root, rotationsAfter, skip, useDemoPage } from './demoPage.mjs';
+import { maxAbsDiff, root, rotationsAfter, skip, useDemoPage } from './demo_page.mjs';
 import { diagnostic } from '../../web/wearable/diagnostics.js';
 
 const sampleHash = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8')).files['hair_wearable.glb'].contentHash;

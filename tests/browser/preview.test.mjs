@@ -4,12 +4,12 @@
 // walks and comes to rest when it stops, the stiffness slider changes the motion, a broken GLB is
 // reported without breaking the page and a valid one then loads. Leaves a screenshot in
 // tests/artifacts/preview.png (head close-up: hair, earrings, chain lines and colliders) and
-// preview-body.png (the whole avatar). The page is opened by demoPage.mjs.
+// preview-body.png (the whole avatar). The page is opened by demo_page.mjs.
 import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, root, rotationsMovedFrom, skip, useDemoPage } from './demoPage.mjs';
+import { artifacts, libraryModulesNotPreloaded, maxAbsDiff, root, rotationsMovedFrom, skip, useDemoPage } from './demo_page.mjs';
 
 const sampleManifest = JSON.parse(readFileSync(join(root, 'web/demo/assets/manifest.json'), 'utf8'));
 const fixtures = JSON.parse(readFileSync(join(root, 'tests/fixtures/manifest.json'), 'utf8')).files;

@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { maxAbsDiff, root, skip, useDemoPage } from './demoPage.mjs';
+import { maxAbsDiff, root, skip, useDemoPage } from './demo_page.mjs';
 
 let page;
 let consoleErrors;

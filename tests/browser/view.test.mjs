@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { artifacts, kWideViewport, openDemo, skip } from './demoPage.mjs';
+import { artifacts, kWideViewport, openDemo, skip } from './demo_page.mjs';
 
 // A marketplace's wearable preview iframe.
 const kNarrow = { width: 420, height: 640 };

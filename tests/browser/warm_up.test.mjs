@@ -4,7 +4,7 @@
 // loadRig bytes did, the error hidden by an empty catch) fails here.
 import assert from 'node:assert/strict';
 import { after, test } from 'node:test';
-import { openPage, skip } from './demoPage.mjs';
+import { openPage, skip } from './demo_page.mjs';
 
 let close;
 after(async () => { await close?.(); });

@@ -47,7 +47,7 @@ const LIBRARIES = ['three-vrm', 'solver', 'adapter'];
 const FIVE_THOUSAND = '100x10x5';
 const ONE_WEARABLE = '1x3x5';
 
-// The flags that work on this machine (as tests/browser/demoPage.mjs), plus no throttling of
+// The flags that work on this machine (as tests/browser/demo_page.mjs), plus no throttling of
 // timers and frames: the benchmark page is never in the background, but say so anyway.
 const ARGS = [
   '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
