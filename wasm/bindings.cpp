@@ -415,7 +415,6 @@ EMSCRIPTEN_BINDINGS(springbones) {
   using namespace springbones::bindings;
   emscripten::function("takeError", &takeError);
   emscripten::function("limitsJson", &springbones::limitsJson);
-  emscripten::function("hasLaneKernel", &springbones::laneKernelLinked);
   emscripten::function("loadRig", &loadRig);
   emscripten::function("loadVrm", &loadVrm);
   emscripten::function("mainFileHashFor", &mainFileHashFor);

@@ -66,11 +66,6 @@ Error readRigData(TypedBytes data, std::shared_ptr<const Rig>& out, VrmSpringFor
 /// names setColliders' omit takes (dclBodyShapeNames)}.
 std::string limitsJson();
 
-/// Whether instances here may step on the lane kernel (src/simulation/lane_kernel.h): true in
-/// native code and the crowd module, false in the preview module (whose instances compute the
-/// same rotations on the general path).
-bool laneKernelLinked();
-
 /// {rigs, instances, scenes, heapInUse}: the live handles and the bytes malloc has handed out.
 std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use);
 

@@ -17,7 +17,8 @@
 #include "simulation/driver_poses.h"
 #include "simulation/general_integrator.h"
 #include "simulation/jump_carry.h"
-#include "simulation/lane_kernel.h"
+#include "simulation/lane_integrator.h"
+#include "simulation/spring_lanes.h"
 #include "simulation/wind.h"
 #include "simulation/xpbd_integrator.h"
 #include "springbones/springbones.h"
@@ -48,10 +49,7 @@ std::unique_ptr<SpringIntegrator> makeIntegrator(const std::shared_ptr<const Rig
     xpbd_options.iterations = options.xpbd_iterations;
     return std::make_unique<XpbdIntegrator>(std::move(constants), xpbd_options);
   }
-  // The lanes when the rig allows them and the module has the kernel (lane_kernel.h); the general
-  // path computes the same bits, slower for a crowd.
-  const LaneKernel* lanes = laneKernel();
-  if (lanes && constants->lanes_usable) return lanes->make_integrator(std::move(constants));
+  if (constants->lanes_usable) return std::make_unique<LaneIntegrator>(std::move(constants));
   return std::make_unique<GeneralIntegrator>(std::move(constants));
 }
 
@@ -380,7 +378,7 @@ void Instance::stepAll(Instance* const* instances, std::size_t count, double dt)
     }
     for (std::size_t n = 0; n < count; ++n) {
       SpringLanes* pool = instances[n]->state_->queued;
-      if (pool) laneKernel()->run_queued(*pool);  // only a lane integrator queues, so the kernel is there
+      if (pool) pool->runQueued();
     }
   }
   for (std::size_t n = 0; n < count; ++n) instances[n]->state_->endFrame();

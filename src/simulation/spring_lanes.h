@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "simulation/collider_kind.h"
-#include "simulation/collider_table.h"
 #include "simulation/rig_constants.h"
 #include "springbones/springbones.h"
 
@@ -33,7 +32,17 @@ struct DriverTable {
   std::vector<float> px, py, pz, qx, qy, qz, qw, s;
 };
 
-/// At most this many colliders per rig take part on the lane path (a bit mask per joint).
+/// Collider shapes in world space for one step: a segment (x0..x1; a point for a sphere) and a
+/// radius, or for a plane a point of it (x0) and its unit normal (x1), radius 0. At most
+/// kMaxLaneColliders per rig take part on the lane path (a bit mask per joint); there, one row per
+/// rig collider of one entry per copy (SpringLanes::colliderIndex).
+struct ColliderTable {
+  std::size_t count = 0;
+  std::vector<float> x0, y0, z0, x1, y1, z1, radius;
+  void resize(std::size_t colliders);
+  void set(std::size_t collider, const glm::vec3& start, const glm::vec3& end, float radius);
+};
+
 inline constexpr std::size_t kMaxLaneColliders = 32;
 
 /// A run of consecutive copies [first, end) stepped by one SpringLanes::run.

@@ -18,7 +18,7 @@
 
 namespace springbones {
 
-struct ColliderTable;  // collider_table.h
+struct ColliderTable;  // spring_lanes.h
 struct HeldJoints;     // grab.h
 
 /// The substep rate the XPBD integrator is meant to run at (docs/xpbd.md): its default step rate
