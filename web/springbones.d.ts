@@ -65,10 +65,10 @@ export interface CreateOptions {
   /**
    * createSpringBones only: load the crowd module (dist/springbones_crowd.wasm, the package's
    * `springbones/crowd-wasm` export) instead of the runtime. The same API, the same rotations bit
-   * for bit; it adds the lane kernel, which steps many instances of one rig together several times
-   * faster, and costs 24 KB gzip more to download. A page that shows one avatar (a preview) never
-   * needs it; a page with a crowd asks for it. Default false. With wasm, wasmBinary or wasmUrl,
-   * the module given is the one that runs.
+   * for bit; its per-frame code is built for speed, so it steps a crowd 3-4 times faster, and it
+   * is 18 KB gzip more to download. A page that shows one avatar (a preview) does not need it; a
+   * page with a crowd asks for it. Default false. With wasm, wasmBinary or wasmUrl, the module
+   * given is the one that runs.
    */
   crowd?: boolean;
 }
@@ -246,8 +246,8 @@ export interface SpringBones {
   /** The package version, equal to the installed package.json's `version` (semver, 0.x). */
   readonly version: string;
   /**
-   * True for the crowd module (createSpringBones({ crowd: true })), whose lane kernel steps many
-   * instances of one rig together; false for the runtime. Rotations are the same either way.
+   * True for the crowd module (createSpringBones({ crowd: true })), built to step many instances
+   * fast; false for the runtime. Rotations are the same either way.
    */
   readonly crowd: boolean;
   /**

@@ -1,9 +1,8 @@
 // The two builds of the runtime (wasm/CMakeLists.txt): springbones_wasm.wasm, what a preview
-// downloads, steps every instance on the general path; springbones_crowd.wasm, loaded by
-// createSpringBones({ crowd: true }), steps instances on the lane kernel when their rig allows it.
-// Whichever module runs a rig, instance or scene, it does the same thing: the same rotations and
-// world matrices bit for bit, the same errors. The crowd module runs on the runtime's glue, so the
-// two glues must be one text.
+// downloads, with its per-frame path at -Oz without SIMD; springbones_crowd.wasm, loaded by
+// createSpringBones({ crowd: true }), with it at -O3 with SIMD. Whichever module runs a rig,
+// instance or scene, it does the same thing: the same rotations and world matrices bit for bit, the
+// same errors. The crowd module runs on the runtime's glue, so the two glues must be one text.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
