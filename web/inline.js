@@ -5,7 +5,7 @@
 // "Install", has the measured cost.
 //
 // createSpringBones() with no module option decodes the inlined bytes; given `wasm`,
-// `wasmBinary` or `wasmUrl`, it behaves as springbones' own. The creator tools are not inlined:
+// `wasmBinary`, `wasmUrl` or `crowd: true`, it behaves as springbones' own. The creator tools are not inlined:
 // sb.creatorTools() fetches their module as in springbones (or takes its options).
 import { createSpringBones as createFromModule, SpringBonesError } from './springbones.js';
 import { runtimeWasmBase64 } from './dist/springbones_wasm_base64.js';
@@ -15,8 +15,10 @@ export { SpringBonesError };
 
 /** createSpringBones with the inlined module as the default. */
 export function createSpringBones(options = {}) {
+  // The crowd module is not inlined: `crowd: true` fetches it as springbones does.
   const givesModule = options !== null && typeof options === 'object' &&
-      (options.wasm !== undefined || options.wasmBinary !== undefined || options.wasmUrl !== undefined);
+      (options.wasm !== undefined || options.wasmBinary !== undefined || options.wasmUrl !== undefined ||
+       options.crowd === true);
   if (givesModule || options === null || typeof options !== 'object') return createFromModule(options);
   // Load errors name the inlined module, not a wasmBinary option the caller did not give.
   const source = 'the inline module (springbones/inline, dist/springbones_wasm_base64.js)';

@@ -36,22 +36,33 @@ import { withBytes, withRoomForStrings } from './wasm_memory.js';
 export { SpringBonesError };
 
 const kModuleUrl = new URL('./dist/springbones_wasm.wasm', import.meta.url);
+// The crowd module: the runtime with its per-frame path built for speed (-O3, SIMD;
+// wasm/CMakeLists.txt). Its exports are the runtime's, so it runs on the runtime's glue.
+const kCrowdModuleUrl = new URL('./dist/springbones_crowd.wasm', import.meta.url);
 
 /**
  * Loads and instantiates the WebAssembly module. Each call creates an independent module (its own
- * memory); one per page or process is the normal case.
+ * memory); one per page or process is the normal case. `crowd: true` loads the crowd module
+ * instead of the runtime: the same API and the same rotations, several times faster per joint
+ * for a crowd (docs/design.md, "Three modules").
  * @param {{wasm?: Response | WebAssembly.Module | Promise<Response | WebAssembly.Module>,
- *          wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL}} [options]
+ *          wasmBinary?: ArrayBuffer | Uint8Array, wasmUrl?: string | URL, crowd?: boolean}} [options]
  */
 export async function createSpringBones(options = {}) {
+  // `crowd` chooses the default module; instantiateModule checks the rest of the options.
+  let moduleOptions = options, crowd = false;
+  if (options !== null && typeof options === 'object') {
+    ({ crowd = false, ...moduleOptions } = options);
+    if (typeof crowd !== 'boolean') throw new TypeError('createSpringBones: crowd must be true or false');
+  }
   // In Node the readers come at once (local files, no download), so that loadRig and loadVrm take
   // bytes as they always have; a page loads them with sb.readers() when it has bytes to read.
   const readers = kIsNode ? loadReaders({}) : undefined;
   readers?.catch(() => {});  // reported by the first call that needs them (loadRig with bytes)
-  const module = await instantiateModule('createSpringBones', options, {
+  const module = await instantiateModule('createSpringBones', moduleOptions, {
     importGlue: () => import('./dist/springbones_wasm.js'),
     glueFile: 'web/dist/springbones_wasm.js',
-    defaultUrl: kModuleUrl,
+    defaultUrl: crowd ? kCrowdModuleUrl : kModuleUrl,
   });
   let limits;
   try {
@@ -90,6 +101,11 @@ class SpringBones {
   /** The package version (package.json's), e.g. '0.2.0'. */
   get version() {
     return version;
+  }
+
+  /** Whether this is the crowd module (createSpringBones({ crowd: true })), built to step many instances fast. */
+  get crowd() {
+    return this.#m.isCrowdModule();
   }
 
   /**

@@ -5,7 +5,7 @@
 // build's .wasm (the glue is the same when only the core changed), and run the two in turn,
 // several processes each.
 //
-//   node scripts/benchmarks/bench_solver.mjs [--wasm path/to/springbones_wasm.wasm] [A C J]   (after scripts/build wasm)
+//   node scripts/benchmarks/bench_solver.mjs [--wasm path/to/springbones_crowd.wasm] [A C J]   (after scripts/build wasm)
 import { readFileSync } from 'node:fs';
 import { performance } from 'node:perf_hooks';
 import { createSpringBones } from '../../web/springbones.js';
@@ -23,7 +23,8 @@ if (rig.length !== 3 || !rig.every((n) => Number.isInteger(n) && n > 0)) {
 }
 const FRAMES = 200, RUNS = 30;
 
-const sb = await createSpringBones(wasmPath ? { wasmBinary: readFileSync(wasmPath) } : {});
+// The crowd module, as a page with a crowd loads it (createSpringBones({ crowd: true })).
+const sb = await createSpringBones(wasmPath ? { wasmBinary: readFileSync(wasmPath) } : { crowd: true });
 const run = setupSolver(sb, rig, wearableGltf(rig[1], rig[2]));
 for (let f = 0; f < FRAMES; f++) run.frame(f);
 // Wall time, and the process's CPU time beside it: on a machine shared with other jobs, a run that

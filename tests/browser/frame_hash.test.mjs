@@ -12,18 +12,24 @@ before(async () => {
 });
 after(async () => { await close?.(); });
 
-test('1,000 frames hash the same natively and in Chromium', { skip }, async (t) => {
-  const native = nativeFrameHashes();
-  const chromium = await page.evaluate(async () => {
-    const { createSpringBones } = await import('/web/springbones.js');
-    const { frameHashes } = await import('/tests/scenarios/frame_hash.mjs');
-    const sb = await createSpringBones();
-    await sb.readers();  // the scenario loads the fixtures' bytes
-    return frameHashes(sb, async (path) => new Uint8Array(await (await fetch(`/${path}`)).arrayBuffer()));
+// Both builds of the runtime: the runtime module (its per-frame path at -Oz, scalar) and the crowd
+// module (-O3, SIMD).
+for (const crowd of [false, true]) {
+  const module = crowd ? 'the crowd module' : 'the runtime module';
+  test(`1,000 frames hash the same natively and in Chromium, in ${module}`, { skip }, async (t) => {
+    const native = nativeFrameHashes();
+    const chromium = await page.evaluate(async (crowd) => {
+      const { createSpringBones } = await import('/web/springbones.js');
+      const { frameHashes } = await import('/tests/scenarios/frame_hash.mjs');
+      const sb = await createSpringBones({ crowd });
+      if (sb.crowd !== crowd) throw new Error(`sb.crowd is ${sb.crowd}`);
+      await sb.readers();  // the scenario loads the fixtures' bytes
+      return frameHashes(sb, async (path) => new Uint8Array(await (await fetch(`/${path}`)).arrayBuffer()));
+    }, crowd);
+    for (const [name, { joints, hash }] of Object.entries(native)) {
+      t.diagnostic(`${name} (${joints} joints): native ${hash}, Chromium ${chromium[name].hash}`);
+    }
+    assert.deepEqual(chromium, native);
+    assert.deepEqual(consoleErrors, []);
   });
-  for (const [name, { joints, hash }] of Object.entries(native)) {
-    t.diagnostic(`${name} (${joints} joints): native ${hash}, Chromium ${chromium[name].hash}`);
-  }
-  assert.deepEqual(chromium, native);
-  assert.deepEqual(consoleErrors, []);
-});
+}

@@ -240,6 +240,7 @@ describe('the tarball', () => {
       'package/web/dist/springbones_creator_tools.min.js',
       'package/web/dist/springbones_creator_tools.min.js.map',
       'package/web/dist/springbones_creator_tools.wasm',
+      'package/web/dist/springbones_crowd.wasm',
       'package/web/dist/springbones_readers.min.js',
       'package/web/dist/springbones_readers.min.js.map',
       'package/web/dist/springbones_readers.wasm',
@@ -265,7 +266,7 @@ describe('the tarball', () => {
     assert.equal(pkg.type, 'module');
     assert.equal(pkg.sideEffects, false);
     assert.ok(pkg.engines.node);
-    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './creator-tools-wasm', './inline', './package.json', './readers-wasm', './three', './wasm']);
+    assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './babylon', './creator-tools-wasm', './crowd-wasm', './inline', './package.json', './readers-wasm', './three', './wasm']);
     for (const entry of ['.', './three', './babylon', './inline']) {
       assert.ok(pkg.exports[entry].types.endsWith('.d.ts'), `${entry} has types`);
       assert.ok(pkg.exports[entry].default.endsWith('.js'), `${entry} has a module`);

@@ -8,7 +8,7 @@ import { conditions, requireIsolation } from './conditions.mjs';
 let sb;
 try {
   requireIsolation();
-  sb = await createSpringBones();
+  sb = await createSpringBones({ crowd: true });  // a page with a crowd loads the crowd module
 } catch (error) {
   window.benchError = `${error.message}\n${error.stack ?? ''}`;
   throw error;

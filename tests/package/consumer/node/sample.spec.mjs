@@ -48,3 +48,24 @@ test('loads the sample wearable, steps and reads rotations', async () => {
   instance.dispose();
   rig.dispose();
 });
+
+test('the crowd module ships: createSpringBones({ crowd: true }) steps the wearable to the same rotations', async () => {
+  assert.equal(fileURLToPath(import.meta.resolve('springbones/crowd-wasm')),
+      fileURLToPath(import.meta.resolve('springbones/wasm')).replace(/springbones_wasm\.wasm$/, 'springbones_crowd.wasm'));
+  const glb = new Uint8Array(readFileSync(asset('hair_wearable.glb')));
+  const springBones = JSON.parse(readFileSync(asset('hair_wearable.metadata.json'), 'utf8'));
+  const [runtime, crowd] = await Promise.all([createSpringBones(), createSpringBones({ crowd: true })]);
+  assert.deepEqual([runtime.crowd, crowd.crowd], [false, true]);
+  const rigs = [runtime, crowd].map((sb) => sb.loadRig(glb, springBones));
+  const head = rigs[0].drivers.findIndex((d) => d.name === 'Avatar_Head');
+  const [a, b] = rigs.map((rig) => rig.createInstance());
+  const rest = a.rotations.slice();
+  for (let frame = 1; frame <= 60; frame++) {
+    for (const instance of [a, b]) {
+      instance.driverMatrices[16 * head + 12] += 0.01;
+      instance.step(1 / 60);
+    }
+  }
+  assert.notDeepEqual(a.rotations, rest, 'the hair swings');
+  assert.deepEqual(b.rotations, a.rotations);
+});
