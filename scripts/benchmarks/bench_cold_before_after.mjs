@@ -10,23 +10,13 @@
 // e.g. BEFORE_ROOT a `git worktree add` of the commit before, built with scripts/build wasm.
 import { loadavg } from 'node:os';
 import { resolve } from 'node:path';
-import { coldVisit, freshBrowser, LINKS, REVISIT_AFTER_MS } from './lib/bench_browser.mjs';
+import { coldVisit, fillGzipCopies, freshBrowser, LINKS, REVISIT_AFTER_MS } from './lib/bench_browser.mjs';
+import { commandLine } from './lib/command_line.mjs';
 import { median } from './lib/bench_rigs.mjs';
 import { startServer } from '../lib/serve.mjs';
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(`--${name}`);
-  if (i < 0) return fallback;
-  const [, value] = args.splice(i, 2);
-  if (value === undefined) throw new Error(`--${name} needs a value`);
-  return value;
-};
-const flag = (name) => {
-  const i = args.indexOf(`--${name}`);
-  if (i >= 0) args.splice(i, 1);
-  return i >= 0;
-};
+const { option, flag } = commandLine(args);
 const second = flag('second');
 const link = LINKS.find((l) => l.name === option('link', 'slow 4G'));
 if (!link) throw new Error(`unknown link (expected ${LINKS.map((l) => l.name).join(', ')})`);
@@ -48,14 +38,7 @@ const pages = [
 const results = {};
 const loadBefore = loadavg();
 try {
-  for (const p of pages) {  // unmeasured: fills the servers' gzip copies
-    const browser = await freshBrowser();
-    try {
-      await coldVisit(browser, p.url, LINKS[0]);
-    } finally {
-      await browser.close();
-    }
-  }
+  await fillGzipCopies(pages.map((p) => p.url));
   for (let s = 0; s < samples; s++) {
     for (const p of pages.map((_, i) => pages[(i + s) % pages.length])) {
       const browser = await freshBrowser();

@@ -7,7 +7,7 @@
 //
 //   node scripts/benchmarks/bench_fetch_order.mjs [samples] [order...]    (scripts/bench --fetch-order)
 // Environment: BENCH_LINKS (comma-separated link names, default "slow 4G,4G"), CHROMIUM_PATH.
-import { coldVisit, freshBrowser, LINKS } from './lib/bench_browser.mjs';
+import { coldVisit, fillGzipCopies, freshBrowser, LINKS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
 import { startServer } from '../lib/serve.mjs';
 
@@ -32,14 +32,7 @@ const pages = [
 ];
 const results = {};  // link -> page key -> [result]
 try {
-  for (const page of pages) {  // unmeasured: fills the server's gzip copies
-    const browser = await freshBrowser();
-    try {
-      await coldVisit(browser, page.url, LINKS[0]);
-    } finally {
-      await browser.close();
-    }
-  }
+  await fillGzipCopies(pages.map((page) => page.url));
   for (let s = 0; s < samples; s++) {
     for (const link of links) {
       results[link.name] ??= {};

@@ -10,7 +10,7 @@
 // (after scripts/build wasm; default 7 samples). scripts/benchmarks/trace_cold_page.mjs --second
 // traces one.
 import { loadavg } from 'node:os';
-import { coldVisit, freshBrowser, LINKS, REVISIT_AFTER_MS } from './lib/bench_browser.mjs';
+import { coldVisit, fillGzipCopies, freshBrowser, LINKS, REVISIT_AFTER_MS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
 import { startServer } from '../lib/serve.mjs';
 
@@ -43,14 +43,7 @@ const results = { springbones: [], 'three-vrm': [] };
 const loadBefore = loadavg();
 let version = null;
 try {
-  for (const page of pages) {  // unmeasured: fills the server's gzip copies
-    const browser = await freshBrowser();
-    try {
-      await coldVisit(browser, page.url, LINKS[0]);
-    } finally {
-      await browser.close();
-    }
-  }
+  await fillGzipCopies(pages.map((page) => page.url));
   for (let s = 0; s < samples; s++) {
     for (const page of s % 2 ? [...pages].reverse() : pages) {
       const browser = await freshBrowser();

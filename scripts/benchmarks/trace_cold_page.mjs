@@ -23,6 +23,7 @@ import { loadavg } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { freshBrowser, LINKS, REVISIT_AFTER_MS } from './lib/bench_browser.mjs';
+import { commandLine } from './lib/command_line.mjs';
 import { startServer } from '../lib/serve.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
@@ -33,18 +34,7 @@ const CATEGORIES = [
 ];
 
 const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const i = args.indexOf(`--${name}`);
-  if (i < 0) return fallback;
-  const [value] = args.splice(i, 2).slice(1);
-  if (value === undefined) throw new Error(`--${name} needs a value`);
-  return value;
-};
-const flag = (name) => {
-  const i = args.indexOf(`--${name}`);
-  if (i >= 0) args.splice(i, 1);
-  return i >= 0;
-};
+const { option, flag } = commandLine(args);
 const second = flag('second');
 const link = LINKS.find((l) => l.name === option('link', second ? 'LAN' : 'slow 4G'));
 if (!link) throw new Error(`unknown link (expected ${LINKS.map((l) => l.name).join(', ')})`);

@@ -113,6 +113,21 @@ function libraryOfPath(path) {
 }
 
 /**
+ * Opens each page once, unmeasured, in a fresh browser: the server gzips a file on its first
+ * request and keeps the copy, so that no measured visit pays for the compression.
+ */
+export async function fillGzipCopies(urls) {
+  for (const url of urls) {
+    const browser = await freshBrowser();
+    try {
+      await coldVisit(browser, url, LINKS[0]);
+    } finally {
+      await browser.close();
+    }
+  }
+}
+
+/**
  * Opens a cold page with the link's conditions and counts every response's bytes on the wire
  * (Network.loadingFinished's encodedDataLength: headers and the gzip body). Returns the page's
  * result with pageKB, libraryKB, the library's paths and the number of requests that finished.
