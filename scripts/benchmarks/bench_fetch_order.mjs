@@ -5,7 +5,7 @@
 // drawable frame and the first simulated frame, each as the gap to three-vrm's on the same link,
 // and the longest main-thread task. The orders are cold_start.mjs's.
 //
-//   node scripts/benchmarks/bench_fetch_order.mjs [samples] [order...]    (scripts/bench --fetch-order)
+//   node scripts/benchmarks/bench_fetch_order.mjs [samples] [order...]
 // Environment: BENCH_LINKS (comma-separated link names, default "slow 4G,4G"), CHROMIUM_PATH.
 import { coldVisit, fillGzipCopies, freshBrowser, LINKS } from './lib/bench_browser.mjs';
 import { median } from './lib/bench_rigs.mjs';
