@@ -11,10 +11,10 @@ import { createSpringBones } from '../../web/springbones.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { copyWorldMatrix, isMirroredScene } from '../../web/babylon/handedness.js';
 import { avatarNode, findAvatarSkeleton } from '../../web/babylon/avatarSkeleton.js';
-import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+import { babylonKit, kBabylonVersions, readAsset, readJsonAsset } from './babylon_kit.mjs';
 import { DeepestTails, describeDepths, holderPose, kBodyShapes, kFrames, kHitRadius, mm } from './turn_and_jump.mjs';
 
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
 const [hash] = Object.keys(metadata.models);
 const kDclBody = { colliders: 'dcl-body', hitRadius: kHitRadius };
 const registration = (extra = {}) => ({ springBones: metadata, contentHash: hash, ...extra });

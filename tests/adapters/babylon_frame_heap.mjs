@@ -14,14 +14,14 @@
 import { Session } from 'node:inspector/promises';
 import { createSpringBones } from '../../web/springbones.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
-import { babylonKit, readAsset } from './babylon_kit.mjs';
+import { babylonKit, readAsset, readJsonAsset } from './babylon_kit.mjs';
 
 /** The sample wearable twice in one scene, started; returns the frame function. */
 export async function twoWearables(which) {
   const sb = await createSpringBones();
   const kit = await babylonKit(which);
   const scene = kit.scene();
-  const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+  const metadata = readJsonAsset('hair_wearable.metadata.json');
   const [hash] = Object.keys(metadata.models);
   const simulation = new SpringBoneSimulation(sb);
   const heads = [];

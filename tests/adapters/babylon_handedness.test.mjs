@@ -9,12 +9,12 @@ import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
 import { attachWearable, avatarArmature, wearableNodes } from '../../web/three/springBonesThree.js';
 import { qaxis, qmul } from '../../scripts/lib/fixtures/vec.mjs';
-import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+import { babylonKit, kBabylonVersions, readAsset, readJsonAsset } from './babylon_kit.mjs';
 import { loadSampleWearable } from '../wasm/sample_wearable.mjs';
 
 const DT = 1 / 60;
 const FRAMES = 150;
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
 const [hash] = Object.keys(metadata.models);
 const glb = readAsset('hair_wearable.glb');
 

@@ -7,9 +7,9 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 import { createSpringBones } from '../../web/springbones.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
-import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+import { babylonKit, kBabylonVersions, readAsset, readJsonAsset } from './babylon_kit.mjs';
 
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
 const [hash] = Object.keys(metadata.models);
 const glb = readAsset('hair_wearable.glb');
 const SETTLE = 60;

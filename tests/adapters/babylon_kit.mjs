@@ -10,6 +10,8 @@ import { fileURLToPath } from 'node:url';
 const require = createRequire(import.meta.url);
 const assets = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'web', 'demo', 'assets');
 export const readAsset = (name) => new Uint8Array(readFileSync(join(assets, name)));
+/** A JSON file of the demo's assets, parsed. */
+export const readJsonAsset = (name) => JSON.parse(readFileSync(join(assets, name), 'utf8'));
 
 /** Babylon 4.2 from its UMD build: the global BABYLON namespace, loaders included. */
 async function babylon4() {

@@ -7,10 +7,10 @@ import { createSpringBones } from '../../web/springbones.js';
 import {
   SpringBoneSimulation, registerSpringBonesLoaderExtension, springBonesOf, unregisterSpringBonesLoaderExtension,
 } from '../../web/babylon/index.js';
-import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+import { babylonKit, kBabylonVersions, readAsset, readJsonAsset } from './babylon_kit.mjs';
 
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
-const entity = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.entity.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
+const entity = readJsonAsset('hair_wearable.entity.json');
 const [hash] = Object.keys(metadata.models);
 const glb = readAsset('hair_wearable.glb');
 

@@ -9,11 +9,11 @@ import { before, describe, test } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import { createSpringBones } from '../../web/springbones.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
-import { babylonKit, kBabylonVersions, readAsset } from './babylon_kit.mjs';
+import { babylonKit, kBabylonVersions, readAsset, readJsonAsset } from './babylon_kit.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
-const entity = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.entity.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
+const entity = readJsonAsset('hair_wearable.entity.json');
 const [hash] = Object.keys(metadata.models);
 const entry = metadata.models[hash];
 const glb = readAsset('hair_wearable.glb');

@@ -7,12 +7,12 @@ import assert from 'node:assert/strict';
 import { before, describe, test } from 'node:test';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import * as SkeletonUtils from 'three/examples/jsm/utils/SkeletonUtils.js';
-import { babylonKit, readAsset } from './babylon_kit.mjs';
+import { babylonKit, readAsset, readJsonAsset } from './babylon_kit.mjs';
 import { createSpringBones } from '../../web/springbones.js';
 import { SpringBonesLoaderPlugin, attachWearable, wearableNodes } from '../../web/three/index.js';
 import { SpringBoneSimulation } from '../../web/babylon/index.js';
 
-const metadata = JSON.parse(new TextDecoder().decode(readAsset('hair_wearable.metadata.json')));
+const metadata = readJsonAsset('hair_wearable.metadata.json');
 const hash = Object.keys(metadata.models)[0];
 const wearableBytes = readAsset('hair_wearable.glb');
 const kCone = (20 * Math.PI) / 180;
