@@ -19,7 +19,8 @@ import { fileURLToPath } from 'node:url';
 import hashing from '@dcl/hashing';  // CommonJS: named imports do not resolve, the default does
 import { dclArmature, flatten } from '../lib/fixtures/dcl_armature.mjs';
 import { glbOfDoc } from '../lib/fixtures/glb.mjs';
-import { mmul, qaxis, qmul, round, trsMatrix } from '../lib/fixtures/vec.mjs';
+import { sig, still, swayMotion, walk } from '../lib/fixtures/motions.mjs';
+import { mmul, qaxis, round, trsMatrix } from '../lib/fixtures/vec.mjs';
 import { ReferenceInstance, buildRig, modelEntry, modelKey, poseWorld } from '../lib/adr_reference.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
@@ -102,22 +103,10 @@ check(new Set(Object.values(glbs).map((g) => g.hash)).size === 3, 'the GLBs have
 // Every other avatar node follows from it through its rest local transform.
 
 const ARMATURE_REST = trsMatrix(glbs.strands.nodes[0]);
-// Nine significant digits (float32 holds about seven); what rounding leaves of an exact zero, 0.
-const sig = (v) => (Math.abs(v) < 1e-12 ? 0 : Number(v.toPrecision(9)));
 const armaturePose = (motion) => ({ Armature: mmul(motion, ARMATURE_REST).map(sig) });
 
-const still = () => trsMatrix({});
-// Sways about the feet: yaw and roll of a few tenths of a radian and a few centimetres of travel,
-// at most 3.3 m/s and 0.05 rad per step at the head, well below the jump thresholds.
-const sway = (t) => trsMatrix({
-  translation: [0.1 * Math.sin(2 * Math.PI * 0.9 * t), 0.03 * Math.sin(2 * Math.PI * 2.1 * t), 0.05 * Math.sin(2 * Math.PI * 0.5 * t + 2)],
-  rotation: qmul(qaxis([0, 1, 0], 0.4 * Math.sin(2 * Math.PI * 0.8 * t)), qaxis([0, 0, 1], 0.25 * Math.sin(2 * Math.PI * 1.3 * t + 1))),
-});
-// Walks forward at 1.4 m/s, bobbing 3 cm and swinging its heading by 0.3 rad.
-const walk = (t) => trsMatrix({
-  translation: [0, 0.03 * Math.sin(2 * Math.PI * 2 * t), 1.4 * t],
-  rotation: qaxis([0, 1, 0], 0.3 * Math.sin(2 * Math.PI * 0.5 * t)),
-});
+// At most 3.3 m/s and 0.05 rad per step at the head, well below the jump thresholds.
+const sway = swayMotion({ yaw: 0.4, roll: 0.25 });
 
 // Frames of `dt` seconds each under `motion` (a function of the time at the end of the frame).
 function framesOf(motion, dts, extra = () => ({})) {

@@ -17,7 +17,8 @@ import { mkdirSync, rmSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { glbOfDoc } from '../lib/fixtures/glb.mjs';
-import { qaxis, qmul, round, trsMatrix } from '../lib/fixtures/vec.mjs';
+import { sig, still, swayMotion, walk } from '../lib/fixtures/motions.mjs';
+import { qaxis, round } from '../lib/fixtures/vec.mjs';
 import { poseWorld } from '../lib/adr_reference.mjs';
 import { VrmReferenceInstance, buildVrmRig } from '../lib/vrm_reference.mjs';
 
@@ -101,17 +102,8 @@ const limitExt = (limit, specVersion = '1.0-draft') => ({ specVersion, limit });
 // ---------------------------------------------------------------------------------------------
 // Driver motion: the Root's world matrix per frame.
 
-const sig = (v) => (Math.abs(v) < 1e-12 ? 0 : Number(v.toPrecision(9)));
 const rootPose = (m) => ({ Root: m.map(sig) });
-const still = () => trsMatrix({});
-const sway = (t) => trsMatrix({
-  translation: [0.1 * Math.sin(2 * Math.PI * 0.9 * t), 0.03 * Math.sin(2 * Math.PI * 2.1 * t), 0.05 * Math.sin(2 * Math.PI * 0.5 * t + 2)],
-  rotation: qmul(qaxis([0, 1, 0], 0.5 * Math.sin(2 * Math.PI * 0.8 * t)), qaxis([0, 0, 1], 0.3 * Math.sin(2 * Math.PI * 1.3 * t + 1))),
-});
-const walk = (t) => trsMatrix({
-  translation: [0, 0.03 * Math.sin(2 * Math.PI * 2 * t), 1.4 * t],
-  rotation: qaxis([0, 1, 0], 0.3 * Math.sin(2 * Math.PI * 0.5 * t)),
-});
+const sway = swayMotion({ yaw: 0.5, roll: 0.3 });
 const framesOf = (motion, n = 90) => Array.from({ length: n }, (_, k) => ({ dt: 1 / FPS, pose: rootPose(motion((k + 1) / FPS)) }));
 const SWAY = framesOf(sway);
 const STILL = framesOf(still);
