@@ -421,7 +421,7 @@ class RigBuilder {
   const ModelEntry& model_;
   const RigOptions& options_;
   std::shared_ptr<Rig> rig_;
-  std::vector<bool> is_candidate_;
+  std::vector<unsigned char> is_candidate_;
   std::vector<int> entry_of_node_;
   std::vector<int> chain_of_node_;
   std::vector<int> root_nodes_;
@@ -433,7 +433,7 @@ class RigBuilder {
   // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
   NameIndex entry_by_name_;
   std::vector<int> matches_;
-  std::vector<bool> entry_is_spring_;  ///< the entry's name has the token
+  std::vector<unsigned char> entry_is_spring_;  ///< the entry's name has the token
   std::vector<int> joint_of_node_;
   std::vector<int> queue_;
   std::vector<int> driver_of_node_;  ///< node -> driver, -1 (sized on first use)

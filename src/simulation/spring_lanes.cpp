@@ -212,7 +212,7 @@ SpringLanes::SpringLanes(std::shared_ptr<const RigConstants> constants) : rig_co
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
   constants_.resize(depth_count_ * lanes_per_copy_);
-  std::vector<bool> started(lanes_per_copy_, false);
+  std::vector<unsigned char> started(lanes_per_copy_, 0);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int lane = joint_lane_[j];
