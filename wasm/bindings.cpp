@@ -5,11 +5,12 @@
 // Contract with web/springbones.js (the only caller; nothing here is public API):
 //  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
-//    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
+//    then read once with takeError(), typed {code, message, path} (binding_errors.h).
 //  - Bulk data crosses as pointers into WASM memory: typed input in (the glTF's nodes,
 //    springBones, the entity, the rig options: springbones/typed_input.h), driver matrices in,
-//    rotations out; what comes back structured is one JSON string written by the core
-//    (springbones/boundary.h). The runtime reads no JSON text.
+//    rotations out; what comes back structured is typed values written by the core
+//    (springbones/boundary.h), left in the typed result (binding_errors.h) for
+//    web/typed_output.js. The runtime reads no JSON text and writes none.
 //  - An entry point has the name of the core function it calls (contentHash, describeRig...) and
 //    of the JS method that calls it; an instance's operations are the Instance methods' names
 //    (step, jump...), a scene's are prefixed with "scene" (sceneStep), their handle first.
@@ -140,16 +141,14 @@ std::string contentHash(std::uintptr_t data, std::size_t size) {
   return hash;
 }
 
-/// The rig description as JSON text (springbones/boundary.h), or "" with the error pending.
-std::string describeRig(int rig) {
-  std::string text;
-  guarded([&] {
+/// The rig description (springbones/boundary.h) as the typed result: its length, or 0 with the
+/// error pending.
+int describeRig(int rig) {
+  return guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
-    text = springbones::describeRig(*it->second.rig, it->second.hash, it->second.format);
-    return 1;
+    return result(springbones::describeRig(*it->second.rig, it->second.hash, it->second.format));
   });
-  return text;
 }
 
 /// A new instance of the rig; options out of range are clamped by the core (the JS API rejects
@@ -360,19 +359,17 @@ bool setInertia(int instance, float value, int chain) {
 // Colliders changed at run time (Instance::setColliders, frameMatrices).
 
 /// The colliders at `data` (typed input, readColliderOptions) as the instance's from its next
-/// step; returns {frames, warnings} as JSON (describeColliderChange), or "" with the error pending.
-std::string setColliders(int instance, std::uintptr_t data, std::size_t size) {
-  std::string described;
-  guarded([&] {
+/// step; leaves {frames, warnings} (describeColliderChange) as the typed result and returns its
+/// length, or 0 with the error pending.
+int setColliders(int instance, std::uintptr_t data, std::size_t size) {
+  return guarded([&] {
     Instance* i = findInstance(instance);
     if (i == nullptr) return badHandle("instance", instance);
     ColliderOptions options;
     if (ApiFailure f = readColliderOptions(typedAt(data, size), options)) return fail(std::move(f));
     const std::vector<Warning> warnings = i->setColliders(options);
-    described = describeColliderChange(i->frameNames(), warnings);
-    return 1;
+    return result(describeColliderChange(i->frameNames(), warnings));
   });
-  return described;
 }
 /// Moves with every setColliders.
 std::uintptr_t frameMatricesPtr(int instance) {
@@ -402,11 +399,17 @@ bool sceneSetWind(int scene, float dx, float dy, float dz, float strength, float
   return s != nullptr;
 }
 
-/// Diagnostics for leak tests: live handles and bytes malloc has handed out.
-std::string stats() {
+/// Diagnostics for leak tests: live handles and bytes malloc has handed out, as the typed result.
+int stats() {
+  // The previous typed result freed first, so that the bytes in use do not count it.
+  g_result = std::vector<std::uint8_t>();
   const struct mallinfo info = mallinfo();
-  return statsJson(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
+  return result(
+      describeStats(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks)));
 }
+
+/// The core's limits and defaults (describeLimits) as the typed result.
+int limits() { return result(describeLimits()); }
 
 }  // namespace
 }  // namespace springbones::bindings
@@ -414,7 +417,8 @@ std::string stats() {
 EMSCRIPTEN_BINDINGS(springbones) {
   using namespace springbones::bindings;
   emscripten::function("takeError", &takeError);
-  emscripten::function("limitsJson", &springbones::limitsJson);
+  emscripten::function("typedResult", &typedResult);
+  emscripten::function("limits", &limits);
   emscripten::function("loadRig", &loadRig);
   emscripten::function("loadVrm", &loadVrm);
   emscripten::function("mainFileHashFor", &mainFileHashFor);
