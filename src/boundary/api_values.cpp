@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <utility>
 
+#include "boundary/page_text.h"
 #include "common/json_pointer.h"
 #include "common/typed_value.h"
 #include "loading/vrm_limits.h"
@@ -315,11 +316,11 @@ std::vector<std::uint8_t> describeFailure(const ApiFailure& failure) {
   TypedWriter out;
   out.object(3);
   out.key("code");
-  out.string(failure.code);
+  pageText(out, failure.code);
   out.key("message");
-  out.string(failure.message);
+  pageText(out, failure.message);
   out.key("path");
-  out.string(failure.path);
+  pageText(out, failure.path);
   return std::move(out.bytes());
 }
 
@@ -351,7 +352,7 @@ std::vector<std::uint8_t> describeLimits() {
   out.key("bodyColliderShapes");
   const std::vector<std::string>& shapes = dclBodyShapeNames();
   out.array(static_cast<std::uint32_t>(shapes.size()));
-  for (const std::string& name : shapes) out.string(name);
+  for (const std::string& name : shapes) pageText(out, name);
   out.key("integrators");
   out.object(2);
   out.key("vrm");

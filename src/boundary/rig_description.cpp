@@ -1,6 +1,7 @@
 // describeRig and describeColliderChange (springbones/boundary.h), written with TypedWriter.
 #include <cmath>
 
+#include "boundary/page_text.h"
 #include "common/typed_value.h"
 #include "springbones/boundary.h"
 
@@ -21,7 +22,7 @@ void nodeName(TypedWriter& out, const Rig& rig, int node) {
   if (node < 0 || static_cast<std::size_t>(node) >= nodes.size()) {
     out.null();
   } else {
-    out.string(nodes[node].name);
+    pageText(out, nodes[node].name);
   }
 }
 
@@ -105,7 +106,7 @@ void collider(TypedWriter& out, const Rig& rig, const Collider& c) {
   out.boolean(c.inside);
   out.key("node");
   if (has_driver) {
-    out.string(rig.drivers[c.driver].name);
+    pageText(out, rig.drivers[c.driver].name);
   } else {
     out.null();
   }
@@ -118,7 +119,7 @@ void collider(TypedWriter& out, const Rig& rig, const Collider& c) {
   out.key("radius");
   floatValue(out, c.radius);
   out.key("shape");
-  out.string(capsule ? "capsule" : plane ? "plane" : "sphere");
+  pageText(out, capsule ? "capsule" : plane ? "plane" : "sphere");
   if (capsule) {
     out.key("tail");
     vec3(out, c.tail);
@@ -130,11 +131,11 @@ void writeWarnings(TypedWriter& out, const std::vector<Warning>& warnings) {
   for (const Warning& w : warnings) {
     out.object(3);
     out.key("code");
-    out.string(w.code);
+    pageText(out, w.code);
     out.key("message");
-    out.string(w.message);
+    pageText(out, w.message);
     out.key("path");
-    out.string(w.path);
+    pageText(out, w.path);
   }
 }
 
@@ -150,18 +151,18 @@ std::vector<std::uint8_t> describeRig(const Rig& rig, const std::string& content
   out.array(static_cast<std::uint32_t>(rig.colliders.size()));
   for (const Collider& c : rig.colliders) collider(out, rig, c);
   out.key("contentHash");
-  out.string(content_hash);
+  pageText(out, content_hash);
   out.key("drivers");
   out.array(static_cast<std::uint32_t>(rig.drivers.size()));
   for (const Driver& d : rig.drivers) {
     out.object(2);
     out.key("name");
-    out.string(d.name);
+    pageText(out, d.name);
     out.key("node");
     out.number(d.node);
   }
   out.key("format");
-  out.string(format);
+  pageText(out, format);
   out.key("joints");
   out.array(static_cast<std::uint32_t>(rig.joints.size()));
   for (const Joint& j : rig.joints) joint(out, rig, j);
@@ -178,7 +179,7 @@ std::vector<std::uint8_t> describeColliderChange(const std::vector<std::string>&
   out.object(2);
   out.key("frames");
   out.array(static_cast<std::uint32_t>(frames.size()));
-  for (const std::string& name : frames) out.string(name);
+  for (const std::string& name : frames) pageText(out, name);
   out.key("warnings");
   writeWarnings(out, warnings);
   return std::move(out.bytes());

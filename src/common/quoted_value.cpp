@@ -5,38 +5,10 @@
 #include <vector>
 
 #include "common/message_number.h"
+#include "common/utf8_sequence.h"
 
 namespace springbones {
 namespace {
-
-// Length of the UTF-8 sequence starting at s[i], or 0 when it is not well-formed (overlong forms,
-// surrogates and code points past U+10FFFF are not).
-std::size_t utf8Sequence(std::string_view s, std::size_t i) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-  const unsigned char c = byte(i);
-  if (c < 0x80) return 1;
-  std::size_t length = 0;
-  unsigned lo = 0x80, hi = 0xBF;
-  if (c >= 0xC2 && c <= 0xDF) {
-    length = 2;
-  } else if (c >= 0xE0 && c <= 0xEF) {
-    length = 3;
-    if (c == 0xE0) lo = 0xA0;
-    if (c == 0xED) hi = 0x9F;
-  } else if (c >= 0xF0 && c <= 0xF4) {
-    length = 4;
-    if (c == 0xF0) lo = 0x90;
-    if (c == 0xF4) hi = 0x8F;
-  } else {
-    return 0;
-  }
-  if (s.size() - i < length) return 0;
-  if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
-  for (std::size_t k = 2; k < length; ++k) {
-    if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
-  }
-  return length;
-}
 
 // A string as JSON writes it, with U+FFFD for each byte that is not part of well-formed UTF-8.
 void appendString(std::string& out, std::string_view s) {
@@ -60,7 +32,7 @@ void appendString(std::string& out, std::string_view s) {
           out += kHex[c & 15];
       }
     } else if (c >= 0x80) {
-      const std::size_t length = utf8Sequence(s, i);
+      const std::size_t length = utf8SequenceLength(s, i);
       if (length == 0) {
         out += "\xEF\xBF\xBD";  // U+FFFD
         ++i;

@@ -216,3 +216,14 @@ test('the hitRadius warning writes floats with %.7g, as native code does', async
   });
   assert.equal(expected[4], 'inf');
 });
+
+// What the JSON text showed for bytes that are not UTF-8 (a name cut at 64 bytes inside a
+// character), the typed strings show too: one U+FFFD for each byte, not one for the sequence.
+test('a string cut inside a character shows U+FFFD for each of its bytes', async () => {
+  const sb = await createSpringBones();
+  const { glb, springBones, hash } = springRig({ chains: 1, joints: 1 });
+  const node = `xx${'€'.repeat(30)}`;  // 2 + 90 bytes: the cut at 64 keeps 2 of the 21st euro's 3
+  const rig = sb.loadRig(glb, springBones, { contentHash: hash, colliders: [{ node, radius: 0.1 }] });
+  const warning = rig.warnings.find((w) => w.code === 'collider-node-not-found');
+  assert.ok(warning?.message.startsWith(`collider node 'xx${'€'.repeat(20)}\uFFFD\uFFFD...' is neither`), warning?.message);
+});
