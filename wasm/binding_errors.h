@@ -1,18 +1,23 @@
 // What every bindings file of a module shares (wasm/bindings.cpp for the runtime module,
-// wasm/creator_tools_bindings.cpp for the creator tools): the pending error and the guard that
-// turns any C++ exception into one. Each module is its own WebAssembly instance with its own
+// wasm/readers_bindings.cpp, wasm/creator_tools_bindings.cpp): the pending error, the guard that
+// turns any C++ exception into one, and the typed result, where an entry point leaves bytes for
+// the JavaScript to copy out. Each module is its own WebAssembly instance with its own
 // memory, so each has its own pending error; `inline` keeps one per module however many files
 // include this.
 //
 // Contract with the JavaScript side: an entry point that fails returns 0 (or "") and leaves the
-// error pending; the caller reads it once with takeError() as JSON {code, message, path}. Nothing
-// throws across the boundary, so bad input never aborts the module and the next call works.
+// error pending; the caller reads it once with takeError(), typed {code, message, path}
+// (web/typed_output.js). Nothing throws across the boundary, so bad input never aborts the module
+// and the next call works. An entry point that returns typed values returns their length and
+// leaves them in the typed result (typedResult() is where they are) until the next such call.
 #pragma once
 
+#include <cstdint>
 #include <exception>
 #include <new>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "springbones/boundary.h"
 #include "springbones/springbones.h"
@@ -22,6 +27,15 @@ namespace springbones::bindings {
 // Its code is the core's errorCodeName(), one of boundary.h's argument codes, or one that only
 // exists at the boundary: "out-of-memory", "internal-error", "bad-handle".
 inline ApiFailure g_error;
+inline std::vector<std::uint8_t> g_result;
+
+/// Keeps `bytes` as the typed result; returns their length.
+inline int result(std::vector<std::uint8_t> bytes) {
+  g_result = std::move(bytes);
+  return static_cast<int>(g_result.size());
+}
+
+inline std::uintptr_t typedResult() { return reinterpret_cast<std::uintptr_t>(g_result.data()); }
 
 inline int fail(ApiFailure failure) {
   g_error = std::move(failure);
@@ -42,13 +56,14 @@ int guarded(Body&& body) {
   } catch (...) { return fail("internal-error", "internal error"); }
 }
 
-/// The pending error as JSON {code, message, path}, then clears it.
-inline std::string takeError() {
+/// The pending error as the typed result, then clears it; its length, or -1 when there was no
+/// memory to write it (the JavaScript then reports "out-of-memory").
+inline int takeError() {
   try {
-    const std::string text = failureJson(g_error);
+    const int length = result(describeFailure(g_error));
     g_error = ApiFailure{};
-    return text;
-  } catch (...) { return R"({"code":"out-of-memory","message":"out of memory","path":""})"; }
+    return length;
+  } catch (...) { return -1; }
 }
 
 }  // namespace springbones::bindings

@@ -6,11 +6,12 @@
 // public API):
 //  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
-//    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
+//    then read once with takeError(), typed {code, message, path} (binding_errors.h).
 //  - Bulk data crosses as pointers into WASM memory: typed input in (the glTF's nodes,
 //    springBones, the entity, the rig options: springbones/typed_input.h), driver matrices in,
-//    rotations out; what comes back structured is one JSON string written by the core
-//    (springbones/boundary.h). The runtime reads no JSON text.
+//    rotations out; what comes back structured is typed values written by the core
+//    (springbones/boundary.h), left in the typed result (binding_errors.h) for
+//    web/typed_output.js. The runtime reads no JSON text and writes none.
 //  - An entry point has the name of the core function it calls (contentHash, describeRig...) and
 //    of the JS method that calls it; an instance's operations are the Instance methods' names
 //    (step, jump...), a scene's are prefixed with "scene" (sceneStep), their handle first.
@@ -141,16 +142,14 @@ std::string contentHash(std::uintptr_t data, std::size_t size) {
   return hash;
 }
 
-/// The rig description as JSON text (springbones/boundary.h), or "" with the error pending.
-std::string describeRig(int rig) {
-  std::string text;
-  guarded([&] {
+/// The rig description (springbones/boundary.h) as the typed result: its length, or 0 with the
+/// error pending.
+int describeRig(int rig) {
+  return guarded([&] {
     auto it = g_rigs.find(rig);
     if (it == g_rigs.end()) return badHandle("rig", rig);
-    text = springbones::describeRig(*it->second.rig, it->second.hash, it->second.format);
-    return 1;
+    return result(springbones::describeRig(*it->second.rig, it->second.hash, it->second.format));
   });
-  return text;
 }
 
 /// A new instance of the rig; options out of range are clamped by the core (the JS API rejects
@@ -361,19 +360,17 @@ bool setInertia(int instance, float value, int chain) {
 // Colliders changed at run time (Instance::setColliders, frameMatrices).
 
 /// The colliders at `data` (typed input, readColliderOptions) as the instance's from its next
-/// step; returns {frames, warnings} as JSON (describeColliderChange), or "" with the error pending.
-std::string setColliders(int instance, std::uintptr_t data, std::size_t size) {
-  std::string described;
-  guarded([&] {
+/// step; leaves {frames, warnings} (describeColliderChange) as the typed result and returns its
+/// length, or 0 with the error pending.
+int setColliders(int instance, std::uintptr_t data, std::size_t size) {
+  return guarded([&] {
     Instance* i = findInstance(instance);
     if (i == nullptr) return badHandle("instance", instance);
     ColliderOptions options;
     if (ApiFailure f = readColliderOptions(typedAt(data, size), options)) return fail(std::move(f));
     const std::vector<Warning> warnings = i->setColliders(options);
-    described = describeColliderChange(i->frameNames(), warnings);
-    return 1;
+    return result(describeColliderChange(i->frameNames(), warnings));
   });
-  return described;
 }
 /// Moves with every setColliders.
 std::uintptr_t frameMatricesPtr(int instance) {
@@ -403,11 +400,17 @@ bool sceneSetWind(int scene, float dx, float dy, float dz, float strength, float
   return s != nullptr;
 }
 
-/// Diagnostics for leak tests: live handles and bytes malloc has handed out.
-std::string stats() {
+/// Diagnostics for leak tests: live handles and bytes malloc has handed out, as the typed result.
+int stats() {
+  // The previous typed result freed first, so that the bytes in use do not count it.
+  g_result = std::vector<std::uint8_t>();
   const struct mallinfo info = mallinfo();
-  return statsJson(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
+  return result(
+      describeStats(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks)));
 }
+
+/// The core's limits and defaults (describeLimits) as the typed result.
+int limits() { return result(describeLimits()); }
 
 }  // namespace
 }  // namespace springbones::bindings
@@ -415,31 +418,22 @@ std::string stats() {
 // The entry points as the module exports them: C functions over numbers named sb_<name>, which
 // web/runtime_calls.js lists with the kinds of their arguments and results and installs on the
 // Module object as <name> (tests/wasm/runtime_calls.test.mjs holds the two lists together). A
-// text argument crosses as UTF-8 bytes and their size; a text result as a pointer to the module's
-// one text result, whose size sb_textSize gives, read and freed (sb_textFree) by the caller. No
-// embind: its JavaScript runtime was two thirds of the glue (docs/performance.md, "Every byte").
+// text argument crosses as UTF-8 bytes and their size; what comes back is left in the typed result
+// (binding_errors.h), typed values or a text's UTF-8 bytes, and the entry point returns its length.
+// No embind: its JavaScript runtime was two thirds of the glue (docs/performance.md, "Every byte").
 #define SPRINGBONES_EXPORT extern "C" EMSCRIPTEN_KEEPALIVE
 
 namespace springbones::bindings {
 namespace {
 
-std::string g_text_result;
-
-// A text result, kept until the next one. Out of memory while making it leaves "" and the error
-// pending, as the entry points' own failures do.
-template <typename MakeText>
-std::uintptr_t text(MakeText&& make) {
-  try {
-    g_text_result = make();
-  } catch (...) {
-    g_text_result.clear();
-    fail("out-of-memory", "out of memory");
-  }
-  return reinterpret_cast<std::uintptr_t>(g_text_result.data());
-}
-
 std::string_view textAt(std::uintptr_t data, std::size_t size) {
   return std::string_view(reinterpret_cast<const char*>(data), size);
+}
+
+// A text as the result: its UTF-8 bytes (not typed values: the caller reads them as text), and
+// their length; "" is 0, which its callers return for a failure with the error pending.
+int textResult(const std::string& text) {
+  return guarded([&] { return result(std::vector<std::uint8_t>(text.begin(), text.end())); });
 }
 
 }  // namespace
@@ -447,31 +441,23 @@ std::string_view textAt(std::uintptr_t data, std::size_t size) {
 
 using namespace springbones::bindings;
 
-SPRINGBONES_EXPORT std::size_t sb_textSize() { return g_text_result.size(); }
-// Frees the text result once read: the heap in use (stats) then counts no text between calls.
-SPRINGBONES_EXPORT void sb_textFree() { std::string().swap(g_text_result); }
-SPRINGBONES_EXPORT std::uintptr_t sb_takeError() {
-  return text([&] { return takeError(); });
-}
-SPRINGBONES_EXPORT std::uintptr_t sb_limitsJson() {
-  return text([&] { return springbones::limitsJson(); });
-}
+SPRINGBONES_EXPORT std::uintptr_t sb_typedResult() { return typedResult(); }
+SPRINGBONES_EXPORT int sb_takeError() { return takeError(); }
+SPRINGBONES_EXPORT int sb_limits() { return limits(); }
 SPRINGBONES_EXPORT int sb_loadRig(std::uintptr_t gltf, std::size_t gltf_size, std::uintptr_t metadata,
                                   std::size_t metadata_size, std::uintptr_t hash, std::size_t hash_size,
                                   std::uintptr_t options_data, std::size_t options_size) {
   return loadRig(gltf, gltf_size, metadata, metadata_size, textAt(hash, hash_size), options_data, options_size);
 }
 SPRINGBONES_EXPORT int sb_loadVrm(std::uintptr_t rig_data, std::size_t size) { return loadVrm(rig_data, size); }
-SPRINGBONES_EXPORT std::uintptr_t sb_mainFileHashFor(std::uintptr_t entity, std::size_t size, std::uintptr_t body_shape,
-                                                     std::size_t body_shape_size) {
-  return text([&] { return mainFileHashFor(entity, size, textAt(body_shape, body_shape_size)); });
+SPRINGBONES_EXPORT int sb_mainFileHashFor(std::uintptr_t entity, std::size_t size, std::uintptr_t body_shape,
+                                          std::size_t body_shape_size) {
+  return textResult(mainFileHashFor(entity, size, textAt(body_shape, body_shape_size)));
 }
-SPRINGBONES_EXPORT std::uintptr_t sb_contentHash(std::uintptr_t data, std::size_t size) {
-  return text([&] { return contentHash(data, size); });
+SPRINGBONES_EXPORT int sb_contentHash(std::uintptr_t data, std::size_t size) {
+  return textResult(contentHash(data, size));
 }
-SPRINGBONES_EXPORT std::uintptr_t sb_describeRig(int rig) {
-  return text([&] { return describeRig(rig); });
-}
+SPRINGBONES_EXPORT int sb_describeRig(int rig) { return describeRig(rig); }
 SPRINGBONES_EXPORT int sb_createInstance(int rig, double step_hz, int max_substeps, int integrator,
                                          int xpbd_iterations) {
   return createInstance(rig, step_hz, max_substeps, integrator, xpbd_iterations);
@@ -506,9 +492,7 @@ SPRINGBONES_EXPORT int sb_sceneSetWind(int scene, float dx, float dy, float dz, 
 }
 SPRINGBONES_EXPORT std::uintptr_t sb_sceneActivePtr(int scene) { return sceneActivePtr(scene); }
 SPRINGBONES_EXPORT int sb_disposeScene(int scene) { return disposeScene(scene) ? 1 : 0; }
-SPRINGBONES_EXPORT std::uintptr_t sb_stats() {
-  return text([&] { return stats(); });
-}
+SPRINGBONES_EXPORT int sb_stats() { return stats(); }
 SPRINGBONES_EXPORT int sb_setJumpThresholds(int instance, float distance, float angle) {
   return setJumpThresholds(instance, distance, angle) ? 1 : 0;
 }
@@ -524,7 +508,7 @@ SPRINGBONES_EXPORT int sb_grabbedJoint(int instance) { return grabbedJoint(insta
 SPRINGBONES_EXPORT int sb_setInertia(int instance, float value, int chain) {
   return setInertia(instance, value, chain) ? 1 : 0;
 }
-SPRINGBONES_EXPORT std::uintptr_t sb_setColliders(int instance, std::uintptr_t data, std::size_t size) {
-  return text([&] { return setColliders(instance, data, size); });
+SPRINGBONES_EXPORT int sb_setColliders(int instance, std::uintptr_t data, std::size_t size) {
+  return setColliders(instance, data, size);
 }
 SPRINGBONES_EXPORT std::uintptr_t sb_frameMatricesPtr(int instance) { return frameMatricesPtr(instance); }

@@ -60,10 +60,13 @@ std::string setSpringBoneParams(const std::string& springbones_text, const std::
   return text;
 }
 
-/// Diagnostics for leak tests: the bytes malloc has handed out (this module holds no handles).
-std::string stats() {
+/// Diagnostics for leak tests: the bytes malloc has handed out (this module holds no handles), as
+/// the typed result.
+int stats() {
+  // The previous typed result freed first, so that the bytes in use do not count it.
+  g_result = std::vector<std::uint8_t>();
   const struct mallinfo info = mallinfo();
-  return statsJson(0, 0, 0, static_cast<std::size_t>(info.uordblks));
+  return result(describeStats(0, 0, 0, static_cast<std::size_t>(info.uordblks)));
 }
 
 }  // namespace
@@ -76,4 +79,5 @@ EMSCRIPTEN_BINDINGS(springbones_creator_tools) {
   emscripten::function("detectSpringBones", &detectSpringBones);
   emscripten::function("setSpringBoneParams", &setSpringBoneParams);
   emscripten::function("stats", &stats);
+  emscripten::function("typedResult", &typedResult);
 }

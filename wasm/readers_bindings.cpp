@@ -2,7 +2,7 @@
 // (springbones/readers.h), and a VRM document's typed input into the rig the runtime runs
 // (springbones/boundary.h, rig data). Contract with web/readers.js (the only caller): readGltf
 // and readVrm return the length of what they wrote, or -1 with the error pending (takeError, as in
-// the runtime); typedResult() is where those bytes are, until the next call.
+// the runtime); typedResult() is where those bytes are, until the next call (binding_errors.h).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -17,8 +17,6 @@
 
 namespace springbones::bindings {
 namespace {
-
-std::vector<std::uint8_t> g_result;
 
 void clearResult() {
   g_result.clear();
@@ -51,8 +49,6 @@ int readVrm(std::uintptr_t typed, std::size_t size) {
   });
   return ok ? static_cast<int>(g_result.size()) : -1;
 }
-
-std::uintptr_t typedResult() { return reinterpret_cast<std::uintptr_t>(g_result.data()); }
 
 }  // namespace
 }  // namespace springbones::bindings

@@ -11,6 +11,7 @@ import { checkNonEmptyString, checkWellFormed, toBytes } from './arguments.js';
 import { stringifyArgument, toJsonText } from './json_arguments.js';
 import { call, takeError } from './errors.js';
 import { instantiateModule } from './module_loader.js';
+import { takeTyped } from './typed_output.js';
 import { withBytes, withRoomForStrings } from './wasm_memory.js';
 
 const kModuleUrl = new URL('./dist/springbones_creator_tools.wasm', import.meta.url);
@@ -123,7 +124,7 @@ class CreatorTools {
 
   /** Diagnostics: the creator-tools module's memory size and the bytes malloc has handed out. */
   stats() {
-    const s = JSON.parse(this.#m.stats());
+    const s = takeTyped(this.#m, this.#m.stats());
     return { heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse };
   }
 }

@@ -1,5 +1,8 @@
 // The error type of springbones and how a failure in either WebAssembly module becomes one.
-// Shared by the runtime API (springbones.js) and the creator tools (creator_tools.js).
+// Shared by the runtime API (springbones.js), the readers (readers.js) and the creator tools
+// (creator_tools.js).
+
+import { takeTyped } from './typed_output.js';
 
 /** Every failure the library reports, apart from TypeError/RangeError for bad arguments. */
 export class SpringBonesError extends Error {
@@ -36,7 +39,10 @@ export function call(fn) {
 
 /** The error a module left pending (wasm/binding_errors.h), read once. */
 export function takeError(m) {
-  const { code, message, path } = JSON.parse(m.takeError());
+  const length = m.takeError();
+  // -1: the module had no memory left to write the error in.
+  if (length < 0) return new SpringBonesError('out-of-memory', 'out of memory');
+  const { code, message, path } = takeTyped(m, length);
   return new SpringBonesError(code, message, path);
 }
 

@@ -6,6 +6,7 @@ import { deepFreeze } from './deep_freeze.js';
 import { disposedError, takeError } from './errors.js';
 import { kLongFrameSeconds, warnLongFrame } from './long_frame.js';
 import { colliderChange } from './rig_options.js';
+import { takeTyped } from './typed_output.js';
 import { isStale, withBytes } from './wasm_memory.js';
 
 /**
@@ -213,9 +214,9 @@ export class Instance {
     const handle = this.#live();
     const typed = colliderChange('setColliders', colliders, options, this.#limits);
     const m = this.#m;
-    const text = withBytes(m, typed, (ptr, size) => m.setColliders(handle, ptr, size));
-    if (text === '') throw takeError(m);
-    const { frames, warnings } = JSON.parse(text);
+    const length = withBytes(m, typed, (ptr, size) => m.setColliders(handle, ptr, size));
+    if (length === 0) throw takeError(m);
+    const { frames, warnings } = takeTyped(m, length);
     this.#frameNames = deepFreeze(frames);
     this.#framePtr = m.frameMatricesPtr(handle);
     this.#frameFloats = 16 * frames.length;

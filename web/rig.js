@@ -5,19 +5,20 @@ import { deepFreeze } from './deep_freeze.js';
 import { call, disposedError, takeError } from './errors.js';
 import { Instance } from './instance.js';
 import { instanceOptions } from './rig_options.js';
+import { decodeTyped } from './typed_output.js';
 
 export class Rig {
   #m;
   #handle;
-  #descriptionText;  // the core's JSON text (describeRig, springbones/boundary.h) until its first read
+  #descriptionBytes;  // the core's typed values (describeRig, springbones/boundary.h) until their first read
   #description;
   #limits;
   #jumps;  // loadRig's jumpDistance / jumpAngle, the default of its instances
 
-  constructor(m, handle, descriptionText, limits, jumps = {}) {
+  constructor(m, handle, descriptionBytes, limits, jumps = {}) {
     this.#m = m;
     this.#handle = handle;
-    this.#descriptionText = descriptionText;
+    this.#descriptionBytes = descriptionBytes;
     this.#limits = limits;
     this.#jumps = jumps;
     Object.freeze(this);
@@ -34,8 +35,8 @@ export class Rig {
 
   #parsedDescription() {
     if (this.#description === undefined) {
-      this.#description = deepFreeze(JSON.parse(this.#descriptionText));
-      this.#descriptionText = undefined;
+      this.#description = deepFreeze(decodeTyped(this.#descriptionBytes));
+      this.#descriptionBytes = undefined;
     }
     return this.#description;
   }

@@ -1,6 +1,6 @@
 // The option objects of loadRig and createInstance: their keys and the rules over each, in one
 // place (arguments.js says where the other checks live). What crosses for loadRig is typed input
-// (typed_value.js) that the core reads again with its own rules (src/boundary/api_json.cpp).
+// (typed_value.js) that the core reads again with its own rules (src/boundary/api_values.cpp).
 
 import { checkDenseArray, checkFinite, checkInteger, checkKeys, checkNonEmptyString, checkNonNegative, checkOneOf,
   checkRange, checkVec3, optionsObject, scaledDirection } from './arguments.js';

@@ -5,21 +5,22 @@
 //
 // Arguments: 'n' a number (an integer, a float or a pointer: WebAssembly converts it), 's' a
 // string, which crosses as its UTF-8 bytes (pointer and size) copied in for the call. Results:
-// 'n' a number, 'p' a pointer (unsigned), 'b' a boolean (the C function returns 0 or 1), 's' a
-// string, which the C function leaves in the module's text result (a pointer to it, its size from
-// sb_textSize), freed with sb_textFree once decoded.
+// 'n' a number (a typed result's length among them: web/typed_output.js reads those), 'p' a
+// pointer (unsigned), 'b' a boolean (the C function returns 0 or 1), 's' a string, whose UTF-8
+// bytes the C function leaves in the typed result (wasm/binding_errors.h), returning their length.
 
 import { withBytes } from './wasm_memory.js';
 
 export const kRuntimeCalls = Object.freeze({
   isCrowdModule: ['', 'b'],
-  takeError: ['', 's'],
-  limitsJson: ['', 's'],
+  typedResult: ['', 'p'],
+  takeError: ['', 'n'],
+  limits: ['', 'n'],
   loadRig: ['nnnnsnn', 'n'],
   loadVrm: ['nn', 'n'],
   mainFileHashFor: ['nns', 's'],
   contentHash: ['nn', 's'],
-  describeRig: ['n', 's'],
+  describeRig: ['n', 'n'],
   createInstance: ['nnnnn', 'n'],
   driverMatricesPtr: ['n', 'p'],
   driverCount: ['n', 'n'],
@@ -43,7 +44,7 @@ export const kRuntimeCalls = Object.freeze({
   sceneSetWind: ['nnnnnnn', 'b'],
   sceneActivePtr: ['n', 'p'],
   disposeScene: ['n', 'b'],
-  stats: ['', 's'],
+  stats: ['', 'n'],
   setJumpThresholds: ['nnn', 'b'],
   jump: ['n', 'b'],
   jumps: ['n', 'n'],
@@ -53,7 +54,7 @@ export const kRuntimeCalls = Object.freeze({
   release: ['n', 'b'],
   grabbedJoint: ['n', 'n'],
   setInertia: ['nnn', 'b'],
-  setColliders: ['nnn', 's'],
+  setColliders: ['nnn', 'n'],
   frameMatricesPtr: ['n', 'p'],
 });
 
@@ -82,10 +83,9 @@ function runtimeCall(m, exported, text, result) {
     case 'b': return (a, b, c, d, e, f, g) => call(a, b, c, d, e, f, g) !== 0;
     case 'p': return (a, b, c, d, e, f, g) => call(a, b, c, d, e, f, g) >>> 0;
     case 's': return (...args) => {
-      const at = call(...args) >>> 0;
-      const text = decoder.decode(m.HEAPU8.subarray(at, at + m._sb_textSize()));
-      m._sb_textFree();
-      return text;
+      const length = call(...args);
+      const at = m._sb_typedResult() >>> 0;
+      return decoder.decode(m.HEAPU8.subarray(at, at + length));
     };
     default: return call;
   }

@@ -30,6 +30,7 @@ import { Rig } from './rig.js';
 import { rigOptions } from './rig_options.js';
 import { addRuntimeCalls } from './runtime_calls.js';
 import { Scene } from './scene.js';
+import { takeTyped, typedResult } from './typed_output.js';
 import { encodeGltf } from './typed_value.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
@@ -69,9 +70,9 @@ export async function createSpringBones(options = {}) {
   let limits;
   try {
     addRuntimeCalls(module);
-    // The core's limits and defaults (limitsJson, springbones/boundary.h), read once: the argument checks below
-    // use them, so the JS API never types a limit of its own.
-    limits = deepFreeze(JSON.parse(module.limitsJson()));
+    // The core's limits and defaults (describeLimits, springbones/boundary.h), read once: the argument checks
+    // below use them, so the JS API never types a limit of its own.
+    limits = deepFreeze(takeTyped(module, module.limits()));
   } catch (cause) {
     throw loadFailed(moduleSource(module), cause);
   }
@@ -236,7 +237,7 @@ class SpringBones {
 
   /** Diagnostics: live rigs, instances and scenes, WASM memory size and bytes in use by malloc. */
   stats() {
-    const s = JSON.parse(this.#m.stats());
+    const s = takeTyped(this.#m, this.#m.stats());
     return {
       rigs: s.rigs, instances: s.instances, scenes: s.scenes,
       heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse,
@@ -245,13 +246,13 @@ class SpringBones {
 
   #rig(handle, jumps = {}) {
     const m = this.#m;
-    // Copied out as text: the description outlives the handle.
-    const text = call(() => m.describeRig(handle));
-    if (text === '') {
+    // Copied out: the description outlives the handle.
+    const length = call(() => m.describeRig(handle));
+    if (length === 0) {
       m.disposeRig(handle);
       throw takeError(m);
     }
-    return new Rig(m, handle, text, this.#limits, jumps);
+    return new Rig(m, handle, typedResult(m, length), this.#limits, jumps);
   }
 }
 

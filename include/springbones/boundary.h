@@ -1,6 +1,7 @@
 // What the runtime's JavaScript API and the core exchange besides typed input (typed_input.h): the
-// rig options, and the JSON texts it reads back (failures, the rig description, limits, stats),
-// written by the core without a JSON library (src/boundary/). The creator tools' texts are in
+// rig options, and the values it reads back (failures, the rig description, limits, stats) in the
+// typed encoding (common/typed_value.h), which web/typed_output.js reads: no text is formatted for
+// them, no number written in decimal (src/boundary/). The creator tools' texts are in
 // creator_tools.h. The bindings (wasm/bindings.cpp) only pass these through.
 #pragma once
 
@@ -28,7 +29,7 @@ struct ApiFailure {
 
 ApiFailure toFailure(const Error& error);
 /// {code, message, path}.
-std::string failureJson(const ApiFailure& failure);
+std::vector<std::uint8_t> describeFailure(const ApiFailure& failure);
 
 /// The rig options loadRig's JS side writes, as typed input: {colliders?: [{node, shape?, offset?,
 /// radius?, tail?, normal?, inside?}], preset?: "dcl-body", hitRadius?, limits?}; no bytes for none.
@@ -44,14 +45,14 @@ ApiFailure readRigOptions(TypedBytes options, RigOptions& out);
 ApiFailure readColliderOptions(TypedBytes options, ColliderOptions& out);
 
 /// What setColliders reports: {frames: [names, in frameMatrices' order], warnings: [...]}.
-std::string describeColliderChange(const std::vector<std::string>& frames, const std::vector<Warning>& warnings);
+std::vector<std::uint8_t> describeColliderChange(const std::vector<std::string>& frames,
+                                                 const std::vector<Warning>& warnings);
 
-/// The rig as JSON text: {contentHash, format, nodeCount, joints, chains, drivers, colliders,
-/// warnings}, with the property names of web/springbones.d.ts. `content_hash` is the models key
-/// the rig was built from, `format` where its springs came from (dcl, vrmc-springbone, vrm0, none).
-/// Members in key order; non-finite floats are written as null; strings that are not UTF-8 with
-/// U+FFFD in their place.
-std::string describeRig(const Rig& rig, const std::string& content_hash, const std::string& format);
+/// The rig: {contentHash, format, nodeCount, joints, chains, drivers, colliders, warnings}, with the
+/// property names of web/springbones.d.ts. `content_hash` is the models key the rig was built
+/// from, `format` where its springs came from (dcl, vrmc-springbone, vrm0, none). Members in key
+/// order; floats as floats (the tag float), non-finite ones as null.
+std::vector<std::uint8_t> describeRig(const Rig& rig, const std::string& content_hash, const std::string& format);
 
 /// A built rig as bytes (src/boundary/rig_data.cpp has the layout), with the format its springs
 /// were read from: how a rig the readers module builds (loadVrm) crosses into the runtime module,
@@ -64,9 +65,10 @@ Error readRigData(TypedBytes data, std::shared_ptr<const Rig>& out, VrmSpringFor
 /// {maxStepHz, maxSubsteps, maxXpbdIterations, maxMetadataBytes, integrators: {vrm: {stepHz,
 /// maxSubsteps}, xpbd: {stepHz, maxSubsteps, xpbdIterations}}, bodyColliderShapes: the 'dcl-body' shape
 /// names setColliders' omit takes (dclBodyShapeNames)}.
-std::string limitsJson();
+std::vector<std::uint8_t> describeLimits();
 
 /// {rigs, instances, scenes, heapInUse}: the live handles and the bytes malloc has handed out.
-std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use);
+std::vector<std::uint8_t> describeStats(std::size_t rigs, std::size_t instances, std::size_t scenes,
+                                        std::size_t heap_in_use);
 
 }  // namespace springbones

@@ -299,7 +299,7 @@ std::shared_ptr<const Rig> buildRig(Skeleton skeleton, const ModelEntry& model, 
 enum class Integrator { kVrm, kXpbd };
 
 // Limits and defaults of InstanceOptions, defined here only (the JS API reads them from the
-// module, see boundary.h limitsJson).
+// module, see boundary.h describeLimits).
 inline constexpr double kMinStepHz = 1.0;
 inline constexpr double kMaxStepHz = 1000.0;
 inline constexpr int kMaxSubsteps = 64;

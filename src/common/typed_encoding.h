@@ -16,6 +16,7 @@ inline constexpr std::uint8_t kTypedTagNumber = 3;
 inline constexpr std::uint8_t kTypedTagString = 4;
 inline constexpr std::uint8_t kTypedTagArray = 5;
 inline constexpr std::uint8_t kTypedTagObject = 6;
+inline constexpr std::uint8_t kTypedTagFloat = 7;
 
 inline constexpr std::size_t kTypedMaxGltfTypedBytes = 67108864;
 inline constexpr std::size_t kTypedMaxMetadataTypedBytes = 16777216;

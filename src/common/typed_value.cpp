@@ -302,6 +302,13 @@ void TypedWriter::number(double v) {
   for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<std::uint8_t>(bits >> (8 * i)));
 }
 
+void TypedWriter::float32(float v) {
+  bytes_.push_back(kTypedTagFloat);
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &v, sizeof bits);
+  u32(bits);
+}
+
 void TypedWriter::string(std::string_view v) {
   bytes_.push_back(kTypedTagString);
   sized(v);

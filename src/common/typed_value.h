@@ -6,6 +6,7 @@
 // The encoding, little-endian, one value:
 //   null | false | true: the tag alone
 //   number: the tag, f64 (NaN and infinities allowed: a JS object can hold them)
+//   float:  the tag, f32 (only in what the runtime writes for the page, TypedWriter::float32)
 //   string: the tag, u32 byte length, UTF-8 bytes
 //   array:  the tag, u32 count, then that many values
 //   object: the tag, u32 count, then per member a u32 key length, the key's UTF-8 bytes and a value
@@ -158,12 +159,16 @@ class TypedDocument {
   std::vector<std::uint32_t> children_;  ///< each container's children, contiguous, objects' by key
 };
 
-/// Writes the encoding of a value, for the producers on the C++ side (the readers, tests).
+/// Writes the encoding of a value, for the producers on the C++ side (the readers, tests) and for
+/// what the runtime hands the page (springbones/boundary.h, read by web/typed_output.js).
 class TypedWriter {
  public:
   void null() { bytes_.push_back(kTypedTagNull); }
   void boolean(bool v) { bytes_.push_back(v ? kTypedTagTrue : kTypedTagFalse); }
   void number(double v);
+  /// The tag float and the f32: a float of the runtime's output, which the page reads as the
+  /// shortest decimal that gives the same float back. Typed input never holds it.
+  void float32(float v);
   void string(std::string_view v);
   void array(std::uint32_t count);
   void object(std::uint32_t count);

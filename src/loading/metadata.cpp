@@ -11,7 +11,8 @@
 #include <utility>
 
 #include "common/json_pointer.h"
-#include "common/json_text.h"
+#include "common/message_number.h"
+#include "common/quoted_value.h"
 #include "common/shown_name.h"
 #include "loading/bone_params.h"
 #include "springbones/springbones.h"
@@ -21,12 +22,7 @@ namespace {
 
 std::string describe(const TypedValue& value) { return quoteValue(value, 60); }
 
-std::string format(float v) {
-  std::string s = std::to_string(v);
-  s.erase(s.find_last_not_of('0') + 1);
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
-}
+std::string format(float v) { return numberText(v, NumberStyle::kFixedTrim); }
 
 std::string missingMessage(const ParamRange& range) {
   return std::string(range.key) + " is missing; using the default " + format(range.fallback);

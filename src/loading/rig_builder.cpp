@@ -9,12 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <string>
 #include <string_view>
 #include <utility>
 
+#include "common/message_number.h"
 #include "common/name_index.h"
 #include "common/shown_name.h"
 #include "common/transform_math.h"
@@ -29,11 +29,7 @@ namespace {
 constexpr float kMinBoneLength = 1e-6f;  // shorter bones have no direction to simulate
 
 // A number for a warning: 7 significant digits, 1e+30 rather than 31 digits.
-std::string formatNumber(float v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.7g", static_cast<double>(v));
-  return text;
-}
+std::string formatNumber(float v) { return numberText(v, NumberStyle::kG7); }
 
 class RigBuilder {
  public:

@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <optional>
 
 #include "common/glm_interop.h"
+#include "common/message_number.h"
 #include "common/shown_name.h"
 
 namespace springbones {
@@ -55,14 +55,16 @@ float clampAngle(float value, float max, const char* name, const std::string& la
                  std::vector<Warning>& warnings) {
   if (std::isnan(value)) {
     warn(warnings, "limit-clamped",
-         label + ": limit " + name + " is missing or not a number; using " + std::to_string(max) + " (no bound)", path);
+         label + ": limit " + name + " is missing or not a number; using " + numberText(max, NumberStyle::kFixed) +
+             " (no bound)",
+         path);
     return max;
   }
   if (value < 0.0f || value > max) {
     const float clamped = value < 0.0f ? 0.0f : max;
     warn(warnings, "limit-clamped",
-         label + ": limit " + name + " " + std::to_string(value) + " is outside [0, " + std::to_string(max) +
-             "]; using " + std::to_string(clamped),
+         label + ": limit " + name + " " + numberText(value, NumberStyle::kFixed) + " is outside [0, " +
+             numberText(max, NumberStyle::kFixed) + "]; using " + numberText(clamped, NumberStyle::kFixed),
          path);
     return clamped;
   }
@@ -144,10 +146,9 @@ bool sanitizeJointLimit(JointLimit& limit, const std::string& label, const std::
     // The draft requires a unit quaternion; one off by rounding is made unit quietly, one that is not
     // is named, since its author may have meant something else.
     if (std::fabs(length - 1.0) > 1e-3) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%.6g", length);
       warn(warnings, "limit-rotation-invalid",
-           label + ": limit rotation has length " + text + ", not 1; it is made unit", path);
+           label + ": limit rotation has length " + numberText(length, NumberStyle::kG6) + ", not 1; it is made unit",
+           path);
     }
     limit.rotation = Quat{static_cast<float>(q[0] / scaled_length), static_cast<float>(q[1] / scaled_length),
                           static_cast<float>(q[2] / scaled_length), static_cast<float>(q[3] / scaled_length)};

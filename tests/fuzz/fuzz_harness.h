@@ -18,11 +18,13 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "common/typed_encoding.h"
 #include "creator_tools/builder_edits.h"
 #include "creator_tools/tool_json.h"
 #include "loading/entity.h"
@@ -135,13 +137,71 @@ inline bool allNumbersFinite(const json& value) {
   return true;
 }
 
-// The rig description as the JS API reads it (rig.joints, rig.drivers, ...: one JSON.parse of
-// this text): it must parse as strict JSON, be an object with the documented members, and carry
-// only finite numbers.
+// What the runtime writes for the page (springbones/boundary.h, typed values) as JSON, as
+// web/typed_output.js reads it: a float tag is a number. Discarded when the bytes are not exactly
+// one value.
+inline json typedOutputJson(const std::vector<std::uint8_t>& bytes) {
+  std::size_t at = 0;
+  const auto u32 = [&]() -> std::uint32_t {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= std::uint32_t(bytes.at(at++)) << (8 * i);
+    return v;
+  };
+  const auto text = [&]() {
+    const std::uint32_t length = u32();
+    if (bytes.size() - at < length) throw std::out_of_range("a string runs past the end");
+    std::string s(reinterpret_cast<const char*>(bytes.data() + at), length);
+    at += length;
+    return s;
+  };
+  const auto value = [&](const auto& self) -> json {
+    const std::uint8_t tag = bytes.at(at++);
+    switch (tag) {
+      case kTypedTagNull: return nullptr;
+      case kTypedTagFalse: return false;
+      case kTypedTagTrue: return true;
+      case kTypedTagNumber: {
+        std::uint64_t bits = 0;
+        for (int i = 0; i < 8; ++i) bits |= std::uint64_t(bytes.at(at++)) << (8 * i);
+        double v = 0;
+        std::memcpy(&v, &bits, sizeof v);
+        return v;
+      }
+      case kTypedTagFloat: {
+        const std::uint32_t bits = u32();
+        float v = 0;
+        std::memcpy(&v, &bits, sizeof v);
+        return v;
+      }
+      case kTypedTagString: return text();
+      case kTypedTagArray: {
+        json out = json::array();
+        for (std::uint32_t n = u32(); n > 0; --n) out.push_back(self(self));
+        return out;
+      }
+      case kTypedTagObject: {
+        json out = json::object();
+        for (std::uint32_t n = u32(); n > 0; --n) {
+          const std::string key = text();
+          out[key] = self(self);
+        }
+        return out;
+      }
+      default: throw std::out_of_range("unknown tag");
+    }
+  };
+  try {
+    json out = value(value);
+    return at == bytes.size() ? out : json(json::value_t::discarded);
+  } catch (const std::out_of_range&) { return json(json::value_t::discarded); }
+}
+
+// The rig description as the JS API reads it (rig.joints, rig.drivers, ...: one decoding of these
+// typed values): it must be one value, an object with the documented members, and carry only
+// finite numbers.
 inline std::string checkDescription(const Rig& rig, const std::string& hash, const std::string& format) {
-  const std::string text = describeRig(rig, hash, format);
-  const json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded()) return "rig description is not JSON";
+  const json value = typedOutputJson(describeRig(rig, hash, format));
+  if (value.is_discarded()) return "rig description is not one typed value";
   for (const char* key :
        {"contentHash", "format", "nodeCount", "joints", "chains", "drivers", "colliders", "warnings"}) {
     if (!value.contains(key)) return std::string("rig description lacks ") + key;

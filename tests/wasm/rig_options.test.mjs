@@ -1,5 +1,5 @@
 // loadRig's options (colliders, hitRadius, avatarBones) have one home per side: web/rig_options.js checks the caller's object, and the
-// core's reader of what crosses (readRigOptions, src/boundary/api_json.cpp) checks it by the same
+// core's reader of what crosses (readRigOptions, src/boundary/api_values.cpp) checks it by the same
 // rules. The same bad options go to both: through loadRig in JavaScript, and as typed input
 // straight into the core's loadRig binding, past every JavaScript check. Each side must refuse
 // them, JavaScript with a TypeError or RangeError naming the option, the core with

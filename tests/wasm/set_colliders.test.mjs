@@ -94,8 +94,8 @@ function coreAnswer(typed) {
   assert.notEqual(rig, 0);
   const instance = m.createInstance(rig, 0, 0, 0, 4);
   try {
-    const text = withBytes(m, encodeTyped('test', typed), (p, s) => m.setColliders(instance, p, s));
-    if (text !== '') return null;
+    const length = withBytes(m, encodeTyped('test', typed), (p, s) => m.setColliders(instance, p, s));
+    if (length !== 0) return null;
     const { code, path, message } = takeError(m);
     return { code, path, message };
   } finally {

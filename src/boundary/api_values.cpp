@@ -1,5 +1,5 @@
-// The JSON texts of the runtime's boundary (springbones/boundary.h), written with JsonText, and the
-// rig options read from typed input.
+// The values of the runtime's boundary (springbones/boundary.h): the rig options read from typed
+// input; failures, limits and stats written with TypedWriter.
 #include "springbones/boundary.h"
 
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <initializer_list>
 #include <utility>
 
+#include "boundary/page_text.h"
 #include "common/json_pointer.h"
-#include "common/json_text.h"
 #include "common/typed_value.h"
 #include "loading/vrm_limits.h"
 
@@ -312,11 +312,16 @@ ApiFailure toFailure(const Error& error) {
   return ApiFailure{errorCodeName(error.code), error.message, error.path};
 }
 
-std::string failureJson(const ApiFailure& failure) {
-  JsonText out;
-  out.beginObject().key("code").value(failure.code).key("message").value(failure.message);
-  out.key("path").value(failure.path).endObject();
-  return out.take();
+std::vector<std::uint8_t> describeFailure(const ApiFailure& failure) {
+  TypedWriter out;
+  out.object(3);
+  out.key("code");
+  pageText(out, failure.code);
+  out.key("message");
+  pageText(out, failure.message);
+  out.key("path");
+  pageText(out, failure.path);
+  return std::move(out.bytes());
 }
 
 ApiFailure readRigOptions(TypedBytes options, RigOptions& out) {
@@ -339,36 +344,63 @@ ApiFailure readColliderOptions(TypedBytes options, ColliderOptions& out) {
   return failure;
 }
 
-std::string limitsJson() {
+std::vector<std::uint8_t> describeLimits() {
   const IntegratorDefaults vrm = integratorDefaults(Integrator::kVrm);
   const IntegratorDefaults xpbd = integratorDefaults(Integrator::kXpbd);
-  JsonText out;
-  out.beginObject();
-  out.key("bodyColliderShapes").beginArray();
-  for (const std::string& name : dclBodyShapeNames()) out.value(name);
-  out.endArray();
-  out.key("integrators").beginObject();
-  out.key("vrm").beginObject().key("maxSubsteps").value(vrm.max_substeps).key("stepHz").value(vrm.step_hz).endObject();
-  out.key("xpbd").beginObject().key("maxSubsteps").value(xpbd.max_substeps).key("stepHz").value(xpbd.step_hz);
-  out.key("xpbdIterations").value(kDefaultXpbdIterations).endObject();
-  out.endObject();
-  out.key("maxGustFrequency").value(kMaxGustFrequency);
-  out.key("maxMetadataBytes").value(kMaxMetadataBytes);
-  out.key("maxStepHz").value(kMaxStepHz);
-  out.key("maxSubsteps").value(kMaxSubsteps);
-  out.key("maxWindStrength").value(kMaxWindStrength);
-  out.key("maxSettleSeconds").value(kMaxSettleSeconds);
-  out.key("maxXpbdIterations").value(kMaxXpbdIterations);
-  out.key("settleSeconds").value(kDefaultSettleSeconds);
-  out.endObject();
-  return out.take();
+  TypedWriter out;
+  out.object(10);
+  out.key("bodyColliderShapes");
+  const std::vector<std::string>& shapes = dclBodyShapeNames();
+  out.array(static_cast<std::uint32_t>(shapes.size()));
+  for (const std::string& name : shapes) pageText(out, name);
+  out.key("integrators");
+  out.object(2);
+  out.key("vrm");
+  out.object(2);
+  out.key("maxSubsteps");
+  out.number(vrm.max_substeps);
+  out.key("stepHz");
+  out.number(vrm.step_hz);
+  out.key("xpbd");
+  out.object(3);
+  out.key("maxSubsteps");
+  out.number(xpbd.max_substeps);
+  out.key("stepHz");
+  out.number(xpbd.step_hz);
+  out.key("xpbdIterations");
+  out.number(kDefaultXpbdIterations);
+  out.key("maxGustFrequency");
+  out.float32(kMaxGustFrequency);
+  out.key("maxMetadataBytes");
+  out.number(static_cast<double>(kMaxMetadataBytes));
+  out.key("maxStepHz");
+  out.number(kMaxStepHz);
+  out.key("maxSubsteps");
+  out.number(kMaxSubsteps);
+  out.key("maxWindStrength");
+  out.float32(kMaxWindStrength);
+  out.key("maxSettleSeconds");
+  out.number(kMaxSettleSeconds);
+  out.key("maxXpbdIterations");
+  out.number(kMaxXpbdIterations);
+  out.key("settleSeconds");
+  out.number(kDefaultSettleSeconds);
+  return std::move(out.bytes());
 }
 
-std::string statsJson(std::size_t rigs, std::size_t instances, std::size_t scenes, std::size_t heap_in_use) {
-  JsonText out;
-  out.beginObject().key("heapInUse").value(heap_in_use).key("instances").value(instances);
-  out.key("rigs").value(rigs).key("scenes").value(scenes).endObject();
-  return out.take();
+std::vector<std::uint8_t> describeStats(std::size_t rigs, std::size_t instances, std::size_t scenes,
+                                        std::size_t heap_in_use) {
+  TypedWriter out;
+  out.object(4);
+  out.key("heapInUse");
+  out.number(static_cast<double>(heap_in_use));
+  out.key("instances");
+  out.number(static_cast<double>(instances));
+  out.key("rigs");
+  out.number(static_cast<double>(rigs));
+  out.key("scenes");
+  out.number(static_cast<double>(scenes));
+  return std::move(out.bytes());
 }
 
 }  // namespace springbones
