@@ -16,8 +16,6 @@
 //  - Nothing throws across the boundary: every entry point that can fail catches every C++
 //    exception and turns it into an error, so bad input never aborts the module and the next call
 //    works.
-#include <malloc.h>
-
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -31,6 +29,7 @@
 #include <emscripten/bind.h>
 
 #include "binding_errors.h"
+#include "heap_in_use.h"
 #include "springbones/boundary.h"
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
@@ -402,11 +401,8 @@ bool sceneSetWind(int scene, float dx, float dy, float dz, float strength, float
   return s != nullptr;
 }
 
-/// Diagnostics for leak tests: live handles and bytes malloc has handed out.
-std::string stats() {
-  const struct mallinfo info = mallinfo();
-  return statsJson(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks));
-}
+/// Diagnostics for leak tests: live handles and the bytes requested from malloc and not freed.
+std::string stats() { return statsJson(g_rigs.size(), g_instances.size(), g_scenes.size(), heapInUse()); }
 
 }  // namespace
 }  // namespace springbones::bindings

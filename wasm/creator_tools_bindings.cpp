@@ -4,8 +4,6 @@
 // the error pending on failure, nothing thrown across the boundary. The caller is
 // web/creator_tools.js. This module holds no handles: every call is a pure function of its
 // arguments.
-#include <malloc.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,6 +11,7 @@
 #include <emscripten/bind.h>
 
 #include "binding_errors.h"
+#include "heap_in_use.h"
 #include "springbones/boundary.h"
 #include "springbones/creator_tools.h"
 
@@ -60,11 +59,9 @@ std::string setSpringBoneParams(const std::string& springbones_text, const std::
   return text;
 }
 
-/// Diagnostics for leak tests: the bytes malloc has handed out (this module holds no handles).
-std::string stats() {
-  const struct mallinfo info = mallinfo();
-  return statsJson(0, 0, 0, static_cast<std::size_t>(info.uordblks));
-}
+/// Diagnostics for leak tests: the bytes requested from malloc and not freed (this module holds no
+/// handles).
+std::string stats() { return statsJson(0, 0, 0, heapInUse()); }
 
 }  // namespace
 }  // namespace springbones::bindings
