@@ -10,8 +10,9 @@
 // can replace them, and export themselves as emscripten_builtin_* for the replacement to call, as
 // the sanitizers do. So every caller in the module comes through here: operator new
 // (src/common/memory_reserve.cpp), libc and libc++abi (exceptions take an aligned allocation),
-// embind's strings and the JavaScript API's _malloc/_free. The few internals that call
-// emscripten_builtin_malloc themselves free with emscripten_builtin_free, never through here.
+// embind's strings and the JavaScript API's _malloc/_free. The few libc internals that allocate
+// under the allocator's own names (emscripten_builtin_malloc, musl's __libc_malloc: the atexit
+// table, locales) free under those names too, never through here, and are not counted.
 #include "heap_in_use.h"
 
 #include <emscripten/emmalloc.h>

@@ -21,7 +21,7 @@ const kBudgets = [
   // The crowd module runs on the runtime's glue (tests/wasm/crowd.test.mjs).
   { module: 'crowd', files: ['springbones_crowd.wasm', 'springbones_wasm.min.js'], measured: 127689 },
   { module: 'readers', files: ['springbones_readers.wasm', 'springbones_readers.min.js'], measured: 73914 },
-  { module: 'creator tools', files: ['springbones_creator_tools.wasm', 'springbones_creator_tools.min.js'], measured: 94776 },
+  { module: 'creator tools', files: ['springbones_creator_tools.wasm', 'springbones_creator_tools.min.js'], measured: 97846 },
 ];
 for (const { module, files, measured } of kBudgets) {
   const budget = Math.round(measured * 1.02);
