@@ -1,8 +1,11 @@
 #include "loading/entity.h"
 
 #include <algorithm>
-#include <unordered_map>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "common/name_index.h"
 #include "common/shown_name.h"
 
 namespace springbones {
@@ -80,26 +83,32 @@ Error readRepresentations(const TypedValue& entity, std::vector<Representation>&
   // {file: hash} (Builder item `contents`).
   // The first entry of a file wins; looked up by name, so many representations over a long content
   // list stay linear.
-  std::unordered_map<std::string, std::string> files;
+  // {file, hash} in the list's order, reserved whole so that the index's views of the names stay put.
+  std::vector<std::pair<std::string, std::string>> files;
   const TypedValue content = field(entity, "content");
   const TypedValue contents = field(entity, "contents");
   if (content.is_array()) {
+    files.reserve(content.size());
     for (std::size_t i = 0; i < content.size(); ++i) {
       const TypedValue f = field(content[i], "file");
       const TypedValue h = field(content[i], "hash");
       if (!f.is_string() || !h.is_string()) {
         return invalid("content entry is not {file, hash} strings", "/content/" + std::to_string(i));
       }
-      files.emplace(f.get<std::string>(), h.get<std::string>());
+      files.emplace_back(f.get<std::string>(), h.get<std::string>());
     }
   } else if (contents.is_object()) {
+    files.reserve(contents.size());
     for (auto it = contents.begin(); it != contents.end(); ++it) {
       if (!it->is_string()) return invalid("contents value is not a hash string", "/contents/" + it.key());
-      files.emplace(it.key(), it->get<std::string>());
+      files.emplace_back(it.key(), it->get<std::string>());
     }
   } else if (!content.is_null() || !contents.is_null()) {
     return invalid("the entity's content list is neither an array nor an object", "/content");
   }
+  NameIndex file_index;
+  file_index.reserve(files.size());
+  for (std::size_t i = 0; i < files.size(); ++i) file_index.insertFirst(files[i].first, static_cast<int>(i));
 
   const TypedValue representations = field(dataOf(entity), "representations");
   if (!representations.is_array()) {
@@ -118,7 +127,7 @@ Error readRepresentations(const TypedValue& entity, std::vector<Representation>&
         if (s.is_string()) rep.body_shapes.push_back(s.get<std::string>());
       }
     }
-    if (auto it = files.find(rep.main_file); it != files.end()) rep.main_file_hash = it->second;
+    if (const int file = file_index.find(rep.main_file); file >= 0) rep.main_file_hash = files[file].second;
     out.push_back(std::move(rep));
   }
   return {};

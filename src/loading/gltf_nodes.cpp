@@ -106,7 +106,7 @@ Error linkHierarchy(Skeleton& skeleton) {
     for (int c : nodes[order[head]].children) order.push_back(c);
   }
   if (order.size() != nodes.size()) {
-    std::vector<bool> reached(nodes.size(), false);
+    std::vector<unsigned char> reached(nodes.size(), 0);
     for (int i : order) reached[i] = true;
     int first = 0;
     while (reached[first]) ++first;

@@ -13,9 +13,9 @@
 #include <cstring>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <utility>
 
+#include "common/name_index.h"
 #include "common/shown_name.h"
 #include "common/transform_math.h"
 #include "loading/body_colliders.h"
@@ -34,69 +34,6 @@ std::string formatNumber(float v) {
   std::snprintf(text, sizeof text, "%.7g", static_cast<double>(v));
   return text;
 }
-
-
-// Name -> first index with that name, over views of strings that outlive it. Open addressing in
-// one flat array: std::unordered_map allocated a node per name (7,000 for a large wearable) and
-// was a third of the build.
-class NameIndex {
- public:
-  void reserve(std::size_t count) {
-    std::size_t size = 16;
-    while (size < 2 * count) size *= 2;
-    slots_.assign(size, Slot{});
-    mask_ = size - 1;
-  }
-
-  /// Adds name -> value unless the name is there already (the first one is kept).
-  void insertFirst(std::string_view name, int value) {
-    const std::uint32_t h = hash(name);
-    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
-      Slot& s = slots_[i];
-      if (s.value < 0) {
-        s = Slot{name.data(), static_cast<std::uint32_t>(name.size()), h, value};
-        return;
-      }
-      if (s.hash == h && equal(s, name)) return;
-    }
-  }
-
-  /// The value of `name`, or -1.
-  int find(std::string_view name) const {
-    if (slots_.empty()) return -1;
-    const std::uint32_t h = hash(name);
-    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
-      const Slot& s = slots_[i];
-      if (s.value < 0) return -1;
-      if (s.hash == h && equal(s, name)) return s.value;
-    }
-  }
-
- private:
-  struct Slot {
-    const char* data = nullptr;
-    std::uint32_t size = 0;
-    std::uint32_t hash = 0;
-    int value = -1;  ///< -1: empty
-  };
-
-  static bool equal(const Slot& s, std::string_view name) {
-    return s.size == name.size() && std::memcmp(s.data, name.data(), name.size()) == 0;
-  }
-
-  // FNV-1a, then a final mix so that names differing only in their last bytes spread out.
-  static std::uint32_t hash(std::string_view name) {
-    std::uint32_t h = 2166136261u;
-    for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
-    h ^= h >> 15;
-    h *= 0x2c1b3c6du;
-    h ^= h >> 12;
-    return h;
-  }
-
-  std::vector<Slot> slots_;
-  std::size_t mask_ = 0;
-};
 
 class RigBuilder {
  public:
@@ -235,8 +172,8 @@ class RigBuilder {
   // The driver of an entry's center, or -1 (world space) with a warning when it cannot be used.
   // Resolved once per entry so a chain sharing an entry warns once.
   int resolveCenter(int entry_index) {
-    auto cached = center_of_entry_.find(entry_index);
-    if (cached != center_of_entry_.end()) return cached->second;
+    if (center_of_entry_.empty()) center_of_entry_.assign(model_.bones.size(), kCenterUnresolved);
+    if (center_of_entry_[entry_index] != kCenterUnresolved) return center_of_entry_[entry_index];
     const BoneEntry& entry = model_.bones[entry_index];
     int driver = -1;
     if (!entry.center.empty()) {
@@ -255,7 +192,7 @@ class RigBuilder {
         driver = driverFor(node);
       }
     }
-    center_of_entry_.emplace(entry_index, driver);
+    center_of_entry_[entry_index] = driver;
     return driver;
   }
 
@@ -350,7 +287,8 @@ class RigBuilder {
       for (const ColliderSpec& spec : options_.colliders) with_preset.push_back(spec);
       specs = &with_preset;
     }
-    std::unordered_map<std::string, int> external;
+    NameIndex external;  // a collider node the GLB lacks -> its external driver
+    external.reserve(specs->size());
     for (const ColliderSpec& spec : *specs) {
       Collider collider;
       if (!colliderFromSpec(spec, collider, rig_->warnings)) continue;
@@ -363,15 +301,19 @@ class RigBuilder {
         }
         driver = driverFor(node);
       } else {
-        auto [e, added] = external.emplace(spec.node, static_cast<int>(rig_->drivers.size()));
-        if (added) rig_->drivers.push_back(Driver{-1, spec.node});
+        driver = external.find(spec.node);
+        const bool added = driver < 0;
+        if (added) {
+          driver = static_cast<int>(rig_->drivers.size());
+          external.insertFirst(spec.node, driver);
+          rig_->drivers.push_back(Driver{-1, spec.node});
+        }
         // The caller's (after the preset's): a name that is no node here and no Decentraland avatar
         // bone (Avatar_*, which a wearable's GLB may lack) is more often a typo ('Head' for
         // 'Avatar_Head') than a bone the page will supply.
         const bool from_caller =
             static_cast<std::size_t>(&spec - specs->data()) >= specs->size() - options_.colliders.size();
         if (added && from_caller && spec.node.rfind("Avatar_", 0) != 0) warnColliderNodeNotFound(spec.node);
-        driver = e->second;
       }
       collider.driver = driver;
       rig_->colliders.push_back(collider);
@@ -421,7 +363,7 @@ class RigBuilder {
   const ModelEntry& model_;
   const RigOptions& options_;
   std::shared_ptr<Rig> rig_;
-  std::vector<bool> is_candidate_;
+  std::vector<unsigned char> is_candidate_;
   std::vector<int> entry_of_node_;
   std::vector<int> chain_of_node_;
   std::vector<int> root_nodes_;
@@ -429,11 +371,13 @@ class RigBuilder {
   // 7,000 nodes copies no strings.
   NameIndex first_node_by_name_;  ///< filled by nodeNamed
   bool nodes_indexed_ = false;
-  std::unordered_map<int, int> center_of_entry_;
+  // Per models entry: the driver of its center (-1: world space), kCenterUnresolved until asked.
+  static constexpr int kCenterUnresolved = -2;
+  std::vector<int> center_of_entry_;
   // Scratch of the phases, members rather than locals for the same reason as the in-place Joint.
   NameIndex entry_by_name_;
   std::vector<int> matches_;
-  std::vector<bool> entry_is_spring_;  ///< the entry's name has the token
+  std::vector<unsigned char> entry_is_spring_;  ///< the entry's name has the token
   std::vector<int> joint_of_node_;
   std::vector<int> queue_;
   std::vector<int> driver_of_node_;  ///< node -> driver, -1 (sized on first use)

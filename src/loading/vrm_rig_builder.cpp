@@ -212,7 +212,7 @@ Error VrmRigBuilder::emit(std::shared_ptr<const Rig>& out) {
 // so the chain's transforms compose down to it (see the header).
 void VrmRigBuilder::insertFixedAboveRoots() {
   const auto& all = nodes();
-  std::vector<bool> joint_above(all.size(), false);
+  std::vector<unsigned char> joint_above(all.size(), 0);
   for (int n : rig_->skeleton.parents_first) {
     const int p = all[n].parent;
     joint_above[n] = p >= 0 && (role_[p] != Role::kNone || joint_above[p]);
@@ -263,7 +263,7 @@ int VrmRigBuilder::centerDriver(int spring_index) {
 
 void VrmRigBuilder::emitJoints() {
   const auto& all = nodes();
-  under_joint_.assign(all.size(), false);
+  under_joint_.assign(all.size(), 0);
   for (int n : rig_->skeleton.parents_first) {
     const int p = all[n].parent;
     under_joint_[n] = role_[n] != Role::kNone || (p >= 0 && under_joint_[p]);
@@ -352,7 +352,7 @@ Error VrmRigBuilder::gatherSpringColliders() {
 
 Error VrmRigBuilder::emitColliders() {
   if (Error e = gatherSpringColliders()) return e;
-  std::vector<bool> used(file_colliders_.size(), false);
+  std::vector<unsigned char> used(file_colliders_.size(), 0);
   for (const Joint& joint : rig_->joints) {
     if (role_[joint.node] != Role::kSimulated) continue;
     for (int id : springs_[sims_[sim_of_node_[joint.node]].spring].colliders) used[id] = true;

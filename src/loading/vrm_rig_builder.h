@@ -153,7 +153,7 @@ class VrmRigBuilder {
   std::vector<int> sim_of_node_;
   std::vector<int> fixed_tail_;
   std::vector<int> pre_, subtree_;
-  std::vector<bool> under_joint_;
+  std::vector<unsigned char> under_joint_;
   std::vector<int> joint_of_node_;
   std::size_t walk_budget_ = 0;
   std::vector<VrmSimJoint> sims_;

@@ -11,7 +11,7 @@ MatrixDrivers::MatrixDrivers(const Rig& rig, const ColliderSet& colliders, const
   matrices_.resize(drivers);
   inverses_.resize(drivers);
   last_.resize(drivers);
-  inverse_valid_.assign(drivers, false);
+  inverse_valid_.assign(drivers, 0);
   colliders_.resize(set_.colliders.size());
 }
 
@@ -33,7 +33,7 @@ void MatrixDrivers::prepare(const StepDrivers& drivers, bool keep_last) {
                                       glm::mix(toGlm(a.scale), toGlm(b.scale), drivers.t));
     }
     glm::mat4 inverse;
-    inverse_valid_[d] = affineInverse(matrices_[d], inverse);
+    inverse_valid_[d] = affineInverse(matrices_[d], inverse) ? 1 : 0;
     if (inverse_valid_[d]) inverses_[d] = inverse;
   }
   prepareColliders();

@@ -63,7 +63,7 @@ class MatrixDrivers {
   const ColliderSet& set_;
   const std::vector<glm::mat4>& frames_;
   std::vector<glm::mat4> matrices_, inverses_, last_;
-  std::vector<bool> inverse_valid_;
+  std::vector<unsigned char> inverse_valid_;
   ColliderTable colliders_;
 };
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <type_traits>
 #include <utility>
 
 #if defined(__GNUC__)
@@ -211,7 +212,7 @@ SpringLanes::SpringLanes(std::shared_ptr<const RigConstants> constants) : rig_co
   starts_.resize(depth_count_);
   lanes_at_.resize(depth_count_);
   constants_.resize(depth_count_ * lanes_per_copy_);
-  std::vector<bool> started(lanes_per_copy_, false);
+  std::vector<unsigned char> started(lanes_per_copy_, 0);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
     const int lane = joint_lane_[j];
@@ -506,22 +507,35 @@ SPRINGBONES_NOINLINE void SpringLanes::collideSlot(std::uint32_t mask, float hit
 
 // Seeding happens once per copy, so it takes the joint's head from the parent's transform always
 // (one kernel less in the module) rather than from the parent's tail.
+//
+// Each case its own kernel, the three choices compile-time constants, so that each loop body has
+// only its own arithmetic: what a crowd runs. The runtime module's copy of this file (wasm/,
+// SPRINGBONES_ONE_SLOT_KERNEL) has one kernel that chooses as it goes: a preview steps a few
+// dozen joints, and five kernels less are bytes on its first load. The choices select between
+// values the same operations computed, so both give the same bits.
 void SpringLanes::runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane,
                              std::size_t first_copy, std::size_t end_copy, float h) {
+#if SPRINGBONES_ONE_SLOT_KERNEL
+  runSlot(seed, center, continues && !seed, depth, lane, first_copy, end_copy, h);
+#else
+  using Yes = std::true_type;
+  using No = std::false_type;
   if (seed) {
-    center ? runSlot<true, true, false>(depth, lane, first_copy, end_copy, h)
-           : runSlot<true, false, false>(depth, lane, first_copy, end_copy, h);
+    center ? runSlot(Yes{}, Yes{}, No{}, depth, lane, first_copy, end_copy, h)
+           : runSlot(Yes{}, No{}, No{}, depth, lane, first_copy, end_copy, h);
   } else if (continues) {
-    center ? runSlot<false, true, true>(depth, lane, first_copy, end_copy, h)
-           : runSlot<false, false, true>(depth, lane, first_copy, end_copy, h);
+    center ? runSlot(No{}, Yes{}, Yes{}, depth, lane, first_copy, end_copy, h)
+           : runSlot(No{}, No{}, Yes{}, depth, lane, first_copy, end_copy, h);
   } else {
-    center ? runSlot<false, true, false>(depth, lane, first_copy, end_copy, h)
-           : runSlot<false, false, false>(depth, lane, first_copy, end_copy, h);
+    center ? runSlot(No{}, Yes{}, No{}, depth, lane, first_copy, end_copy, h)
+           : runSlot(No{}, No{}, No{}, depth, lane, first_copy, end_copy, h);
   }
+#endif
 }
 
-template <bool kSeed, bool kCenter, bool kContinues>
-void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h) {
+template <typename Seed, typename Center, typename Continues>
+void SpringLanes::runSlot(Seed seed, Center center, Continues continues, std::size_t depth, std::size_t lane,
+                          std::size_t first_copy, std::size_t end_copy, float h) {
   const SlotConstants c = constants_[depth * lanes_per_copy_ + lane];
   const std::size_t base_lane = lane * copy_capacity_;  // copy k is lane base_lane + k
   const std::size_t begin = base_lane + first_copy, end = base_lane + end_copy;
@@ -555,7 +569,7 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     const std::size_t l = block * B + i - base_lane;  // the copy
     const float pqx = p[kQx * B], pqy = p[kQy * B], pqz = p[kQz * B], pqw = p[kQw * B], ps = p[kS * B];
     float hx, hy, hz;
-    if (kContinues) {
+    if (continues) {
       // The parent turned its rest axis, the direction of this joint's rest translation, onto
       // its new tail at this bone's length: the joint sits on that tail (the lane's previous
       // depth left it here). Equal to the transform below up to rounding, which would be about a
@@ -574,13 +588,13 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     float dx, dy, dz;  // rest direction, world
     rotate(pqx, pqy, pqz, pqw, c.bx, c.by, c.bz, dx, dy, dz);
     float sx = hx + dx * length, sy = hy + dy * length, sz = hz + dz * length;
-    if (!kSeed) {
+    if (!seed) {
       const float cx = s[kCx * B], cy = s[kCy * B], cz = s[kCz * B];
       const float vx = cx + (cx - s[kOx * B]) * c.keep;
       const float vy = cy + (cy - s[kOy * B]) * c.keep;
       const float vz = cz + (cz - s[kOz * B]) * c.keep;
       float wx = vx, wy = vy, wz = vz;
-      if (kCenter) {
+      if (center) {
         rotate(cqx[l], cqy[l], cqz[l], cqw[l], vx, vy, vz, wx, wy, wz);
         wx = cpx[l] + cs[l] * wx;
         wy = cpy[l] + cs[l] * wy;
@@ -612,7 +626,7 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
   });
 
   // Between the passes: the slot's colliders (collideSlot).
-  if (!kSeed && c.collider_mask != 0) collideSlot(c.collider_mask, c.hit_radius, base_lane, begin, end);
+  if (!seed && c.collider_mask != 0) collideSlot(c.collider_mask, c.hit_radius, base_lane, begin, end);
 
   // Second pass: store the tail (center space), turn the joint toward it, and write the local
   // rotation and the joint's world transform for the next depth. (Two passes with the tail handed
@@ -628,16 +642,16 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     const float length = t[kLength * B];
     float sx = t[kTailX * B], sy = t[kTailY * B], sz = t[kTailZ * B];
     const float fx = sx - hx, fy = sy - hy, fz = sz - hz;
-    if (kCenter) {
+    if (center) {
       float ux, uy, uz;
       rotate(-cqx[l], -cqy[l], -cqz[l], cqw[l], sx - cpx[l], sy - cpy[l], sz - cpz[l], ux, uy, uz);
       sx = ux / cs[l];
       sy = uy / cs[l];
       sz = uz / cs[l];
     }
-    s[kOx * B] = kSeed ? sx : s[kCx * B];
-    s[kOy * B] = kSeed ? sy : s[kCy * B];
-    s[kOz * B] = kSeed ? sz : s[kCz * B];
+    s[kOx * B] = seed ? sx : s[kCx * B];
+    s[kOy * B] = seed ? sy : s[kCy * B];
+    s[kOz * B] = seed ? sz : s[kCz * B];
     s[kCx * B] = sx;
     s[kCy * B] = sy;
     s[kCz * B] = sz;
@@ -658,7 +672,7 @@ void SpringLanes::runSlot(std::size_t depth, std::size_t lane, std::size_t first
     float mx, my, mz, mw;
     multiply(tqx * inv_turn, tqy * inv_turn, tqz * inv_turn, tqw * inv_turn, c.rx, c.ry, c.rz, c.rw, mx, my, mz, mw);
     // Seeding, a zero-length bone or a lost direction (NaN fails the comparison) keep the rest.
-    const bool moving = !kSeed && length > kMinLength && inv_turn < 1e30f;
+    const bool moving = !seed && length > kMinLength && inv_turn < 1e30f;
     const float lqx = moving ? mx : c.rx;
     const float lqy = moving ? my : c.ry;
     const float lqz = moving ? mz : c.rz;

@@ -120,8 +120,10 @@ class SpringLanes {
     int parent_driver;  // rig driver of a root's parent, -1: the identity
   };
 
-  template <bool kSeed, bool kCenter, bool kContinues>
-  void runSlot(std::size_t depth, std::size_t lane, std::size_t first_copy, std::size_t end_copy, float h);
+  // Seed, Center, Continues: bool, or std::integral_constant<bool, ...> for a kernel of its own.
+  template <typename Seed, typename Center, typename Continues>
+  void runSlot(Seed seed, Center center, Continues continues, std::size_t depth, std::size_t lane,
+               std::size_t first_copy, std::size_t end_copy, float h);
   void runSlotFor(bool seed, bool center, bool continues, std::size_t depth, std::size_t lane, std::size_t first_copy,
                   std::size_t end_copy, float h);
   void collideSlot(std::uint32_t mask, float hit_radius, std::size_t base_lane, std::size_t begin, std::size_t end);
