@@ -4,7 +4,7 @@
 // allocator rounds a block up to or how it splits its free regions. The allocator's own count
 // (mallinfo) is of its regions, and depends on their layout: emmalloc hands a used region the
 // slack of the free region it was split from, so two identical warm-ups in a row left it 8 bytes
-// apart (docs/performance.md, "Every byte").
+// apart (docs/performance.md, "The allocator").
 //
 // Emscripten's allocators (dlmalloc and emmalloc alike) define these names weakly so that a program
 // can replace them, and export themselves as emscripten_builtin_* for the replacement to call, as
@@ -15,7 +15,7 @@
 // table, locales) free under those names too, never through here, and are not counted.
 #include "heap_in_use.h"
 
-#include <emscripten/emmalloc.h>
+#include <emscripten/emmalloc.h>  // declares emscripten_builtin_*, which dlmalloc defines too
 
 #include <algorithm>
 #include <cerrno>
