@@ -1,8 +1,9 @@
-// embind bindings of the runtime module: declarations over integers, pointers and strings, and
-// nothing else. The creator tools (validation, Builder edits) are a second module with its own
-// bindings, wasm/creator_tools_bindings.cpp.
+// The runtime module's bindings: entry points over integers, pointers and strings, exported as C
+// functions (the list at the end), and nothing else. The readers and the creator tools are
+// modules with bindings of their own (wasm/readers_bindings.cpp, wasm/creator_tools_bindings.cpp).
 //
-// Contract with web/springbones.js (the only caller; nothing here is public API):
+// Contract with web/springbones.js (the only caller, through web/runtime_calls.js; nothing here is
+// public API):
 //  - Rigs, instances and scenes live in handle tables. A handle is a positive integer, never reused, so
 //    a stale handle finds nothing instead of someone else's object. 0 means failure; the error is
 //    then read once with takeError() as JSON {code, message, path} (binding_errors.h).
@@ -26,7 +27,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include <emscripten/bind.h>
+#include <emscripten/emscripten.h>
 
 #include "binding_errors.h"
 #include "heap_in_use.h"
@@ -82,14 +83,14 @@ TypedBytes typedAt(std::uintptr_t data, std::size_t size) {
 /// their errors: options, skeleton, metadata. Returns the rig handle, or 0 with the error
 /// pending. The caller keeps ownership of the bytes.
 int loadRig(std::uintptr_t gltf, std::size_t gltf_size, std::uintptr_t metadata, std::size_t metadata_size,
-            const std::string& hash, std::uintptr_t options_data, std::size_t options_size) {
+            std::string_view hash, std::uintptr_t options_data, std::size_t options_size) {
   return guarded([&] {
     RigOptions options;
     if (ApiFailure f = readRigOptions(typedAt(options_data, options_size), options)) return fail(std::move(f));
     Skeleton skeleton;
     if (Error e = loadSkeleton(typedAt(gltf, gltf_size), skeleton)) return fail(e);
     LoadedRig loaded;
-    loaded.hash = hash;
+    loaded.hash = std::string(hash);
     ModelEntry model;
     std::vector<Warning> warnings;
     if (Error e = parseSpringBones(typedAt(metadata, metadata_size), loaded.hash, model, warnings)) return fail(e);
@@ -120,10 +121,10 @@ int loadVrm(std::uintptr_t rig_data, std::size_t size) {
 
 /// The GLB hash of the representation `body_shape` wears in the entity (typed input), or "" with
 /// the error pending.
-std::string mainFileHashFor(std::uintptr_t entity, std::size_t size, const std::string& body_shape) {
+std::string mainFileHashFor(std::uintptr_t entity, std::size_t size, std::string_view body_shape) {
   std::string hash;
   const int ok = guarded([&] {
-    if (Error e = springbones::mainFileHashFor(typedAt(entity, size), body_shape, hash)) return fail(e);
+    if (Error e = springbones::mainFileHashFor(typedAt(entity, size), std::string(body_shape), hash)) return fail(e);
     return 1;
   });
   return ok ? hash : std::string();
@@ -407,49 +408,119 @@ std::string stats() { return statsJson(g_rigs.size(), g_instances.size(), g_scen
 }  // namespace
 }  // namespace springbones::bindings
 
-EMSCRIPTEN_BINDINGS(springbones) {
-  using namespace springbones::bindings;
-  emscripten::function("takeError", &takeError);
-  emscripten::function("limitsJson", &springbones::limitsJson);
-  emscripten::function("loadRig", &loadRig);
-  emscripten::function("loadVrm", &loadVrm);
-  emscripten::function("mainFileHashFor", &mainFileHashFor);
-  emscripten::function("contentHash", &contentHash);
-  emscripten::function("describeRig", &describeRig);
-  emscripten::function("createInstance", &createInstance);
-  emscripten::function("driverMatricesPtr", &driverMatricesPtr);
-  emscripten::function("driverCount", &driverCount);
-  emscripten::function("rotationsPtr", &rotationsPtr);
-  emscripten::function("worldMatricesPtr", &worldMatricesPtr);
-  emscripten::function("jointCount", &jointCount);
-  emscripten::function("step", &step);
-  emscripten::function("reset", &reset);
-  emscripten::function("lastSteps", &lastSteps);
-  emscripten::function("disposeRig", &disposeRig);
-  emscripten::function("disposeInstance", &disposeInstance);
-  emscripten::function("createScene", &createScene);
-  emscripten::function("sceneAdd", &sceneAdd);
-  emscripten::function("sceneRemove", &sceneRemove);
-  emscripten::function("sceneSize", &sceneSize);
-  emscripten::function("scenePositionsPtr", &scenePositionsPtr);
-  emscripten::function("sceneSetBudget", &sceneSetBudget);
-  emscripten::function("sceneStep", &sceneStep);
-  emscripten::function("sceneIsActive", &sceneIsActive);
-  emscripten::function("setWind", &setWind);
-  emscripten::function("sceneSetWind", &sceneSetWind);
-  emscripten::function("sceneActivePtr", &sceneActivePtr);
-  emscripten::function("disposeScene", &disposeScene);
-  emscripten::function("stats", &stats);
-  // Motion
-  emscripten::function("setJumpThresholds", &setJumpThresholds);
-  emscripten::function("jump", &jump);
-  emscripten::function("jumps", &jumps);
-  emscripten::function("carryFrom", &carryFrom);
-  emscripten::function("settle", &settle);
-  emscripten::function("grab", &grab);
-  emscripten::function("release", &release);
-  emscripten::function("grabbedJoint", &grabbedJoint);
-  emscripten::function("setInertia", &setInertia);
-  emscripten::function("setColliders", &setColliders);
-  emscripten::function("frameMatricesPtr", &frameMatricesPtr);
+// The entry points as the module exports them: C functions over numbers named sb_<name>, which
+// web/runtime_calls.js lists with the kinds of their arguments and results and installs on the
+// Module object as <name> (tests/wasm/runtime_calls.test.mjs holds the two lists together). A
+// text argument crosses as UTF-8 bytes and their size; a text result as a pointer to the module's
+// one text result, whose size sb_textSize gives, read and freed (sb_textFree) by the caller. No
+// embind: its JavaScript runtime was two thirds of the glue (docs/performance.md, "Every byte").
+#define SPRINGBONES_EXPORT extern "C" EMSCRIPTEN_KEEPALIVE
+
+namespace springbones::bindings {
+namespace {
+
+std::string g_text_result;
+
+// A text result, kept until the next one. Out of memory while making it leaves "" and the error
+// pending, as the entry points' own failures do.
+template <typename MakeText>
+std::uintptr_t text(MakeText&& make) {
+  try {
+    g_text_result = make();
+  } catch (...) {
+    g_text_result.clear();
+    fail("out-of-memory", "out of memory");
+  }
+  return reinterpret_cast<std::uintptr_t>(g_text_result.data());
 }
+
+std::string_view textAt(std::uintptr_t data, std::size_t size) {
+  return std::string_view(reinterpret_cast<const char*>(data), size);
+}
+
+}  // namespace
+}  // namespace springbones::bindings
+
+using namespace springbones::bindings;
+
+SPRINGBONES_EXPORT std::size_t sb_textSize() { return g_text_result.size(); }
+// Frees the text result once read: the heap in use (stats) then counts no text between calls.
+SPRINGBONES_EXPORT void sb_textFree() { std::string().swap(g_text_result); }
+SPRINGBONES_EXPORT std::uintptr_t sb_takeError() {
+  return text([&] { return takeError(); });
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_limitsJson() {
+  return text([&] { return springbones::limitsJson(); });
+}
+SPRINGBONES_EXPORT int sb_loadRig(std::uintptr_t gltf, std::size_t gltf_size, std::uintptr_t metadata,
+                                  std::size_t metadata_size, std::uintptr_t hash, std::size_t hash_size,
+                                  std::uintptr_t options_data, std::size_t options_size) {
+  return loadRig(gltf, gltf_size, metadata, metadata_size, textAt(hash, hash_size), options_data, options_size);
+}
+SPRINGBONES_EXPORT int sb_loadVrm(std::uintptr_t rig_data, std::size_t size) { return loadVrm(rig_data, size); }
+SPRINGBONES_EXPORT std::uintptr_t sb_mainFileHashFor(std::uintptr_t entity, std::size_t size, std::uintptr_t body_shape,
+                                                     std::size_t body_shape_size) {
+  return text([&] { return mainFileHashFor(entity, size, textAt(body_shape, body_shape_size)); });
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_contentHash(std::uintptr_t data, std::size_t size) {
+  return text([&] { return contentHash(data, size); });
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_describeRig(int rig) {
+  return text([&] { return describeRig(rig); });
+}
+SPRINGBONES_EXPORT int sb_createInstance(int rig, double step_hz, int max_substeps, int integrator,
+                                         int xpbd_iterations) {
+  return createInstance(rig, step_hz, max_substeps, integrator, xpbd_iterations);
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_driverMatricesPtr(int instance) { return driverMatricesPtr(instance); }
+SPRINGBONES_EXPORT int sb_driverCount(int instance) { return driverCount(instance); }
+SPRINGBONES_EXPORT std::uintptr_t sb_rotationsPtr(int instance) { return rotationsPtr(instance); }
+SPRINGBONES_EXPORT std::uintptr_t sb_worldMatricesPtr(int instance) { return worldMatricesPtr(instance); }
+SPRINGBONES_EXPORT int sb_jointCount(int instance) { return jointCount(instance); }
+SPRINGBONES_EXPORT int sb_step(int instance, double dt) { return step(instance, dt) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_reset(int instance) { return reset(instance) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_lastSteps(int instance) { return lastSteps(instance); }
+SPRINGBONES_EXPORT int sb_disposeRig(int rig) { return disposeRig(rig) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_disposeInstance(int instance) { return disposeInstance(instance) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_createScene() { return createScene(); }
+SPRINGBONES_EXPORT int sb_sceneAdd(int scene, int instance) { return sceneAdd(scene, instance); }
+SPRINGBONES_EXPORT int sb_sceneRemove(int scene, int instance) { return sceneRemove(scene, instance) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_sceneSize(int scene) { return sceneSize(scene); }
+SPRINGBONES_EXPORT std::uintptr_t sb_scenePositionsPtr(int scene) { return scenePositionsPtr(scene); }
+SPRINGBONES_EXPORT int sb_sceneSetBudget(int scene, int max_active, float x, float y, float z) {
+  return sceneSetBudget(scene, max_active, x, y, z) ? 1 : 0;
+}
+SPRINGBONES_EXPORT int sb_sceneStep(int scene, double dt) { return sceneStep(scene, dt) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_sceneIsActive(int scene, int slot) { return sceneIsActive(scene, slot) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_setWind(int instance, float dx, float dy, float dz, float strength, float gust_frequency,
+                                  double seed) {
+  return setWind(instance, dx, dy, dz, strength, gust_frequency, seed) ? 1 : 0;
+}
+SPRINGBONES_EXPORT int sb_sceneSetWind(int scene, float dx, float dy, float dz, float strength, float gust_frequency,
+                                       double seed) {
+  return sceneSetWind(scene, dx, dy, dz, strength, gust_frequency, seed) ? 1 : 0;
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_sceneActivePtr(int scene) { return sceneActivePtr(scene); }
+SPRINGBONES_EXPORT int sb_disposeScene(int scene) { return disposeScene(scene) ? 1 : 0; }
+SPRINGBONES_EXPORT std::uintptr_t sb_stats() {
+  return text([&] { return stats(); });
+}
+SPRINGBONES_EXPORT int sb_setJumpThresholds(int instance, float distance, float angle) {
+  return setJumpThresholds(instance, distance, angle) ? 1 : 0;
+}
+SPRINGBONES_EXPORT int sb_jump(int instance) { return jump(instance) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_jumps(int instance) { return jumps(instance); }
+SPRINGBONES_EXPORT int sb_carryFrom(int instance, int previous) { return carryFrom(instance, previous) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_settle(int instance, double seconds) { return settle(instance, seconds); }
+SPRINGBONES_EXPORT int sb_grab(int instance, int joint, float x, float y, float z) {
+  return grab(instance, joint, x, y, z) ? 1 : 0;
+}
+SPRINGBONES_EXPORT int sb_release(int instance) { return release(instance) ? 1 : 0; }
+SPRINGBONES_EXPORT int sb_grabbedJoint(int instance) { return grabbedJoint(instance); }
+SPRINGBONES_EXPORT int sb_setInertia(int instance, float value, int chain) {
+  return setInertia(instance, value, chain) ? 1 : 0;
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_setColliders(int instance, std::uintptr_t data, std::size_t size) {
+  return text([&] { return setColliders(instance, data, size); });
+}
+SPRINGBONES_EXPORT std::uintptr_t sb_frameMatricesPtr(int instance) { return frameMatricesPtr(instance); }

@@ -21,7 +21,8 @@ export class SpringBonesError extends Error {
 }
 
 // The bindings catch every C++ exception; what can still come out of a call is a trap (a bug in
-// the core, or running out of stack) or embind's own argument errors. Both become errors of ours.
+// the core, or running out of stack) or, in the creator tools, embind's own argument errors. Both
+// become errors of ours.
 export function call(fn) {
   try {
     return fn();

@@ -5,7 +5,7 @@
 import { checkNonEmptyString, checkWellFormed } from './arguments.js';
 import { SpringBonesError, call, takeError, withCause } from './errors.js';
 import { checkStringBound, encodeTyped } from './typed_value.js';
-import { withBytes, withRoomForStrings } from './wasm_memory.js';
+import { withBytes } from './wasm_memory.js';
 
 /** The options that say which models entry applies (loadRig, detectSpringBones). */
 export const kHashOptions = ['contentHash', 'entity', 'bodyShape'];
@@ -26,8 +26,7 @@ export function resolveHash(m, where, options) {
     `${where}: entity`, entity, 'entity-bad-json', 'an object or JSON text'));
   if (contentHash !== undefined) return contentHash;
   if (typedEntity === undefined) return '';
-  const hash = call(() => withBytes(m, typedEntity, (ptr, size) => withRoomForStrings(m, [bodyShape],
-    () => m.mainFileHashFor(ptr, size, bodyShape))));
+  const hash = call(() => withBytes(m, typedEntity, (ptr, size) => m.mainFileHashFor(ptr, size, bodyShape)));
   if (hash === '') throw takeError(m);
   return hash;
 }

@@ -1,6 +1,7 @@
 // springbones: spring-bone physics for avatar wearables, the JavaScript API.
 //
-// A thin ES module over the WebAssembly core's runtime module (wasm/bindings.cpp). The contract is
+// A thin ES module over the WebAssembly core's runtime module (wasm/bindings.cpp, its entry points
+// on the module object by runtime_calls.js). The contract is
 // springbones.d.ts; docs/design.md ("Across the JavaScript boundary") explains it. Per frame exactly
 // one call crosses the boundary (instance.step, or scene.step for a whole page) and nothing is
 // allocated on either side. Structured inputs cross as typed input (typed_value.js): what the page
@@ -27,11 +28,12 @@ import { kHashOptions, resolveHash, typedMetadata } from './models_entry.js';
 import { instantiateModule, kIsNode, loadFailed, moduleSource } from './module_loader.js';
 import { Rig } from './rig.js';
 import { rigOptions } from './rig_options.js';
+import { addRuntimeCalls } from './runtime_calls.js';
 import { Scene } from './scene.js';
 import { encodeGltf } from './typed_value.js';
 import { version } from './version.js';
 import { warmUpWhenIdle } from './warm_up.js';
-import { withBytes, withRoomForStrings } from './wasm_memory.js';
+import { withBytes } from './wasm_memory.js';
 
 export { SpringBonesError };
 
@@ -66,6 +68,7 @@ export async function createSpringBones(options = {}) {
   });
   let limits;
   try {
+    addRuntimeCalls(module);
     // The core's limits and defaults (limitsJson, springbones/boundary.h), read once: the argument checks below
     // use them, so the JS API never types a limit of its own.
     limits = deepFreeze(JSON.parse(module.limitsJson()));
@@ -125,8 +128,8 @@ class SpringBones {
                           'springBones.models entry applies with contentHash, or entity and bodyShape');
     }
     const handle = withBytes(m, gltf.typed, (gltfPtr, gltfSize) => withBytes(m, metadata,
-      (metaPtr, metaSize) => withBytes(m, typedOptions, (optPtr, optSize) => withRoomForStrings(m, [hash],
-        () => m.loadRig(gltfPtr, gltfSize, metaPtr, metaSize, hash, optPtr, optSize)))));
+      (metaPtr, metaSize) => withBytes(m, typedOptions,
+        (optPtr, optSize) => m.loadRig(gltfPtr, gltfSize, metaPtr, metaSize, hash, optPtr, optSize))));
     if (handle === 0) throw takeError(m);
     return this.#rig(handle, jumps);
   }

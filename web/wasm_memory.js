@@ -21,9 +21,10 @@ export function withBytes(m, bytes, fn) {
   }
 }
 
-// embind copies each string argument into WASM memory with a malloc whose result it does not
-// check: on a full heap it would write the text through a null pointer, over the module's static
-// data. So the room for them (UTF-8 size plus embind's length word and terminator) is taken and
+// For the creator tools, whose bindings are embind's (the runtime's strings cross with withBytes:
+// runtime_calls.js). embind copies each string argument into WASM memory with a malloc whose
+// result it does not check: on a full heap it would write the text through a null pointer, over
+// the module's static data. So the room for them (UTF-8 size plus embind's length word and terminator) is taken and
 // given back first, and a full heap is an out-of-memory error before anything crosses. embind's
 // mallocs then follow at once, in the same order, into the room just freed.
 export function withRoomForStrings(m, texts, fn) {

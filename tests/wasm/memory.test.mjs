@@ -5,6 +5,7 @@ import assert from 'node:assert/strict';
 import { before, test } from 'node:test';
 
 import { instantiateModule } from '../../web/module_loader.js';
+import { addRuntimeCalls } from '../../web/runtime_calls.js';
 import { createSpringBones } from '../../web/springbones.js';
 import { swayDrivers } from '../../bin/sway.mjs';
 import { loadFixtureRig, springRig, swayFrames } from './helpers.mjs';
@@ -94,17 +95,18 @@ test('loading, instancing and disposing 200 times returns every byte and every h
 // an allocator rounds 13 bytes up to a block of 16 or 24, and how much of a split free region a
 // block takes depends on the layout before it, so a count of blocks moves without a leak.
 test('each module with a stats() counts the bytes asked for, exactly', async () => {
-  const modules = [
-    ['springbones_wasm.wasm', 'springbones_wasm.js'],
-    ['springbones_crowd.wasm', 'springbones_wasm.js'],  // the crowd module runs on the runtime's glue
-    ['springbones_creator_tools.wasm', 'springbones_creator_tools.js'],
+  const modules = [  // the runtime's entry points are plain exports (web/runtime_calls.js), the tools' embind
+    ['springbones_wasm.wasm', 'springbones_wasm.js', addRuntimeCalls],
+    ['springbones_crowd.wasm', 'springbones_wasm.js', addRuntimeCalls],  // on the runtime's glue
+    ['springbones_creator_tools.wasm', 'springbones_creator_tools.js', () => {}],
   ];
-  for (const [wasm, glue] of modules) {
+  for (const [wasm, glue, addCalls] of modules) {
     const m = await instantiateModule('test', {}, {
       importGlue: () => import(`../../web/dist/${glue}`),
       glueFile: `web/dist/${glue}`,
       defaultUrl: new URL(`../../web/dist/${wasm}`, import.meta.url),
     });
+    addCalls(m);
     const inUse = () => JSON.parse(m.stats()).heapInUse;
     const start = inUse();
     const small = m._malloc(13);

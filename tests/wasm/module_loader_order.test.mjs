@@ -31,7 +31,7 @@ test('the module is asked for before the glue has arrived', async () => {
     defaultUrl,
   });
   assert.equal(askedWhileGlueLoading, true, 'the module was not asked for until the glue had arrived');
-  assert.equal(typeof module.limitsJson, 'function', 'the instantiated module');
+  assert.equal(typeof module._sb_limitsJson, 'function', 'the instantiated module');
 });
 
 test('a glue that cannot be imported is the error, with a module that fails too, and nothing is left unhandled', async () => {

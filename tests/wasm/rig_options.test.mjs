@@ -12,6 +12,7 @@ import { before, test } from 'node:test';
 import { createSpringBones } from '../../web/springbones.js';
 import { takeError } from '../../web/errors.js';
 import { instantiateModule } from '../../web/module_loader.js';
+import { addRuntimeCalls } from '../../web/runtime_calls.js';
 import { encodeGltf, encodeTyped } from '../../web/typed_value.js';
 import { withBytes, withRoomForStrings } from '../../web/wasm_memory.js';
 import { springRig } from './helpers.mjs';
@@ -111,6 +112,7 @@ before(async () => {
     glueFile: 'web/dist/springbones_wasm.js',
     defaultUrl: new URL('../../web/dist/springbones_wasm.wasm', import.meta.url),
   });
+  addRuntimeCalls(core);
 });
 
 // The core's answer to `options` as they cross: null when it loads, else {code, path}.

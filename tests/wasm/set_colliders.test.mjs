@@ -9,6 +9,7 @@ import { before, describe, test } from 'node:test';
 import { createSpringBones, SpringBonesError } from '../../web/springbones.js';
 import { takeError } from '../../web/errors.js';
 import { instantiateModule } from '../../web/module_loader.js';
+import { addRuntimeCalls } from '../../web/runtime_calls.js';
 import { encodeGltf, encodeTyped } from '../../web/typed_value.js';
 import { withBytes, withRoomForStrings } from '../../web/wasm_memory.js';
 import { swayDrivers } from '../../bin/sway.mjs';
@@ -23,6 +24,7 @@ before(async () => {
     glueFile: 'web/dist/springbones_wasm.js',
     defaultUrl: new URL('../../web/dist/springbones_wasm.wasm', import.meta.url),
   });
+  addRuntimeCalls(core);
 });
 
 // One chain of three 5 cm bones hanging from Avatar_Head (at y 1.6) at z 0.05: the tails rest at
