@@ -24,12 +24,12 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <utility>
 
 #include <emscripten/emscripten.h>
 
 #include "binding_errors.h"
+#include "handle_table.h"
 #include "heap_in_use.h"
 #include "springbones/boundary.h"
 #include "springbones/content_hash.h"
@@ -48,11 +48,11 @@ struct LoadedRig {
 
 // Instances hold their rig through a shared_ptr, so disposing of a rig handle while instances of
 // it are alive only drops the handle; the memory goes with the last instance.
-std::unordered_map<int, LoadedRig> g_rigs;
-std::unordered_map<int, std::unique_ptr<Instance>> g_instances;
+HandleTable<LoadedRig> g_rigs;
+HandleTable<std::unique_ptr<Instance>> g_instances;
 // Scenes hold raw Instance pointers (they own nothing): disposeInstance removes the instance from
 // every scene first, so a scene never steps freed memory.
-std::unordered_map<int, std::unique_ptr<Scene>> g_scenes;
+HandleTable<std::unique_ptr<Scene>> g_scenes;
 int g_next_handle = 1;
 
 int newHandle() {

@@ -14,7 +14,7 @@ export function checkOutOfMemoryReport(assert, report) {
   assert.ok(report.heldInstances >= report.instancesCreated);
   assert.equal(report.heldInstancesFinite, true, 'what was loaded before still steps, finite');
   assert.deepEqual([report.afterDispose.rigs, report.afterDispose.instances, report.afterDispose.scenes], [0, 0, 0]);
-  // The handle tables keep their grown bucket arrays; nothing else stays.
+  // The handle tables keep their grown arrays (wasm/handle_table.h); nothing else stays.
   assert.ok(report.afterDispose.heapInUse - report.start.heapInUse < 64 * 1024,
             `${report.afterDispose.heapInUse - report.start.heapInUse} bytes still in use after disposing everything`);
   assert.equal(report.end.heapInUse, report.afterDispose.heapInUse, 'loading again leaves nothing behind');
