@@ -18,8 +18,6 @@
 //  - Nothing throws across the boundary: every entry point that can fail catches every C++
 //    exception and turns it into an error, so bad input never aborts the module and the next call
 //    works.
-#include <malloc.h>
-
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -33,6 +31,7 @@
 
 #include "binding_errors.h"
 #include "handle_table.h"
+#include "heap_in_use.h"
 #include "springbones/boundary.h"
 #include "springbones/content_hash.h"
 #include "springbones/springbones.h"
@@ -400,13 +399,12 @@ bool sceneSetWind(int scene, float dx, float dy, float dz, float strength, float
   return s != nullptr;
 }
 
-/// Diagnostics for leak tests: live handles and bytes malloc has handed out, as the typed result.
+/// Diagnostics for leak tests: live handles and the bytes requested from malloc and not freed, as
+/// the typed result.
 int stats() {
   // The previous typed result freed first, so that the bytes in use do not count it.
   g_result = std::vector<std::uint8_t>();
-  const struct mallinfo info = mallinfo();
-  return result(
-      describeStats(g_rigs.size(), g_instances.size(), g_scenes.size(), static_cast<std::size_t>(info.uordblks)));
+  return result(describeStats(g_rigs.size(), g_instances.size(), g_scenes.size(), heapInUse()));
 }
 
 /// The core's limits and defaults (describeLimits) as the typed result.

@@ -4,8 +4,6 @@
 // the error pending on failure, nothing thrown across the boundary. The caller is
 // web/creator_tools.js. This module holds no handles: every call is a pure function of its
 // arguments.
-#include <malloc.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,6 +11,7 @@
 #include <emscripten/bind.h>
 
 #include "binding_errors.h"
+#include "heap_in_use.h"
 #include "springbones/boundary.h"
 #include "springbones/creator_tools.h"
 
@@ -60,13 +59,12 @@ std::string setSpringBoneParams(const std::string& springbones_text, const std::
   return text;
 }
 
-/// Diagnostics for leak tests: the bytes malloc has handed out (this module holds no handles), as
-/// the typed result.
+/// Diagnostics for leak tests: the bytes requested from malloc and not freed (this module holds no
+/// handles), as the typed result.
 int stats() {
   // The previous typed result freed first, so that the bytes in use do not count it.
   g_result = std::vector<std::uint8_t>();
-  const struct mallinfo info = mallinfo();
-  return result(describeStats(0, 0, 0, static_cast<std::size_t>(info.uordblks)));
+  return result(describeStats(0, 0, 0, heapInUse()));
 }
 
 }  // namespace

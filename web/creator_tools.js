@@ -122,7 +122,7 @@ class CreatorTools {
     return JSON.parse(result);
   }
 
-  /** Diagnostics: the creator-tools module's memory size and the bytes malloc has handed out. */
+  /** Diagnostics: the creator-tools module's memory size and the bytes requested from malloc and not freed. */
   stats() {
     const s = takeTyped(this.#m, this.#m.stats());
     return { heapBytes: this.#m.HEAPU8.byteLength, heapInUse: s.heapInUse };

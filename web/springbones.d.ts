@@ -298,7 +298,11 @@ export interface SpringBones {
   creatorTools(options?: CreateOptions): Promise<CreatorTools>;
   /** A scene for stepping many instances in one call. */
   createScene(): Scene;
-  /** Diagnostics: live handles, the WebAssembly memory size and the bytes malloc has handed out. */
+  /**
+   * Diagnostics: live handles, the WebAssembly memory size, and in heapInUse the bytes requested
+   * from malloc and not yet freed (what was asked for, not the allocator's blocks: the same after
+   * two identical loads, back to its value once what they made is disposed).
+   */
   stats(): { rigs: number; instances: number; scenes: number; heapBytes: number; heapInUse: number };
 }
 
@@ -335,7 +339,10 @@ export interface CreatorTools {
    */
   setSpringBoneParams(springBones: SpringBonesData | object | string | null | undefined, entity: object | string,
                       bodyShape: string, nodeName: string, params: SpringBoneParamsInput | null): SpringBonesData;
-  /** Diagnostics of the creator-tools module: its memory size and the bytes malloc has handed out. */
+  /**
+   * Diagnostics of the creator-tools module: its memory size, and in heapInUse the bytes requested
+   * from malloc and not yet freed.
+   */
   stats(): { heapBytes: number; heapInUse: number };
 }
 

@@ -235,7 +235,7 @@ class SpringBones {
     return new Scene(m, handle, this.#limits);
   }
 
-  /** Diagnostics: live rigs, instances and scenes, WASM memory size and bytes in use by malloc. */
+  /** Diagnostics: live rigs, instances and scenes, WASM memory size and the bytes requested from malloc and not freed. */
   stats() {
     const s = takeTyped(this.#m, this.#m.stats());
     return {

@@ -1,8 +1,12 @@
-// WebAssembly memory: views survive memory growth, stepping allocates nothing, and loading,
-// instancing and disposing leak neither memory nor handles.
+// WebAssembly memory: views survive memory growth, stepping allocates nothing, loading,
+// instancing and disposing leak neither memory nor handles, and the heap in use is the bytes asked
+// for.
 import assert from 'node:assert/strict';
 import { before, test } from 'node:test';
 
+import { instantiateModule } from '../../web/module_loader.js';
+import { takeTyped } from '../../web/typed_output.js';
+import { addRuntimeCalls } from '../../web/runtime_calls.js';
 import { createSpringBones } from '../../web/springbones.js';
 import { swayDrivers } from '../../bin/sway.mjs';
 import { loadFixtureRig, springRig, swayFrames } from './helpers.mjs';
@@ -86,4 +90,35 @@ test('loading, instancing and disposing 200 times returns every byte and every h
   const before = sb.stats();
   for (let i = 0; i < 200; ++i) cycle();
   assert.deepEqual(sb.stats(), before);
+});
+
+// heapInUse counts what malloc was asked for (wasm/heap_in_use.cpp), not the allocator's blocks:
+// an allocator rounds 13 bytes up to a block of 16 or 24, and how much of a split free region a
+// block takes depends on the layout before it, so a count of blocks moves without a leak.
+test('each module with a stats() counts the bytes asked for, exactly', async () => {
+  const modules = [  // the runtime's entry points are plain exports (web/runtime_calls.js), the tools' embind
+    ['springbones_wasm.wasm', 'springbones_wasm.js', addRuntimeCalls],
+    ['springbones_crowd.wasm', 'springbones_wasm.js', addRuntimeCalls],  // on the runtime's glue
+    ['springbones_creator_tools.wasm', 'springbones_creator_tools.js', () => {}],
+  ];
+  for (const [wasm, glue, addCalls] of modules) {
+    const m = await instantiateModule('test', {}, {
+      importGlue: () => import(`../../web/dist/${glue}`),
+      glueFile: `web/dist/${glue}`,
+      defaultUrl: new URL(`../../web/dist/${wasm}`, import.meta.url),
+    });
+    addCalls(m);
+    const inUse = () => takeTyped(m, m.stats()).heapInUse;
+    const start = inUse();
+    const small = m._malloc(13);
+    assert.equal(inUse() - start, 13, `${wasm}: 13 bytes`);
+    const large = m._malloc(100001);
+    assert.equal(inUse() - start, 100014, `${wasm}: 13 + 100,001 bytes`);
+    m._free(small);
+    assert.equal(inUse() - start, 100001, `${wasm}: 100,001 bytes after freeing the 13`);
+    const again = m._malloc(13);  // into what the 13 left, or not: the same count either way
+    m._free(large);
+    m._free(again);
+    assert.equal(inUse(), start, `${wasm}: back where it started`);
+  }
 });
