@@ -11,7 +11,7 @@
 // the sanitizers do. So every caller in the module comes through here: operator new
 // (src/common/memory_reserve.cpp), libc and libc++abi (exceptions take an aligned allocation),
 // the creator tools' embind strings and the JavaScript API's _malloc/_free (the runtime's string
-// arguments and bytes, its text results freed by sb_textFree). The few libc internals that allocate
+// arguments and bytes). The few libc internals that allocate
 // under the allocator's own names (emscripten_builtin_malloc, musl's __libc_malloc: the atexit
 // table, locales) free under those names too, never through here, and are not counted.
 #include "heap_in_use.h"

@@ -314,13 +314,7 @@ ApiFailure toFailure(const Error& error) {
 
 std::vector<std::uint8_t> describeFailure(const ApiFailure& failure) {
   TypedWriter out;
-  out.object(3);
-  out.key("code");
-  pageText(out, failure.code);
-  out.key("message");
-  pageText(out, failure.message);
-  out.key("path");
-  pageText(out, failure.path);
+  pageCodeMessagePath(out, failure.code, failure.message, failure.path);
   return std::move(out.bytes());
 }
 

@@ -29,4 +29,16 @@ inline void pageText(TypedWriter& out, std::string_view v) {
   out.string(shown);
 }
 
+/// Writes {code, message, path}, the shape of a failure and of a warning, for the page.
+inline void pageCodeMessagePath(TypedWriter& out, std::string_view code, std::string_view message,
+                                std::string_view path) {
+  out.object(3);
+  out.key("code");
+  pageText(out, code);
+  out.key("message");
+  pageText(out, message);
+  out.key("path");
+  pageText(out, path);
+}
+
 }  // namespace springbones

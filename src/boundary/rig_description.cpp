@@ -128,15 +128,7 @@ void collider(TypedWriter& out, const Rig& rig, const Collider& c) {
 
 void writeWarnings(TypedWriter& out, const std::vector<Warning>& warnings) {
   out.array(static_cast<std::uint32_t>(warnings.size()));
-  for (const Warning& w : warnings) {
-    out.object(3);
-    out.key("code");
-    pageText(out, w.code);
-    out.key("message");
-    pageText(out, w.message);
-    out.key("path");
-    pageText(out, w.path);
-  }
+  for (const Warning& w : warnings) pageCodeMessagePath(out, w.code, w.message, w.path);
 }
 
 }  // namespace
