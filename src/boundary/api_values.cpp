@@ -318,24 +318,26 @@ std::vector<std::uint8_t> describeFailure(const ApiFailure& failure) {
   return std::move(out.bytes());
 }
 
-ApiFailure readRigOptions(TypedBytes options, RigOptions& out) {
-  out = RigOptions{};
+namespace {
+
+// Typed options read into `out` by `read`: the defaults for no bytes, and again after a refusal.
+template <typename Options>
+ApiFailure readTypedOptions(TypedBytes options, Options& out, ApiFailure (*read)(const TypedValue&, Options&)) {
+  out = Options{};
   if (options.size == 0) return {};
   TypedDocument doc;
   if (Error e = doc.decode(options.data, options.size, kMaxMetadataBytes)) return toFailure(e);
-  ApiFailure failure = readOptions(doc.root(), out);
-  if (failure) out = RigOptions{};
+  ApiFailure failure = read(doc.root(), out);
+  if (failure) out = Options{};
   return failure;
 }
 
+}  // namespace
+
+ApiFailure readRigOptions(TypedBytes options, RigOptions& out) { return readTypedOptions(options, out, readOptions); }
+
 ApiFailure readColliderOptions(TypedBytes options, ColliderOptions& out) {
-  out = ColliderOptions{};
-  if (options.size == 0) return {};
-  TypedDocument doc;
-  if (Error e = doc.decode(options.data, options.size, kMaxMetadataBytes)) return toFailure(e);
-  ApiFailure failure = readColliderChange(doc.root(), out);
-  if (failure) out = ColliderOptions{};
-  return failure;
+  return readTypedOptions(options, out, readColliderChange);
 }
 
 std::vector<std::uint8_t> describeLimits() {

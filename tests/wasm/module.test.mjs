@@ -17,7 +17,7 @@ const dist = join(root, 'web', 'dist');
 // docs/design.md, "Numbers": each module as a page downloads it (the .wasm and its minified glue),
 // gzip -9, at its measured size plus 2%.
 const kBudgets = [
-  { module: 'runtime', files: ['springbones_wasm.wasm', 'springbones_wasm.min.js'], measured: 91889 },
+  { module: 'runtime', files: ['springbones_wasm.wasm', 'springbones_wasm.min.js'], measured: 91807 },
   // The crowd module runs on the runtime's glue (tests/wasm/crowd.test.mjs).
   { module: 'crowd', files: ['springbones_crowd.wasm', 'springbones_wasm.min.js'], measured: 113166 },
   { module: 'readers', files: ['springbones_readers.wasm', 'springbones_readers.min.js'], measured: 72536 },
